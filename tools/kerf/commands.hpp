@@ -10,6 +10,7 @@ void add_mesh_commands(CLI::App& app);     ///< `kerf mesh info`, `kerf gen foot
 void add_cut_command(CLI::App& app);       ///< `kerf cut`                           (cmd_cut.cpp)
 void add_shm_commands(CLI::App& app);      ///< `kerf shm ls|tail|stats`             (cmd_shm.cpp)
 void add_devices_command(CLI::App& app);   ///< `kerf devices`                       (cmd_devices.cpp)
+void add_demo_command(CLI::App& app);      ///< `kerf demo`: the README's main job    (cmd_demo.cpp)
 
 /// Process exit codes shared by every subcommand.
 enum ExitCode : int {

@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
     kerf::cli::add_cut_command(app);
     kerf::cli::add_shm_commands(app);
     kerf::cli::add_devices_command(app);
+    kerf::cli::add_demo_command(app);
     CLI11_PARSE(app, argc, argv);
     return kerf::cli::kExitOk;
 }
