@@ -1,0 +1,98 @@
+#include "display/mesh/indexed_mesh.hpp"
+
+#include <bit>
+
+#include <OpenMesh/Core/System/omstream.hh>
+
+namespace kerf::mesh {
+namespace {
+
+std::uint64_t coordinate_bits(double v) noexcept {
+    return std::bit_cast<std::uint64_t>(v == 0.0 ? 0.0 : v);  // -0 welds with +0
+}
+
+// OpenMesh reports refused faces on omerr(); Kerf counts them instead. Restores the stream's
+// previous state on scope exit.
+class QuietOmerr {
+public:
+    QuietOmerr() : was_enabled_(omerr().is_enabled()) { omerr().disable(); }
+    ~QuietOmerr() {
+        if (was_enabled_) omerr().enable();
+    }
+    QuietOmerr(const QuietOmerr&) = delete;
+    QuietOmerr& operator=(const QuietOmerr&) = delete;
+
+private:
+    bool was_enabled_;
+};
+
+}  // namespace
+
+std::size_t VertexWelder::KeyHash::operator()(const Key& k) const noexcept {
+    std::uint64_t h = k.x * 0x9E3779B97F4A7C15ull;
+    h ^= (k.y + 0x7F4A7C159E3779B9ull + (h << 6) + (h >> 2)) * 0xBF58476D1CE4E5B9ull;
+    h ^= (k.z + 0x94D049BB133111EBull + (h << 6) + (h >> 2)) * 0x9E3779B97F4A7C15ull;
+    return static_cast<std::size_t>(h ^ (h >> 31));
+}
+
+std::uint32_t VertexWelder::weld(const Point& p, IndexedMesh& out) {
+    const Key key{coordinate_bits(p[0]), coordinate_bits(p[1]), coordinate_bits(p[2])};
+    const auto next = static_cast<std::uint32_t>(out.positions_m.size());
+    const auto [it, inserted] = index_.try_emplace(key, next);
+    if (inserted) out.positions_m.push_back(p);
+    return it->second;
+}
+
+BuiltMesh build_tri_mesh(const IndexedMesh& in) {
+    BuiltMesh out{make_mesh(), 0};
+    TriMesh& m = out.mesh;
+    m.reserve(in.positions_m.size(), in.triangles.size() * 3 / 2, in.triangles.size());
+    const bool has_materials = in.materials.size() == in.positions_m.size();
+    for (std::size_t i = 0; i < in.positions_m.size(); ++i) {
+        const VertexHandle v = m.add_vertex(in.positions_m[i]);
+        if (has_materials) m.data(v).set_material(in.materials[i]);
+    }
+    const QuietOmerr quiet;
+    for (const Triangle& t : in.triangles) {
+        const VertexHandle a(static_cast<int>(t[0]));
+        const VertexHandle b(static_cast<int>(t[1]));
+        const VertexHandle c(static_cast<int>(t[2]));
+        const bool distinct = a != b && b != c && a != c;
+        if (distinct && m.add_face(a, b, c).is_valid()) continue;
+        ++out.detached_triangles;
+        VertexHandle copies[3];
+        for (int k = 0; k < 3; ++k) {
+            const VertexHandle src(static_cast<int>(t[static_cast<std::size_t>(k)]));
+            copies[k] = m.add_vertex(m.point(src));
+            m.data(copies[k]).set_material(m.data(src).material());
+        }
+        m.add_face(copies[0], copies[1], copies[2]);
+    }
+    m.update_normals();
+    return out;
+}
+
+IndexedMesh to_indexed(const TriMesh& mesh) {
+    IndexedMesh out;
+    std::vector<std::uint32_t> remap(mesh.n_vertices(), 0);
+    out.positions_m.reserve(mesh.n_vertices());
+    out.materials.reserve(mesh.n_vertices());
+    for (const VertexHandle v : mesh.vertices()) {  // skips deleted vertices
+        remap[static_cast<std::size_t>(v.idx())] = static_cast<std::uint32_t>(out.positions_m.size());
+        out.positions_m.push_back(mesh.point(v));
+        out.materials.push_back(mesh.data(v).material());
+    }
+    out.triangles.reserve(mesh.n_faces());
+    for (const FaceHandle f : mesh.faces()) {
+        Triangle t{};
+        std::size_t k = 0;
+        for (const VertexHandle v : mesh.fv_range(f)) {
+            if (k < 3) t[k] = remap[static_cast<std::size_t>(v.idx())];
+            ++k;
+        }
+        if (k == 3) out.triangles.push_back(t);
+    }
+    return out;
+}
+
+}  // namespace kerf::mesh

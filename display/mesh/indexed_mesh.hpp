@@ -1,0 +1,59 @@
+// kerf::mesh::IndexedMesh — a plain indexed triangle list: exactly what a file holds, before
+// OpenMesh's half-edge structure (which cannot hold every triangle a file may contain) sees it.
+// Loaders produce one, `validate()` measures one, `build_tri_mesh()` turns one into a TriMesh.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "display/mesh/tri_mesh.hpp"
+
+namespace kerf::mesh {
+
+using Triangle = std::array<std::uint32_t, 3>;
+
+/// Vertices (metres) and triangles as vertex-index triples in winding order.
+struct IndexedMesh {
+    std::vector<Point> positions_m;
+    std::vector<Triangle> triangles;
+    std::vector<Material> materials;  ///< empty, or one per vertex
+};
+
+/// Welds vertices whose coordinates are bit-identical (no tolerance; -0 counts as +0), giving
+/// indices in first-seen order, so the result is deterministic and independent of hashing.
+class VertexWelder {
+public:
+    /// Index of the vertex at `p` (metres), adding it to `out` when new.
+    std::uint32_t weld(const Point& p, IndexedMesh& out);
+
+private:
+    struct Key {
+        std::uint64_t x, y, z;
+        bool operator==(const Key&) const = default;
+    };
+    struct KeyHash {
+        std::size_t operator()(const Key& k) const noexcept;
+    };
+    std::unordered_map<Key, std::uint32_t, KeyHash> index_;
+};
+
+/// A TriMesh built from an IndexedMesh, and what could not be represented as given.
+struct BuiltMesh {
+    TriMesh mesh;
+    /// Triangles OpenMesh's `add_face` refused (non-manifold edge, complex vertex, repeated
+    /// index): each was still added, with its own three copies of its corner vertices, so no
+    /// triangle is lost, but it is disconnected from its neighbours. Zero for a clean 2-manifold.
+    std::size_t detached_triangles = 0;
+};
+
+/// Builds the half-edge mesh: vertices in order, then triangles in order, then face and vertex
+/// normals from the winding. Vertex materials come from `materials` (kCortical when absent).
+/// @pre every index in `in.triangles` is < in.positions_m.size()
+BuiltMesh build_tri_mesh(const IndexedMesh& in);
+
+/// The indexed form of a TriMesh (deleted elements skipped, indices compacted in order).
+IndexedMesh to_indexed(const TriMesh& mesh);
+
+}  // namespace kerf::mesh
