@@ -1,0 +1,55 @@
+// slice_by_plane — the uniplanar slice (paper §3.3, §3.5-3.7): split every triangle crossing the
+// plane, duplicate the cross-section vertices so the two sides share none, cap both sides.
+//
+//   CutContext ctx(mesh);
+//   CrossSection cs;
+//   CutResult r = slice_by_plane(ctx, *Plane::make(p, n), Seed{contact_point, hint}, cs);
+//   if (!r.ok()) show(to_string(r.status));     // the mesh is unchanged
+//
+// Editing is in place: no rebuild, no garbage collection; handles of elements away from the cut
+// stay valid. Deterministic: the same mesh and cuts give bit-identical results.
+//
+// Degeneracy rules (tol = CutContext::tolerance_m(), i.e. kRelativeTolerance * mesh scale):
+//  - A vertex within tol of the plane is ON it: it becomes a rim vertex as it is (not moved), and
+//    no edge is ever interpolated next to it, so no cut makes a zero-area triangle.
+//  - An edge crossing the plane (one endpoint above +tol, one below -tol) gets ONE new vertex,
+//    interpolated from the endpoint with the lower index (bit-identical for both faces). Position,
+//    normal (renormalised), texture coordinates and colour use the same parameter t; the material
+//    is the nearer endpoint's (the lower-index one at t = 0.5).
+//  - A triangle with all three vertices on the plane (an earlier cap, a flat face) belongs to the
+//    side its normal points away from (normal . n < 0: positive side), so a cut coplanar with an
+//    earlier cap leaves that cap on its piece and does not cut it again.
+//  - A plane that only touches the mesh (vertices, edges or faces on it, nothing crossing) is
+//    kPlaneMissesMesh: nothing to separate, the mesh is unchanged.
+//  - A cross-section that pinches at an on-plane vertex (two loops touching) is refused with
+//    kDegenerateCrossSection; an open edge where the cut passes gives kNonManifoldInput.
+//  - Cuts through earlier caps are ordinary: a cap is surface like any other.
+//  Every check runs before the first edit, so any failure leaves the mesh unchanged.
+#pragma once
+
+#include "display/cut/cross_section.hpp"
+#include "display/cut/cut_context.hpp"
+#include "display/cut/cut_result.hpp"
+#include "display/cut/plane.hpp"
+
+namespace kerf::cut {
+
+/// Where the blade first touched: a point on the surface and, optionally, its triangle.
+struct Seed {
+    Vec3 point_m;                  ///< contact point, m (within seed tolerance of the surface)
+    mesh::FaceHandle face_hint;    ///< the triangle containing it, if known (else invalid)
+    double tolerance_m = -1.0;     ///< max seed-to-surface distance; < 0: 1e-3 * mesh scale
+};
+
+/// Full-plane slice: cuts every loop where the plane crosses the mesh. O(n) (classifies all
+/// vertices), then O(cross-section) edits.
+/// @pre `ctx` was built on the mesh to cut (and rebuilt after any garbage collection).
+CutResult slice_by_plane(CutContext& ctx, const Plane& plane, CrossSection& out);
+
+/// Localised slice (§3.7): cuts the loop reached from `seed` and every loop nested inside it (the
+/// medullary canal), leaving loops outside it (other toes) bit-identical. Cost is proportional to
+/// the cross-section: no pass over all vertices or faces.
+/// @pre as above; `seed.point_m` lies on the surface near the plane.
+CutResult slice_by_plane(CutContext& ctx, const Plane& plane, const Seed& seed, CrossSection& out);
+
+}  // namespace kerf::cut

@@ -1,0 +1,35 @@
+// subtract_slab — biplanar subtraction (paper §3.4): remove the slab of material between two
+// parallel planes a kerf width apart, within the localised cross-section, and cap both walls.
+//
+//   SlabCut slab;
+//   CutResult r = subtract_slab(ctx, blade_plane, 1.0e-3, seed, slab);   // a 1 mm blade
+//
+// Planes: lower = plane.offset(-kerf/2), upper = plane.offset(+kerf/2). The lower slice is
+// localised from the seed; the upper slice cuts every loop reachable from the lower cross-section
+// through the slab (so both walls belong to the same cut, and the canal too). Everything between
+// the planes that is connected to the lower cross-section, including the two inner caps, is
+// deleted (marked only; garbage collection stays the caller's choice). Material that ends inside
+// the slab (a tip thinner than the kerf) is removed with it.
+// Failure: every status the slices can return; both planes are validated before the first edit.
+#pragma once
+
+#include "display/cut/cross_section.hpp"
+#include "display/cut/cut_context.hpp"
+#include "display/cut/cut_result.hpp"
+#include "display/cut/plane.hpp"
+#include "display/cut/slice_by_plane.hpp"
+
+namespace kerf::cut {
+
+/// The two walls a slab subtraction leaves.
+struct SlabCut {
+    CrossSection lower;  ///< slice on the lower plane: its negative side is the remaining wall
+    CrossSection upper;  ///< slice on the upper plane: its positive side is the remaining wall
+};
+
+/// Removes the slab |signed distance to `plane`| < kerf_width_m / 2 reached from `seed`.
+/// @pre kerf_width_m > 0 and finite (else kInvalidArgument), much larger than ctx.tolerance_m().
+CutResult subtract_slab(CutContext& ctx, const Plane& plane, double kerf_width_m, const Seed& seed,
+                        SlabCut& out);
+
+}  // namespace kerf::cut

@@ -1,0 +1,657 @@
+// Ear clipping with holes. The ring bookkeeping follows the well-tried layout of mapbox/earcut
+// (circular doubly linked nodes, holes bridged left to right, a z-order list for the ear test), in
+// double precision and with two Kerf rules: no input point is ever dropped (a cap must use every
+// loop edge exactly once) and input is validated first, so the clipper only meets simple regions.
+#include "display/cut/triangulate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace kerf::cut {
+
+std::string_view to_string(TriangulateFailure f) noexcept {
+    switch (f) {
+        case TriangulateFailure::kNoLoops: return "no loops";
+        case TriangulateFailure::kTooFewPoints: return "loop has fewer than 3 points";
+        case TriangulateFailure::kNonFinite: return "non-finite coordinate";
+        case TriangulateFailure::kZeroArea: return "loop encloses zero area";
+        case TriangulateFailure::kSelfIntersecting: return "loops cross or touch";
+        case TriangulateFailure::kTooManyPoints: return "too many points";
+    }
+    return "unknown";
+}
+
+double signed_area(std::span<const Point2> loop) noexcept {
+    if (loop.size() < 3) return 0.0;
+    double twice = 0.0;
+    const Point2& o = loop[0];
+    for (std::size_t i = 1; i + 1 < loop.size(); ++i) {
+        const Point2 a = loop[i] - o;
+        const Point2 b = loop[i + 1] - o;
+        twice += a[0] * b[1] - a[1] * b[0];
+    }
+    return 0.5 * twice;
+}
+
+namespace {
+
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+constexpr std::size_t kHashThreshold = 64;  // rings at least this long get the z-order index
+
+/// Twice the signed area of (a, b, c): positive for a left turn (counter-clockwise).
+inline double cross(double ax, double ay, double bx, double by, double cx, double cy) noexcept {
+    return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
+}
+
+struct Box {
+    double x0 = std::numeric_limits<double>::infinity();
+    double y0 = std::numeric_limits<double>::infinity();
+    double x1 = -std::numeric_limits<double>::infinity();
+    double y1 = -std::numeric_limits<double>::infinity();
+    void add(const Point2& p) noexcept {
+        x0 = std::min(x0, p[0]); y0 = std::min(y0, p[1]);
+        x1 = std::max(x1, p[0]); y1 = std::max(y1, p[1]);
+    }
+    bool contains(const Box& o) const noexcept {
+        return x0 <= o.x0 && y0 <= o.y0 && o.x1 <= x1 && o.y1 <= y1;
+    }
+};
+
+struct Node {
+    double x;
+    double y;
+    std::uint32_t i;      // index of the input point
+    std::uint32_t prev;
+    std::uint32_t next;
+    std::uint32_t zprev;
+    std::uint32_t znext;
+    std::uint32_t z;
+};
+
+}  // namespace
+
+struct Triangulator::Impl {
+    std::vector<Point2> pts;
+    std::vector<std::uint32_t> begin;  // first point of each loop, then the end
+    std::vector<Box> box;
+    std::vector<double> area;          // signed area per loop
+    std::vector<std::int32_t> depth;
+    std::vector<std::int32_t> parent;
+    std::vector<std::uint32_t> cell_start;  // self-intersection grid (CSR)
+    std::vector<std::uint32_t> cell_items;
+    std::vector<Node> nodes;
+    std::vector<std::uint32_t> holes;       // leftmost node of each hole ring
+    std::vector<std::uint32_t> order;       // scratch for z sorting
+    double zx0 = 0, zy0 = 0, zinv = 0;      // z-order frame of the current region
+
+    std::uint32_t loops() const noexcept { return static_cast<std::uint32_t>(begin.size() - 1); }
+    std::uint32_t loop_size(std::uint32_t l) const noexcept { return begin[l + 1] - begin[l]; }
+    std::uint32_t next_in_loop(std::uint32_t p, std::uint32_t l) const noexcept {
+        return p + 1 == begin[l + 1] ? begin[l] : p + 1;
+    }
+
+    Status<TriangulateError> load(std::span<const std::span<const Point2>> loops_in);
+    Status<TriangulateError> measure();
+    Status<TriangulateError> check_crossings();
+    bool segments_meet(std::uint32_t s, std::uint32_t t) const noexcept;
+    std::int32_t loop_of(std::uint32_t p) const noexcept;
+    void find_nesting();
+    bool point_in_loop(const Point2& p, std::uint32_t l) const noexcept;
+
+    bool strictly_convex(std::uint32_t l) const noexcept;
+    void fan(std::uint32_t l, std::vector<Triangle>& out) const;
+    std::uint32_t make_ring(std::uint32_t l, bool ccw);
+    std::uint32_t add_node(std::uint32_t point);
+    void unlink(std::uint32_t n) noexcept;
+    double turn(std::uint32_t n) const noexcept;
+    void eliminate_holes(std::uint32_t outer);
+    std::uint32_t find_bridge(std::uint32_t hole, std::uint32_t outer) const noexcept;
+    bool locally_inside(std::uint32_t a, std::uint32_t b) const noexcept;
+    bool sector_contains_sector(std::uint32_t m, std::uint32_t p) const noexcept;
+    std::uint32_t split(std::uint32_t a, std::uint32_t b);
+    void index_z(std::uint32_t start);
+    std::uint32_t z_of(double x, double y) const noexcept;
+    bool blocks(std::uint32_t p, std::uint32_t ear, bool strict) const noexcept;
+    bool is_ear(std::uint32_t ear, bool strict) const noexcept;
+    bool is_ear_hashed(std::uint32_t ear, bool strict) const noexcept;
+    void clip(std::uint32_t start, std::vector<Triangle>& out, std::uint32_t& degenerate);
+    std::uint32_t relaxed_ear(std::uint32_t start, int pass) const noexcept;
+};
+
+// ---- input, validation, nesting --------------------------------------------------------------
+
+Status<TriangulateError> Triangulator::Impl::load(std::span<const std::span<const Point2>> in) {
+    pts.clear();
+    begin.clear();
+    if (in.empty()) return Err{TriangulateError{TriangulateFailure::kNoLoops, -1, -1}};
+    std::size_t total = 0;
+    for (const auto& l : in) total += l.size();
+    if (total + 2 * in.size() >= kNone / 2) {
+        return Err{TriangulateError{TriangulateFailure::kTooManyPoints, -1, -1}};
+    }
+    pts.reserve(total);
+    for (std::size_t l = 0; l < in.size(); ++l) {
+        const auto li = static_cast<std::int32_t>(l);
+        if (in[l].size() < 3) return Err{TriangulateError{TriangulateFailure::kTooFewPoints, li, -1}};
+        begin.push_back(static_cast<std::uint32_t>(pts.size()));
+        for (const Point2& p : in[l]) {
+            if (!std::isfinite(p[0]) || !std::isfinite(p[1])) {
+                return Err{TriangulateError{TriangulateFailure::kNonFinite, li, -1}};
+            }
+            pts.push_back(p);
+        }
+    }
+    begin.push_back(static_cast<std::uint32_t>(pts.size()));
+    return {};
+}
+
+Status<TriangulateError> Triangulator::Impl::measure() {
+    box.assign(loops(), Box{});
+    area.assign(loops(), 0.0);
+    for (std::uint32_t l = 0; l < loops(); ++l) {
+        for (std::uint32_t p = begin[l]; p < begin[l + 1]; ++p) box[l].add(pts[p]);
+        area[l] = signed_area(std::span<const Point2>(pts.data() + begin[l], loop_size(l)));
+        const double dx = box[l].x1 - box[l].x0;
+        const double dy = box[l].y1 - box[l].y0;
+        const double noise = 4.0 * loop_size(l) * std::numeric_limits<double>::epsilon() *
+                             (dx * dx + dy * dy);
+        if (!(std::abs(area[l]) > noise)) {
+            return Err{TriangulateError{TriangulateFailure::kZeroArea,
+                                        static_cast<std::int32_t>(l), -1}};
+        }
+    }
+    return {};
+}
+
+std::int32_t Triangulator::Impl::loop_of(std::uint32_t p) const noexcept {
+    const auto it = std::upper_bound(begin.begin(), begin.end(), p);
+    return static_cast<std::int32_t>(it - begin.begin()) - 1;
+}
+
+namespace {
+
+inline int sign(double v) noexcept { return (v > 0) - (v < 0); }
+
+inline bool on_segment(const Point2& a, const Point2& b, const Point2& p) noexcept {
+    return std::min(a[0], b[0]) <= p[0] && p[0] <= std::max(a[0], b[0]) &&
+           std::min(a[1], b[1]) <= p[1] && p[1] <= std::max(a[1], b[1]);
+}
+
+inline double cross(const Point2& a, const Point2& b, const Point2& c) noexcept {
+    return cross(a[0], a[1], b[0], b[1], c[0], c[1]);
+}
+
+/// Closed segments ab and cd share at least one point.
+bool closed_segments_meet(const Point2& a, const Point2& b, const Point2& c,
+                          const Point2& d) noexcept {
+    const int o1 = sign(cross(a, b, c));
+    const int o2 = sign(cross(a, b, d));
+    const int o3 = sign(cross(c, d, a));
+    const int o4 = sign(cross(c, d, b));
+    if (o1 * o2 < 0 && o3 * o4 < 0) return true;  // proper crossing
+    return (o1 == 0 && on_segment(a, b, c)) || (o2 == 0 && on_segment(a, b, d)) ||
+           (o3 == 0 && on_segment(c, d, a)) || (o4 == 0 && on_segment(c, d, b));
+}
+
+}  // namespace
+
+/// Segments are named by their first point; segment s runs from s to its successor in the loop.
+bool Triangulator::Impl::segments_meet(std::uint32_t s, std::uint32_t t) const noexcept {
+    const auto ls = static_cast<std::uint32_t>(loop_of(s));
+    const auto lt = static_cast<std::uint32_t>(loop_of(t));
+    const std::uint32_t s1 = next_in_loop(s, ls);
+    const std::uint32_t t1 = next_in_loop(t, lt);
+    if (ls == lt && (s1 == t || t1 == s)) {
+        // Neighbours share one endpoint: they meet elsewhere only when they fold back onto
+        // each other (collinear, pointing the same way from the shared point).
+        const std::uint32_t shared = s1 == t ? t : s;
+        const std::uint32_t u = s1 == t ? s : s1;
+        const std::uint32_t w = s1 == t ? t1 : t;
+        const Point2 du = pts[u] - pts[shared];
+        const Point2 dw = pts[w] - pts[shared];
+        if ((du | du) == 0.0 || (dw | dw) == 0.0) return true;  // repeated point
+        return cross(pts[shared], pts[u], pts[w]) == 0.0 && (du | dw) > 0.0;
+    }
+    return closed_segments_meet(pts[s], pts[s1], pts[t], pts[t1]);
+}
+
+Status<TriangulateError> Triangulator::Impl::check_crossings() {
+    const auto n = static_cast<std::uint32_t>(pts.size());
+    Box all;
+    for (const Point2& p : pts) all.add(p);
+    const double w = std::max(all.x1 - all.x0, 1e-300);
+    const double h = std::max(all.y1 - all.y0, 1e-300);
+    const double cells_per_len = std::sqrt(static_cast<double>(n) / (w * h));
+    const auto gx = static_cast<std::uint32_t>(std::clamp(w * cells_per_len, 1.0, 2048.0));
+    const auto gy = static_cast<std::uint32_t>(std::clamp(h * cells_per_len, 1.0, 2048.0));
+    auto cell_x = [&](double x) {
+        return std::min(gx - 1, static_cast<std::uint32_t>((x - all.x0) / w * gx));
+    };
+    auto cell_y = [&](double y) {
+        return std::min(gy - 1, static_cast<std::uint32_t>((y - all.y0) / h * gy));
+    };
+    auto seg_box = [&](std::uint32_t s) {
+        Box b;
+        b.add(pts[s]);
+        b.add(pts[next_in_loop(s, static_cast<std::uint32_t>(loop_of(s)))]);
+        return b;
+    };
+    // Two passes over the segments: count per cell, then fill (compressed rows).
+    cell_start.assign(std::size_t{gx} * gy + 1, 0);
+    for (int pass = 0; pass < 2; ++pass) {
+        for (std::uint32_t s = 0; s < n; ++s) {
+            const Box b = seg_box(s);
+            for (std::uint32_t cy = cell_y(b.y0); cy <= cell_y(b.y1); ++cy) {
+                for (std::uint32_t cx = cell_x(b.x0); cx <= cell_x(b.x1); ++cx) {
+                    const std::size_t c = std::size_t{cy} * gx + cx;
+                    if (pass == 0) ++cell_start[c + 1];
+                    else cell_items[cell_start[c]++] = s;
+                }
+            }
+        }
+        if (pass == 0) {
+            for (std::size_t c = 1; c < cell_start.size(); ++c) cell_start[c] += cell_start[c - 1];
+            cell_items.assign(cell_start.back(), 0);
+        }
+    }
+    // After the fill, cell_start[c] is the END of cell c; cell c begins at cell_start[c - 1].
+    for (std::size_t c = 0; c + 1 < cell_start.size(); ++c) {
+        const std::uint32_t lo = c == 0 ? 0 : cell_start[c - 1];
+        const std::uint32_t hi = cell_start[c];
+        for (std::uint32_t i = lo; i < hi; ++i) {
+            for (std::uint32_t j = i + 1; j < hi; ++j) {
+                const std::uint32_t s = cell_items[i];
+                const std::uint32_t t = cell_items[j];
+                // Test each pair once: in the cell holding the corner of their boxes' overlap.
+                const Box bs = seg_box(s);
+                const Box bt = seg_box(t);
+                const std::size_t home = std::size_t{cell_y(std::max(bs.y0, bt.y0))} * gx +
+                                         cell_x(std::max(bs.x0, bt.x0));
+                if (home != c || !segments_meet(s, t)) continue;
+                return Err{TriangulateError{TriangulateFailure::kSelfIntersecting, loop_of(s),
+                                            loop_of(t)}};
+            }
+        }
+    }
+    return {};
+}
+
+bool Triangulator::Impl::point_in_loop(const Point2& p, std::uint32_t l) const noexcept {
+    bool inside = false;
+    for (std::uint32_t a = begin[l]; a < begin[l + 1]; ++a) {
+        const Point2& pa = pts[a];
+        const Point2& pb = pts[next_in_loop(a, l)];
+        if ((pa[1] > p[1]) != (pb[1] > p[1]) &&
+            p[0] < pa[0] + (p[1] - pa[1]) * (pb[0] - pa[0]) / (pb[1] - pa[1])) {
+            inside = !inside;
+        }
+    }
+    return inside;
+}
+
+/// depth = how many loops contain a loop; parent = the smallest of them (-1 for none).
+void Triangulator::Impl::find_nesting() {
+    depth.assign(loops(), 0);
+    parent.assign(loops(), -1);
+    for (std::uint32_t i = 0; i < loops(); ++i) {
+        for (std::uint32_t j = 0; j < loops(); ++j) {
+            if (i == j || !box[j].contains(box[i]) || !point_in_loop(pts[begin[i]], j)) continue;
+            ++depth[i];
+            const std::int32_t pi = parent[i];
+            if (pi < 0 || std::abs(area[j]) < std::abs(area[static_cast<std::uint32_t>(pi)])) {
+                parent[i] = static_cast<std::int32_t>(j);
+            }
+        }
+    }
+}
+
+// ---- convex fast path ------------------------------------------------------------------------
+
+bool Triangulator::Impl::strictly_convex(std::uint32_t l) const noexcept {
+    const double dir = area[l] > 0 ? 1.0 : -1.0;
+    for (std::uint32_t p = begin[l]; p < begin[l + 1]; ++p) {
+        const std::uint32_t q = next_in_loop(p, l);
+        if (!(dir * cross(pts[p], pts[q], pts[next_in_loop(q, l)]) > 0.0)) return false;
+    }
+    return true;  // all turns one way and (validated) simple: convex
+}
+
+void Triangulator::Impl::fan(std::uint32_t l, std::vector<Triangle>& out) const {
+    const std::uint32_t o = begin[l];
+    const bool ccw = area[l] > 0;
+    for (std::uint32_t p = o + 1; p + 1 < begin[l + 1]; ++p) {
+        out.push_back(ccw ? Triangle{o, p, p + 1} : Triangle{o, p + 1, p});
+    }
+}
+
+// ---- rings -----------------------------------------------------------------------------------
+
+std::uint32_t Triangulator::Impl::add_node(std::uint32_t point) {
+    const auto id = static_cast<std::uint32_t>(nodes.size());
+    nodes.push_back(Node{pts[point][0], pts[point][1], point, id, id, kNone, kNone, 0});
+    return id;
+}
+
+/// Links loop l into a ring turning the requested way; returns its leftmost node.
+std::uint32_t Triangulator::Impl::make_ring(std::uint32_t l, bool ccw) {
+    const bool forward = (area[l] > 0) == ccw;
+    const std::uint32_t n = loop_size(l);
+    const auto first = static_cast<std::uint32_t>(nodes.size());
+    std::uint32_t leftmost = first;
+    for (std::uint32_t k = 0; k < n; ++k) {
+        const std::uint32_t id = add_node(forward ? begin[l] + k : begin[l + 1] - 1 - k);
+        nodes[id].prev = k == 0 ? first + n - 1 : id - 1;
+        nodes[id].next = k + 1 == n ? first : id + 1;
+        const Node& m = nodes[leftmost];
+        if (nodes[id].x < m.x || (nodes[id].x == m.x && nodes[id].y < m.y)) leftmost = id;
+    }
+    return leftmost;
+}
+
+void Triangulator::Impl::unlink(std::uint32_t n) noexcept {
+    Node& node = nodes[n];
+    nodes[node.next].prev = node.prev;
+    nodes[node.prev].next = node.next;
+    if (node.zprev != kNone) nodes[node.zprev].znext = node.znext;
+    if (node.znext != kNone) nodes[node.znext].zprev = node.zprev;
+}
+
+double Triangulator::Impl::turn(std::uint32_t n) const noexcept {
+    const Node& a = nodes[nodes[n].prev];
+    const Node& b = nodes[n];
+    const Node& c = nodes[nodes[n].next];
+    return cross(a.x, a.y, b.x, b.y, c.x, c.y);
+}
+
+/// Joins a to b by a zero-width slit: a -> b ... and a' <- b' closing the other side.
+std::uint32_t Triangulator::Impl::split(std::uint32_t a, std::uint32_t b) {
+    const std::uint32_t a2 = add_node(nodes[a].i);
+    const std::uint32_t b2 = add_node(nodes[b].i);
+    const std::uint32_t an = nodes[a].next;
+    const std::uint32_t bp = nodes[b].prev;
+    nodes[a].next = b;   nodes[b].prev = a;
+    nodes[a2].next = an; nodes[an].prev = a2;
+    nodes[b2].next = a2; nodes[a2].prev = b2;
+    nodes[bp].next = b2; nodes[b2].prev = bp;
+    return b2;
+}
+
+bool Triangulator::Impl::locally_inside(std::uint32_t a, std::uint32_t b) const noexcept {
+    const Node& na = nodes[a];
+    const Node& p = nodes[na.prev];
+    const Node& n = nodes[na.next];
+    const Node& nb = nodes[b];
+    if (turn(a) > 0) {
+        return cross(na.x, na.y, nb.x, nb.y, n.x, n.y) <= 0 &&
+               cross(na.x, na.y, p.x, p.y, nb.x, nb.y) <= 0;
+    }
+    return cross(na.x, na.y, nb.x, nb.y, p.x, p.y) > 0 ||
+           cross(na.x, na.y, n.x, n.y, nb.x, nb.y) > 0;
+}
+
+bool Triangulator::Impl::sector_contains_sector(std::uint32_t m, std::uint32_t p) const noexcept {
+    const Node& nm = nodes[m];
+    const Node& mp = nodes[nm.prev];
+    const Node& mn = nodes[nm.next];
+    const Node& pp = nodes[nodes[p].prev];
+    const Node& pn = nodes[nodes[p].next];
+    return cross(mp.x, mp.y, nm.x, nm.y, pp.x, pp.y) > 0 &&
+           cross(pn.x, pn.y, nm.x, nm.y, mn.x, mn.y) > 0;
+}
+
+/// Eberly's bridge: cast a ray left from the hole's leftmost point, take the nearest boundary
+/// edge it hits, then the visible vertex of smallest angle inside the triangle it spans.
+std::uint32_t Triangulator::Impl::find_bridge(std::uint32_t hole,
+                                               std::uint32_t outer) const noexcept {
+    const double hx = nodes[hole].x;
+    const double hy = nodes[hole].y;
+    double qx = -std::numeric_limits<double>::infinity();
+    std::uint32_t m = kNone;
+    std::uint32_t p = outer;
+    do {
+        const Node& a = nodes[p];
+        const Node& b = nodes[a.next];
+        if (hy <= a.y && hy >= b.y && b.y != a.y) {
+            const double x = a.x + (hy - a.y) * (b.x - a.x) / (b.y - a.y);
+            if (x <= hx && x > qx) {
+                qx = x;
+                m = a.x < b.x ? p : a.next;
+            }
+        }
+        p = a.next;
+    } while (p != outer);
+    if (m == kNone) return kNone;
+    const std::uint32_t stop = m;
+    const double mx = nodes[m].x;
+    const double my = nodes[m].y;
+    double tan_min = std::numeric_limits<double>::infinity();
+    const double ax = hy < my ? hx : qx;
+    const double cx = hy < my ? qx : hx;
+    p = m;
+    do {
+        const Node& np = nodes[p];
+        if (hx >= np.x && np.x >= mx && hx != np.x && cross(ax, hy, mx, my, np.x, np.y) <= 0 &&
+            cross(mx, my, cx, hy, np.x, np.y) <= 0 && cross(cx, hy, ax, hy, np.x, np.y) <= 0) {
+            const double tan = std::abs(hy - np.y) / (hx - np.x);
+            if (locally_inside(p, hole) &&
+                (tan < tan_min ||
+                 (tan == tan_min && (np.x > nodes[m].x ||
+                                     (np.x == nodes[m].x && sector_contains_sector(m, p)))))) {
+                m = p;
+                tan_min = tan;
+            }
+        }
+        p = np.next;
+    } while (p != stop);
+    return m;
+}
+
+void Triangulator::Impl::eliminate_holes(std::uint32_t outer) {
+    std::sort(holes.begin(), holes.end(), [&](std::uint32_t a, std::uint32_t b) {
+        const Node& na = nodes[a];
+        const Node& nb = nodes[b];
+        return na.x != nb.x ? na.x < nb.x : (na.y != nb.y ? na.y < nb.y : a < b);
+    });
+    for (const std::uint32_t h : holes) {
+        std::uint32_t bridge = find_bridge(h, outer);
+        if (bridge == kNone) {  // rounding only: join to the nearest boundary node instead
+            double best = std::numeric_limits<double>::infinity();
+            std::uint32_t p = outer;
+            do {
+                const double d = std::hypot(nodes[p].x - nodes[h].x, nodes[p].y - nodes[h].y);
+                if (d < best) { best = d; bridge = p; }
+                p = nodes[p].next;
+            } while (p != outer);
+        }
+        split(bridge, h);
+    }
+}
+
+// ---- z-order index ---------------------------------------------------------------------------
+
+namespace {
+std::uint32_t spread_bits(std::uint32_t v) noexcept {
+    v = (v | (v << 8)) & 0x00FF00FFu;
+    v = (v | (v << 4)) & 0x0F0F0F0Fu;
+    v = (v | (v << 2)) & 0x33333333u;
+    v = (v | (v << 1)) & 0x55555555u;
+    return v;
+}
+}  // namespace
+
+std::uint32_t Triangulator::Impl::z_of(double x, double y) const noexcept {
+    const auto ix = static_cast<std::uint32_t>(std::clamp((x - zx0) * zinv, 0.0, 65535.0));
+    const auto iy = static_cast<std::uint32_t>(std::clamp((y - zy0) * zinv, 0.0, 65535.0));
+    return spread_bits(ix) | (spread_bits(iy) << 1);
+}
+
+void Triangulator::Impl::index_z(std::uint32_t start) {
+    Box b;
+    order.clear();
+    std::uint32_t p = start;
+    do {
+        b.add(Point2(nodes[p].x, nodes[p].y));
+        order.push_back(p);
+        p = nodes[p].next;
+    } while (p != start);
+    zx0 = b.x0;
+    zy0 = b.y0;
+    const double size = std::max(b.x1 - b.x0, b.y1 - b.y0);
+    zinv = size > 0 ? 65535.0 / size : 0.0;
+    for (const std::uint32_t q : order) nodes[q].z = z_of(nodes[q].x, nodes[q].y);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t c) {
+        return nodes[a].z != nodes[c].z ? nodes[a].z < nodes[c].z : a < c;
+    });
+    for (std::size_t k = 0; k < order.size(); ++k) {
+        nodes[order[k]].zprev = k == 0 ? kNone : order[k - 1];
+        nodes[order[k]].znext = k + 1 == order.size() ? kNone : order[k + 1];
+    }
+}
+
+// ---- ear clipping ----------------------------------------------------------------------------
+
+/// Node p (not a corner of the ear) stops the ear: a reflex or straight vertex inside it (on its
+/// boundary too unless `strict`). Points at a corner's position (bridge copies) never stop it.
+bool Triangulator::Impl::blocks(std::uint32_t p, std::uint32_t ear, bool strict) const noexcept {
+    const Node& b = nodes[ear];
+    const Node& a = nodes[b.prev];
+    const Node& c = nodes[b.next];
+    const Node& q = nodes[p];
+    if (p == b.prev || p == b.next || p == ear) return false;
+    if ((q.x == a.x && q.y == a.y) || (q.x == b.x && q.y == b.y) || (q.x == c.x && q.y == c.y)) {
+        return false;
+    }
+    const double d1 = cross(a.x, a.y, b.x, b.y, q.x, q.y);
+    const double d2 = cross(b.x, b.y, c.x, c.y, q.x, q.y);
+    const double d3 = cross(c.x, c.y, a.x, a.y, q.x, q.y);
+    const bool inside = strict ? (d1 > 0 && d2 > 0 && d3 > 0) : (d1 >= 0 && d2 >= 0 && d3 >= 0);
+    return inside && turn(p) <= 0;
+}
+
+bool Triangulator::Impl::is_ear(std::uint32_t ear, bool strict) const noexcept {
+    if (!(turn(ear) > 0)) return false;
+    const std::uint32_t stop = nodes[ear].prev;
+    for (std::uint32_t p = nodes[nodes[ear].next].next; p != stop; p = nodes[p].next) {
+        if (blocks(p, ear, strict)) return false;
+    }
+    return true;
+}
+
+bool Triangulator::Impl::is_ear_hashed(std::uint32_t ear, bool strict) const noexcept {
+    if (!(turn(ear) > 0)) return false;
+    const Node& a = nodes[nodes[ear].prev];
+    const Node& b = nodes[ear];
+    const Node& c = nodes[b.next];
+    const std::uint32_t zmin = z_of(std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}));
+    const std::uint32_t zmax = z_of(std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}));
+    for (std::uint32_t p = b.zprev; p != kNone && nodes[p].z >= zmin; p = nodes[p].zprev) {
+        if (blocks(p, ear, strict)) return false;
+    }
+    for (std::uint32_t p = b.znext; p != kNone && nodes[p].z <= zmax; p = nodes[p].znext) {
+        if (blocks(p, ear, strict)) return false;
+    }
+    return true;
+}
+
+/// When no proper ear is left (rounding): pass 1 accepts points on the ear's boundary, pass 2 a
+/// straight vertex (a zero-area ear), pass 3 the most convex vertex. Returns kNone if none.
+std::uint32_t Triangulator::Impl::relaxed_ear(std::uint32_t start, int pass) const noexcept {
+    std::uint32_t best = kNone;
+    double best_turn = -std::numeric_limits<double>::infinity();
+    std::uint32_t p = start;
+    do {
+        if (pass == 1 && (zinv > 0 ? is_ear_hashed(p, true) : is_ear(p, true))) return p;
+        if (pass == 2 && turn(p) == 0.0) return p;
+        if (pass == 3 && turn(p) > best_turn) {
+            best_turn = turn(p);
+            best = p;
+        }
+        p = nodes[p].next;
+    } while (p != start);
+    return best;
+}
+
+void Triangulator::Impl::clip(std::uint32_t ear, std::vector<Triangle>& out,
+                              std::uint32_t& degenerate) {
+    std::uint32_t stop = ear;
+    while (nodes[ear].prev != nodes[ear].next) {
+        const std::uint32_t prev = nodes[ear].prev;
+        const std::uint32_t next = nodes[ear].next;
+        if (zinv > 0 ? is_ear_hashed(ear, false) : is_ear(ear, false)) {
+            out.push_back(Triangle{nodes[prev].i, nodes[ear].i, nodes[next].i});
+            unlink(ear);
+            ear = nodes[next].next;  // skipping a vertex gives fewer slivers
+            stop = ear;
+            continue;
+        }
+        ear = next;
+        if (ear != stop) continue;
+        // A full turn without a proper ear: relax step by step (never stall).
+        std::uint32_t forced = kNone;
+        for (int pass = 1; pass <= 3 && forced == kNone; ++pass) {
+            forced = relaxed_ear(ear, pass);
+            if (forced != kNone && pass >= 2) ++degenerate;
+        }
+        const Node& f = nodes[forced];
+        out.push_back(Triangle{nodes[f.prev].i, f.i, nodes[f.next].i});
+        unlink(forced);
+        ear = nodes[f.next].next;
+        stop = ear;
+    }
+}
+
+// ---- public ----------------------------------------------------------------------------------
+
+Triangulator::Triangulator() : impl_(std::make_unique<Impl>()) {}
+Triangulator::~Triangulator() = default;
+Triangulator::Triangulator(Triangulator&&) noexcept = default;
+Triangulator& Triangulator::operator=(Triangulator&&) noexcept = default;
+
+Status<TriangulateError> Triangulator::triangulate(std::span<const std::span<const Point2>> loops,
+                                                   std::vector<Triangle>& out) {
+    out.clear();
+    stats_ = TriangulateStats{};
+    stats_.loops = static_cast<std::uint32_t>(loops.size());
+    Impl& m = *impl_;
+    if (auto s = m.load(loops); !s) return s;
+    if (auto s = m.measure(); !s) return s;
+    if (auto s = m.check_crossings(); !s) return s;
+    m.find_nesting();
+    out.reserve(m.pts.size() + 2 * m.loops());
+    for (std::uint32_t l = 0; l < m.loops(); ++l) {
+        if (m.depth[l] % 2 == 1) {
+            ++stats_.holes;
+            continue;
+        }
+        ++stats_.outer_loops;
+        m.nodes.clear();
+        m.holes.clear();
+        const std::uint32_t outer = m.make_ring(l, true);
+        for (std::uint32_t h = 0; h < m.loops(); ++h) {
+            if (m.parent[h] == static_cast<std::int32_t>(l) && m.depth[h] % 2 == 1) {
+                m.holes.push_back(m.make_ring(h, false));
+            }
+        }
+        if (m.holes.empty() && m.strictly_convex(l)) {
+            m.fan(l, out);
+            ++stats_.fans;
+            continue;
+        }
+        m.eliminate_holes(outer);
+        m.zinv = 0;
+        if (m.nodes.size() >= kHashThreshold) m.index_z(outer);
+        m.clip(outer, out, stats_.degenerate_ears);
+    }
+    return {};
+}
+
+Result<std::vector<Triangle>, TriangulateError> triangulate_loops(
+    std::span<const std::span<const Point2>> loops) {
+    Triangulator t;
+    std::vector<Triangle> out;
+    if (auto s = t.triangulate(loops, out); !s) return Err{s.error()};
+    return out;
+}
+
+}  // namespace kerf::cut

@@ -1,0 +1,65 @@
+// The strict checker must itself catch what it claims to catch.
+#include "tests/cut/mesh_checks.hpp"
+
+#include <gtest/gtest-spi.h>
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+#include "tests/cut/test_shapes.hpp"
+
+namespace kerf::cut::testing {
+namespace {
+
+TEST(MeshChecks, TestShapesAreClosedOrientedWithTheExpectedVolumes) {
+    const double pi = std::numbers::pi;
+    auto s = uv_sphere(1.0, 64, 128);
+    auto rs = expect_closed_2_manifold(s);
+    ASSERT_EQ(rs.piece_volumes_m3.size(), 1u);
+    EXPECT_NEAR(rs.total_volume_m3, 4.0 / 3.0 * pi, 0.01);
+    auto t = torus(0.03, 0.01, 48, 24);
+    EXPECT_NEAR(expect_closed_2_manifold(t).total_volume_m3, 2 * pi * pi * 0.03 * 0.01 * 0.01, 2e-6);
+    auto tube = hollow_tube(0.01, 0.006, 0.05, 20, 48);
+    auto rt = expect_closed_2_manifold(tube);
+    EXPECT_NEAR(rt.total_volume_m3, pi * (1e-4 - 3.6e-5) * 0.05, 2e-7);
+    auto b = box(TriMesh::Point(0, 0, 0), TriMesh::Point(1, 2, 3), 3);
+    EXPECT_NEAR(expect_closed_2_manifold(b).total_volume_m3, 6.0, 1e-12);
+    expect_face_normals_agree(b);
+}
+
+TEST(MeshChecks, CountsPiecesSeparately) {
+    auto m = uv_sphere(1.0, 8, 16);
+    append(m, uv_sphere(0.5, 8, 16, TriMesh::Point(5, 0, 0)));
+    auto r = expect_closed_2_manifold(m);
+    ASSERT_EQ(r.piece_volumes_m3.size(), 2u);
+    EXPECT_GT(r.piece_volumes_m3[0], 7.0 * r.piece_volumes_m3[1]);
+}
+
+TEST(MeshChecks, ReportsAnOpenSurface) {
+    auto m = box(TriMesh::Point(0, 0, 0), TriMesh::Point(1, 1, 1), 1);
+    m.delete_face(*m.faces().begin(), false);
+    EXPECT_NONFATAL_FAILURE(expect_closed_2_manifold(m), "open surface");
+}
+
+TEST(MeshChecks, ReportsANearZeroAreaTriangle) {
+    TriMesh m;
+    auto a = m.add_vertex(TriMesh::Point(0, 0, 0));
+    auto b = m.add_vertex(TriMesh::Point(1, 0, 0));
+    auto c = m.add_vertex(TriMesh::Point(0.5, 1e-17, 0));
+    auto d = m.add_vertex(TriMesh::Point(0.5, 0.5, 1));
+    m.add_face(a, c, b);
+    m.add_face(a, b, d);
+    m.add_face(b, c, d);
+    m.add_face(c, a, d);
+    EXPECT_NONFATAL_FAILURE(expect_closed_2_manifold(m), "near-zero area");
+}
+
+TEST(MeshChecks, ReportsAFlippedTriangle) {
+    auto m = box(TriMesh::Point(0, 0, 0), TriMesh::Point(1, 1, 1), 1);
+    auto f = *m.faces().begin();
+    m.set_normal(f, -m.normal(f));
+    EXPECT_NONFATAL_FAILURE(expect_face_normals_agree(m), "winding disagrees");
+}
+
+}  // namespace
+}  // namespace kerf::cut::testing
