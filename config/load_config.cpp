@@ -1,0 +1,127 @@
+#include "config/load_config.hpp"
+
+#include <algorithm>
+#include <system_error>
+#include <utility>
+
+#include "config/toml_reader.hpp"
+
+namespace kerf::config {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Fills in the file position of `key` in `file` (re-read; config files are small).
+ConfigError located(ConfigError e, const fs::path& file, std::string_view key) {
+    e.source = file.string();
+    auto text = detail::read_text_file(file.string());
+    if (!text) return e;
+    auto doc = detail::parse_toml(*text, e.source);
+    if (!doc) return e;
+    toml::node_view<const toml::node> node = std::as_const(*doc).at_path(key);
+    if (node) {
+        e.line = node.node()->source().begin.line;
+        e.column = node.node()->source().begin.column;
+    }
+    return e;
+}
+
+/// The profile names available in `dir` (file stems of *.toml), sorted, comma-separated.
+std::string available_names(const fs::path& dir) {
+    std::vector<std::string> names;
+    std::error_code ec;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        if (it->path().extension() == ".toml") names.push_back(it->path().stem().string());
+    }
+    std::sort(names.begin(), names.end());
+    std::string s;
+    for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
+    return s.empty() ? "(none: the folder is empty or missing)" : s;
+}
+
+/// `<config_dir>/<folder>/<name>.toml`, or a kBadReference error located at `key` of kerf.toml.
+Result<fs::path, ConfigError> profile_path(const fs::path& kerf_toml, std::string_view folder,
+                                           const std::string& name, std::string_view key) {
+    fs::path dir = kerf_toml.parent_path() / folder;
+    fs::path file = dir / (name + ".toml");
+    std::error_code ec;
+    if (fs::is_regular_file(file, ec)) return file;
+    ConfigError e;
+    e.kind = ConfigErrorKind::kBadReference;
+    e.key = std::string(key);
+    e.value = "\"" + name + "\"";
+    e.expected = "one of: " + available_names(dir);
+    e.note = "no file " + std::string(folder) + "/" + name + ".toml";
+    return Err{located(e, kerf_toml, key)};
+}
+
+/// Every file-backed body's mesh must exist.
+Status<ConfigError> check_meshes(const Config& c, const fs::path& scene_file) {
+    for (std::size_t i = 0; i < c.scene.bodies.size(); ++i) {
+        const SceneBody& body = c.scene.bodies[i];
+        if (body.mesh.kind != MeshSourceKind::kFile) continue;
+        auto path = resolve_mesh_path(body, path_vars(c));
+        if (!path) {
+            std::string key = "bodies[" + std::to_string(i) + "].mesh.path";
+            ConfigError e = located(path.error(), scene_file, key);
+            e.key = key;
+            return Err{e};
+        }
+    }
+    return {};
+}
+
+}  // namespace
+
+PathVars path_vars(const Config& config) { return {config.config_dir, config.shared_dir}; }
+
+Result<Config, ConfigError> load_config(const fs::path& kerf_toml) {
+    std::error_code ec;
+    fs::path main_file = fs::absolute(kerf_toml, ec).lexically_normal();
+    if (ec) main_file = kerf_toml;
+    Config c;
+    c.config_dir = main_file.parent_path();
+    auto main = load_kerf_config(main_file);
+    if (!main) return Err{main.error()};
+    c.main = std::move(*main);
+
+    auto shared = expand_path(c.main.shared_dir, {c.config_dir, {}});
+    if (!shared) return Err{located(shared.error(), main_file, "paths.shared")};
+    c.shared_dir = *shared;
+    auto journal = expand_path(c.main.journal.dir, path_vars(c));
+    if (!journal) return Err{located(journal.error(), main_file, "journal.dir")};
+    c.journal_dir = *journal;
+
+    auto device_file =
+        profile_path(main_file, "devices", c.main.profiles.device, "profiles.device");
+    if (!device_file) return Err{device_file.error()};
+    auto force_file = profile_path(main_file, "force", c.main.profiles.force, "profiles.force");
+    if (!force_file) return Err{force_file.error()};
+    auto scene_file = profile_path(main_file, "scenes", c.main.profiles.scene, "profiles.scene");
+    if (!scene_file) return Err{scene_file.error()};
+
+    auto device = load_device_profile(*device_file);
+    if (!device) return Err{device.error()};
+    c.device = std::move(*device);
+    auto force = load_force_profile(*force_file);
+    if (!force) return Err{force.error()};
+    c.force = std::move(*force);
+    auto scene = load_scene(*scene_file);
+    if (!scene) return Err{scene.error()};
+    c.scene = std::move(*scene);
+
+    if (c.force.limits.max_force_n > c.device.limits.peak_force_n) {
+        ConfigError e;
+        e.kind = ConfigErrorKind::kOutOfRange;
+        e.key = "limits.max_force_n";
+        e.value = detail::format_number(c.force.limits.max_force_n);
+        e.expected = "<= the device's peak_force_n (" +
+                     detail::format_number(c.device.limits.peak_force_n) + " N in " +
+                     device_file->string() + ")";
+        return Err{located(e, *force_file, e.key)};
+    }
+    if (auto meshes = check_meshes(c, *scene_file); !meshes) return Err{meshes.error()};
+    return c;
+}
+
+}  // namespace kerf::config

@@ -1,0 +1,192 @@
+#include "config/scene.hpp"
+
+#include <cmath>
+#include <system_error>
+
+#include "config/toml_reader.hpp"
+
+namespace kerf::config {
+namespace {
+
+using detail::closed;
+using detail::TableReader;
+
+const std::vector<std::string_view> kUnitNames = {"m", "cm", "mm", "um", "in"};
+const std::vector<std::string_view> kMaterialNames = {"cortical", "cancellous"};
+const std::vector<std::string_view> kSourceNames = {"file", "builtin_foot"};
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kQuaternionTolerance = 1e-3;
+constexpr std::int64_t kMinTriangles = 1'000;
+constexpr std::int64_t kMaxTriangles = 4'000'000;
+
+void read_mesh(TableReader m, MeshSource& out) {
+    auto source = m.choice("source", kSourceNames);
+    out.kind = source == 0 ? MeshSourceKind::kFile : MeshSourceKind::kBuiltinFoot;
+    if (out.kind == MeshSourceKind::kFile) {
+        out.path = m.string("path");
+        std::string bad;
+        if (m.has("path") && out.path.empty()) {
+            m.fail("path", ConfigErrorKind::kBadValue, "a non-empty path");
+        } else if (!check_path_template(out.path, &bad)) {
+            m.fail("path", ConfigErrorKind::kBadReference,
+                   "a path; variables ${config}, ${shared}, ${tmp}, ${runtime}",
+                   "cannot expand " + bad);
+        }
+        out.units = static_cast<LengthUnit>(
+            m.choice("units", kUnitNames, ConfigErrorKind::kBadUnit));
+        for (auto key : {"target_triangles", "seed"})
+            m.forbid(key, "only for source = \"builtin_foot\"");
+    } else {
+        out.target_triangles = static_cast<std::uint64_t>(
+            m.integer("target_triangles", kMinTriangles, kMaxTriangles));
+        out.seed = static_cast<std::uint64_t>(m.integer("seed", 0, INT64_MAX));
+        out.units = LengthUnit::kMetre;
+        for (auto key : {"path", "units"}) m.forbid(key, "only for source = \"file\"");
+    }
+}
+
+std::array<double, 4> axis_angle(TableReader& t) {
+    auto axis = t.numbers<3>("rotation_axis", closed(-1e6, 1e6, ""));
+    double angle_deg = t.number("rotation_angle_deg", closed(-360, 360, "deg"));
+    double norm = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+    if (norm < 1e-12) {
+        if (t.problems().empty())
+            t.fail("rotation_axis", ConfigErrorKind::kOutOfRange, "a non-zero axis");
+        return {1, 0, 0, 0};
+    }
+    double half = angle_deg * kPi / 360.0;
+    double s = std::sin(half) / norm;
+    return {std::cos(half), axis[0] * s, axis[1] * s, axis[2] * s};
+}
+
+std::array<double, 4> quaternion(TableReader& t) {
+    auto q = t.numbers<4>("rotation_quaternion_wxyz", closed(-1.01, 1.01, ""));
+    double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    if (std::abs(norm - 1.0) > kQuaternionTolerance) {
+        if (t.problems().empty())
+            t.fail("rotation_quaternion_wxyz", ConfigErrorKind::kOutOfRange,
+                   "a unit quaternion [w, x, y, z] (|q| = 1 +- 0.001)",
+                   "|q| = " + detail::format_number(norm));
+        return {1, 0, 0, 0};
+    }
+    return {q[0] / norm, q[1] / norm, q[2] / norm, q[3] / norm};
+}
+
+void read_transform(TableReader t, RigidTransform& out) {
+    if (t.has("translation_m"))
+        out.translation_m = t.numbers<3>("translation_m", closed(-10, 10, "m"));
+    else
+        t.problems().mark_known(&t.raw(), "translation_m");
+    bool quat = t.has("rotation_quaternion_wxyz");
+    bool axis = t.has("rotation_axis") || t.has("rotation_angle_deg");
+    if (quat && axis) {
+        t.problems().mark_known(&t.raw(), "rotation_axis");
+        t.problems().mark_known(&t.raw(), "rotation_angle_deg");
+        t.fail("rotation_quaternion_wxyz", ConfigErrorKind::kBadValue, "",
+               "write the rotation once: rotation_axis + rotation_angle_deg, or "
+               "rotation_quaternion_wxyz");
+        return;
+    }
+    if (quat) out.rotation_wxyz = quaternion(t);
+    if (axis) out.rotation_wxyz = axis_angle(t);
+    if (!quat && !axis) {  // identity; still let a misspelt rotation key be reported
+        t.problems().mark_known(&t.raw(), "rotation_axis");
+        t.problems().mark_known(&t.raw(), "rotation_angle_deg");
+        t.problems().mark_known(&t.raw(), "rotation_quaternion_wxyz");
+    }
+}
+
+SceneBody read_body(TableReader b) {
+    SceneBody body;
+    body.name = b.string("name");
+    body.material = static_cast<BodyMaterial>(b.choice_or("material", 0, kMaterialNames));
+    read_mesh(b.table("mesh"), body.mesh);
+    read_transform(b.table("transform", false), body.transform);
+    return body;
+}
+
+Scene read_scene(TableReader& root) {
+    Scene s;
+    s.name = root.string("name");
+    s.description = root.string_or("description", "");
+    auto bodies = root.tables("bodies");
+    if (bodies.empty() && root.has("bodies"))
+        root.fail("bodies", ConfigErrorKind::kOutOfRange, "at least one [[bodies]] table");
+    for (auto& b : bodies) {
+        s.bodies.push_back(read_body(b));
+        const std::string& name = s.bodies.back().name;
+        for (std::size_t i = 0; i + 1 < s.bodies.size(); ++i) {
+            if (!name.empty() && s.bodies[i].name == name) {
+                b.fail("name", ConfigErrorKind::kBadValue, "a name unique within the scene",
+                       "body " + std::to_string(i) + " has the same name");
+            }
+        }
+    }
+    return s;
+}
+
+}  // namespace
+
+std::string_view to_string(LengthUnit unit) noexcept {
+    switch (unit) {
+        case LengthUnit::kMetre: return "m";
+        case LengthUnit::kCentimetre: return "cm";
+        case LengthUnit::kMillimetre: return "mm";
+        case LengthUnit::kMicrometre: return "um";
+        case LengthUnit::kInch: return "in";
+    }
+    return "unknown";
+}
+
+double metres_per_unit(LengthUnit unit) noexcept {
+    switch (unit) {
+        case LengthUnit::kMetre: return 1.0;
+        case LengthUnit::kCentimetre: return 0.01;
+        case LengthUnit::kMillimetre: return 0.001;
+        case LengthUnit::kMicrometre: return 1e-6;
+        case LengthUnit::kInch: return 0.0254;
+    }
+    return 1.0;
+}
+
+std::string_view to_string(BodyMaterial material) noexcept {
+    return material == BodyMaterial::kCortical ? "cortical" : "cancellous";
+}
+
+std::string_view to_string(MeshSourceKind kind) noexcept {
+    return kind == MeshSourceKind::kFile ? "file" : "builtin_foot";
+}
+
+Result<Scene, ConfigError> parse_scene(std::string_view text, std::string_view source_name) {
+    return detail::parse_document<Scene>(text, source_name, read_scene);
+}
+
+Result<Scene, ConfigError> load_scene(const std::filesystem::path& path) {
+    auto text = detail::read_text_file(path.string());
+    if (!text) return Err{text.error()};
+    return parse_scene(*text, path.string());
+}
+
+Result<std::filesystem::path, ConfigError> resolve_mesh_path(const SceneBody& body,
+                                                             const PathVars& vars) {
+    auto path = expand_path(body.mesh.path, vars);
+    if (!path) {
+        ConfigError e = path.error();
+        e.key = "bodies." + body.name + ".mesh.path";
+        return Err{e};
+    }
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(*path, ec)) {
+        ConfigError e;
+        e.kind = ConfigErrorKind::kBadReference;
+        e.key = "bodies." + body.name + ".mesh.path";
+        e.value = "\"" + body.mesh.path + "\"";
+        e.expected = "an existing mesh file";
+        e.note = "no such file: " + path->string();
+        return Err{e};
+    }
+    return *path;
+}
+
+}  // namespace kerf::config
