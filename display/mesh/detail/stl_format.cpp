@@ -1,0 +1,217 @@
+// STL, ASCII and binary. Binary is recognised by its size (84 + 50 · count bytes), not by the
+// first five bytes, because many binary STLs begin with "solid".
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+
+#include "display/mesh/detail/formats.hpp"
+
+namespace kerf::mesh::detail {
+namespace {
+
+constexpr std::size_t kHeaderBytes = 84;
+constexpr std::size_t kFacetBytes = 50;
+
+std::uint32_t read_u32_le(const std::byte* p) {
+    std::uint32_t v = 0;
+    for (int i = 3; i >= 0; --i) v = (v << 8) | static_cast<std::uint32_t>(p[i]);
+    return v;
+}
+
+float read_f32_le(const std::byte* p) {
+    const std::uint32_t bits = read_u32_le(p);
+    float f = 0.0f;
+    std::memcpy(&f, &bits, sizeof f);
+    return f;
+}
+
+bool starts_with_solid(std::string_view text) {
+    const std::size_t first = text.find_first_not_of(" \t\r\n");
+    return first != std::string_view::npos && text.substr(first, 5) == "solid";
+}
+
+bool has_nul(std::string_view text) {
+    return text.substr(0, 1024).find('\0') != std::string_view::npos;
+}
+
+Result<IndexedMesh, MeshError> parse_binary(std::span<const std::byte> bytes,
+                                            const ParseContext& ctx) {
+    const std::uint32_t count = read_u32_le(bytes.data() + 80);
+    if (count == 0) return Err{ctx.error(MeshErrorKind::kEmpty, 0, 80, "binary STL with 0 triangles")};
+    IndexedMesh out;
+    out.triangles.reserve(count);
+    VertexWelder welder;
+    for (std::uint32_t f = 0; f < count; ++f) {
+        const std::size_t base = kHeaderBytes + std::size_t{f} * kFacetBytes;
+        Triangle t{};
+        for (std::size_t k = 0; k < 3; ++k) {
+            const std::byte* v = bytes.data() + base + 12 + 12 * k;
+            const auto p = to_metres(read_f32_le(v), read_f32_le(v + 4), read_f32_le(v + 8),
+                                     ctx.metres_per_unit);
+            if (!p) {
+                return Err{ctx.error(MeshErrorKind::kNonFinite, 0, base + 12 + 12 * k,
+                                     "triangle " + std::to_string(f) + " has a NaN or infinite coordinate")};
+            }
+            t[k] = welder.weld(*p, out);
+        }
+        out.triangles.push_back(t);
+    }
+    return out;
+}
+
+// Reads "vertex x y z" three times between "outer loop" and "endloop".
+class AsciiStl {
+public:
+    AsciiStl(std::string_view text, const ParseContext& ctx) : s_(text), ctx_(ctx) {}
+    Result<IndexedMesh, MeshError> parse();
+
+private:
+    std::optional<MeshError> expect(std::string_view word);
+    std::optional<MeshError> facet();
+    std::optional<MeshError> number(double& v, bool finite);
+    MeshError fail(MeshErrorKind kind, std::string what) const {
+        return ctx_.error(kind, s_.line(), s_.offset(), std::move(what));
+    }
+
+    TextScanner s_;
+    const ParseContext& ctx_;
+    IndexedMesh out_;
+    VertexWelder welder_;
+};
+
+std::optional<MeshError> AsciiStl::expect(std::string_view word) {
+    const std::string_view t = s_.next_token();
+    if (t == word) return std::nullopt;
+    if (t.empty()) return fail(MeshErrorKind::kTruncated, "file ends where '" + std::string(word) + "' was expected");
+    return fail(MeshErrorKind::kSyntax, "expected '" + std::string(word) + "', found " + quote(t));
+}
+
+std::optional<MeshError> AsciiStl::number(double& v, bool finite) {
+    const std::string_view t = s_.next_token();
+    if (t.empty()) return fail(MeshErrorKind::kTruncated, "file ends where a number was expected");
+    const auto d = parse_double(t);
+    if (!d) return fail(MeshErrorKind::kSyntax, "expected a number, found " + quote(t));
+    if (finite && !std::isfinite(*d)) return fail(MeshErrorKind::kNonFinite, "coordinate " + quote(t));
+    v = *d;
+    return std::nullopt;
+}
+
+std::optional<MeshError> AsciiStl::facet() {
+    double ignored = 0.0;  // stored normals are recomputed from the winding
+    if (auto e = expect("normal")) return e;
+    for (int i = 0; i < 3; ++i) {
+        if (auto e = number(ignored, false)) return e;
+    }
+    if (auto e = expect("outer")) return e;
+    if (auto e = expect("loop")) return e;
+    Triangle t{};
+    int corners = 0;
+    for (std::string_view w = s_.next_token(); w != "endloop"; w = s_.next_token()) {
+        if (w.empty()) return fail(MeshErrorKind::kTruncated, "file ends inside a facet");
+        if (w != "vertex") return fail(MeshErrorKind::kSyntax, "expected 'vertex' or 'endloop', found " + quote(w));
+        double x = 0, y = 0, z = 0;
+        if (auto e = number(x, true)) return e;
+        if (auto e = number(y, true)) return e;
+        if (auto e = number(z, true)) return e;
+        const auto p = to_metres(x, y, z, ctx_.metres_per_unit);
+        if (!p) return fail(MeshErrorKind::kNonFinite, "coordinate overflows after unit scaling");
+        if (corners == 3) return fail(MeshErrorKind::kUnsupported, "facet with more than 3 vertices");
+        t[static_cast<std::size_t>(corners++)] = welder_.weld(*p, out_);
+    }
+    if (corners != 3) {
+        return fail(MeshErrorKind::kSyntax, "facet with " + std::to_string(corners) + " vertices");
+    }
+    out_.triangles.push_back(t);
+    return expect("endfacet");
+}
+
+Result<IndexedMesh, MeshError> AsciiStl::parse() {
+    if (auto e = expect("solid")) return Err{*e};
+    s_.rest_of_line();  // the solid's name
+    for (std::string_view w = s_.next_token(); !w.empty(); w = s_.next_token()) {
+        if (w == "facet") {
+            if (auto e = facet()) return Err{*e};
+        } else if (w == "endsolid") {
+            s_.rest_of_line();
+            const std::string_view next = s_.next_token();
+            if (next.empty()) break;
+            if (next != "solid") return Err{fail(MeshErrorKind::kSyntax, "expected 'solid' or end of file, found " + quote(next))};
+            s_.rest_of_line();
+        } else {
+            return Err{fail(MeshErrorKind::kSyntax, "expected 'facet' or 'endsolid', found " + quote(w))};
+        }
+    }
+    if (out_.triangles.empty()) return Err{fail(MeshErrorKind::kEmpty, "ASCII STL without facets")};
+    return std::move(out_);
+}
+
+void put_f32(std::string& out, float f) {
+    std::uint32_t bits = 0;
+    std::memcpy(&bits, &f, sizeof bits);
+    for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((bits >> (8 * i)) & 0xFFu));
+}
+
+Point facet_normal(const IndexedMesh& m, const Triangle& t) {
+    const Point n = (m.positions_m[t[1]] - m.positions_m[t[0]]) % (m.positions_m[t[2]] - m.positions_m[t[0]]);
+    const double len = n.norm();
+    return len > 0.0 ? n / len : Point{0.0, 0.0, 0.0};
+}
+
+}  // namespace
+
+Result<IndexedMesh, MeshError> parse_stl(std::span<const std::byte> bytes, const ParseContext& ctx) {
+    const std::string_view text = as_text(bytes);
+    if (bytes.size() >= kHeaderBytes) {
+        const std::uint64_t count = read_u32_le(bytes.data() + 80);
+        const std::uint64_t expected = kHeaderBytes + count * kFacetBytes;
+        if (expected == bytes.size()) return parse_binary(bytes, ctx);
+        if (!starts_with_solid(text) || has_nul(text)) {
+            const bool short_file = bytes.size() < expected;
+            return Err{ctx.error(short_file ? MeshErrorKind::kTruncated : MeshErrorKind::kBadCount, 0, 80,
+                                 "binary STL header claims " + std::to_string(count) + " triangles (" +
+                                     std::to_string(expected) + " bytes) but the file has " +
+                                     std::to_string(bytes.size()) + " bytes")};
+        }
+    } else if (!starts_with_solid(text)) {
+        return Err{ctx.error(MeshErrorKind::kTruncated, 0, bytes.size(),
+                             "only " + std::to_string(bytes.size()) +
+                                 " bytes: neither a binary STL (84-byte header) nor ASCII ('solid')")};
+    }
+    return AsciiStl(text, ctx).parse();
+}
+
+std::string write_stl(const IndexedMesh& m, double metres_per_unit, bool binary) {
+    std::string out;
+    if (binary) {
+        std::string header = "kerf binary STL";
+        header.resize(80, ' ');
+        out = header;
+        const auto n = static_cast<std::uint32_t>(m.triangles.size());
+        for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((n >> (8 * i)) & 0xFFu));
+        out.reserve(kHeaderBytes + m.triangles.size() * kFacetBytes);
+        for (const Triangle& t : m.triangles) {
+            const Point nrm = facet_normal(m, t);
+            for (int i = 0; i < 3; ++i) put_f32(out, static_cast<float>(nrm[i]));
+            for (std::uint32_t v : t) {
+                for (int i = 0; i < 3; ++i) put_f32(out, static_cast<float>(m.positions_m[v][i] / metres_per_unit));
+            }
+            out += std::string(2, '\0');
+        }
+        return out;
+    }
+    out = "solid kerf\n";
+    for (const Triangle& t : m.triangles) {
+        const Point nrm = facet_normal(m, t);
+        out += "  facet normal " + exact_number(nrm[0]) + " " + exact_number(nrm[1]) + " " + exact_number(nrm[2]) + "\n    outer loop\n";
+        for (std::uint32_t v : t) {
+            const Point p = m.positions_m[v] / metres_per_unit;
+            out += "      vertex " + exact_number(p[0]) + " " + exact_number(p[1]) + " " + exact_number(p[2]) + "\n";
+        }
+        out += "    endloop\n  endfacet\n";
+    }
+    out += "endsolid kerf\n";
+    return out;
+}
+
+}  // namespace kerf::mesh::detail

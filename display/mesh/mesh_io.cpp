@@ -1,0 +1,134 @@
+#include "display/mesh/mesh_io.hpp"
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <system_error>
+#include <vector>
+
+#include "display/mesh/detail/formats.hpp"
+
+namespace kerf::mesh {
+namespace {
+
+MeshError io_error(const std::filesystem::path& path, std::string detail) {
+    return MeshError{MeshErrorKind::kIo, path.string(), 0, 0, std::move(detail)};
+}
+
+Result<std::vector<std::byte>, MeshError> read_file(const std::filesystem::path& path) {
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);
+    if (ec || !std::filesystem::exists(status)) return Err{io_error(path, "no such file")};
+    if (std::filesystem::is_directory(status)) return Err{io_error(path, "is a directory")};
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return Err{io_error(path, std::string("cannot open: ") + std::strerror(errno))};
+    std::vector<std::byte> bytes;
+    char buffer[1 << 16];
+    while (in) {
+        in.read(buffer, sizeof buffer);
+        const auto* first = reinterpret_cast<const std::byte*>(buffer);
+        bytes.insert(bytes.end(), first, first + in.gcount());
+    }
+    if (in.bad()) return Err{io_error(path, "read failed")};
+    return bytes;
+}
+
+}  // namespace
+
+std::string_view to_string(Format f) noexcept {
+    switch (f) {
+        case Format::kStl: return "stl";
+        case Format::kObj: return "obj";
+        case Format::kPly: return "ply";
+        case Format::kOff: return "off";
+    }
+    return "unknown";
+}
+
+std::string_view to_string(Encoding e) noexcept {
+    switch (e) {
+        case Encoding::kAscii: return "ascii";
+        case Encoding::kBinaryLittleEndian: return "binary_little_endian";
+        case Encoding::kBinaryBigEndian: return "binary_big_endian";
+    }
+    return "unknown";
+}
+
+std::optional<Format> format_from_path(const std::filesystem::path& path) {
+    std::string ext = path.extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    for (Format f : {Format::kStl, Format::kObj, Format::kPly, Format::kOff}) {
+        if (ext.size() > 1 && ext.substr(1) == to_string(f)) return f;
+    }
+    return std::nullopt;
+}
+
+Result<IndexedMesh, MeshError> parse_indexed(std::span<const std::byte> bytes, Format format,
+                                             Units units, std::string_view name) {
+    const detail::ParseContext ctx{name, metres_per_unit(units)};
+    if (bytes.empty()) return Err{ctx.error(MeshErrorKind::kEmpty, 0, 0, "the file is empty")};
+    switch (format) {
+        case Format::kStl: return detail::parse_stl(bytes, ctx);
+        case Format::kObj: return detail::parse_obj(bytes, ctx);
+        case Format::kPly: return detail::parse_ply(bytes, ctx);
+        case Format::kOff: return detail::parse_off(bytes, ctx);
+    }
+    return Err{ctx.error(MeshErrorKind::kUnknownFormat, 0, 0, "unknown format")};
+}
+
+Result<LoadedMesh, MeshError> parse_mesh(std::span<const std::byte> bytes, Format format,
+                                         Units units, std::string_view name) {
+    auto indexed = parse_indexed(bytes, format, units, name);
+    if (!indexed) return Err{std::move(indexed).error()};
+    BuiltMesh built = build_tri_mesh(*indexed);
+    return LoadedMesh{std::move(*indexed), std::move(built.mesh), built.detached_triangles};
+}
+
+Result<LoadedMesh, MeshError> load_mesh_file(const std::filesystem::path& path, Units units) {
+    const auto format = format_from_path(path);
+    if (!format) {
+        return Err{MeshError{MeshErrorKind::kUnknownFormat, path.string(), 0, 0,
+                             "extension '" + path.extension().string() +
+                                 "' is not one of .stl .obj .ply .off"}};
+    }
+    auto bytes = read_file(path);
+    if (!bytes) return Err{std::move(bytes).error()};
+    return parse_mesh(*bytes, *format, units, path.string());
+}
+
+Result<TriMesh, MeshError> load_mesh(const std::filesystem::path& path, Units units) {
+    auto loaded = load_mesh_file(path, units);
+    if (!loaded) return Err{std::move(loaded).error()};
+    return std::move(loaded->mesh);
+}
+
+std::string serialize_mesh(const TriMesh& mesh, Format format, Units units, Encoding encoding) {
+    const IndexedMesh m = to_indexed(mesh);
+    const double scale = metres_per_unit(units);
+    const bool binary = encoding != Encoding::kAscii;
+    switch (format) {
+        case Format::kStl: return detail::write_stl(m, scale, binary);
+        case Format::kObj: return detail::write_obj(m, scale);
+        case Format::kPly: return detail::write_ply(m, scale, binary, encoding == Encoding::kBinaryBigEndian);
+        case Format::kOff: return detail::write_off(m, scale);
+    }
+    return {};
+}
+
+Status<MeshError> save_mesh(const TriMesh& mesh, const std::filesystem::path& path, Units units) {
+    const auto format = format_from_path(path);
+    if (!format) {
+        return Err{MeshError{MeshErrorKind::kUnknownFormat, path.string(), 0, 0,
+                             "extension '" + path.extension().string() +
+                                 "' is not one of .stl .obj .ply .off"}};
+    }
+    const std::string data = serialize_mesh(mesh, *format, units);
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    if (!out) return Err{io_error(path, std::string("cannot create: ") + std::strerror(errno))};
+    out.write(data.data(), static_cast<std::streamsize>(data.size()));
+    out.close();
+    if (!out) return Err{io_error(path, "write failed (disk full?)")};
+    return {};
+}
+
+}  // namespace kerf::mesh
