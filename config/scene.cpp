@@ -80,9 +80,9 @@ void read_transform(TableReader t, RigidTransform& out) {
         t.problems().mark_known(&t.raw(), "translation_m");
     bool quat = t.has("rotation_quaternion_wxyz");
     bool axis = t.has("rotation_axis") || t.has("rotation_angle_deg");
+    for (auto key : {"rotation_axis", "rotation_angle_deg", "rotation_quaternion_wxyz"})
+        t.problems().mark_known(&t.raw(), key);
     if (quat && axis) {
-        t.problems().mark_known(&t.raw(), "rotation_axis");
-        t.problems().mark_known(&t.raw(), "rotation_angle_deg");
         t.fail("rotation_quaternion_wxyz", ConfigErrorKind::kBadValue, "",
                "write the rotation once: rotation_axis + rotation_angle_deg, or "
                "rotation_quaternion_wxyz");
@@ -90,11 +90,6 @@ void read_transform(TableReader t, RigidTransform& out) {
     }
     if (quat) out.rotation_wxyz = quaternion(t);
     if (axis) out.rotation_wxyz = axis_angle(t);
-    if (!quat && !axis) {  // identity; still let a misspelt rotation key be reported
-        t.problems().mark_known(&t.raw(), "rotation_axis");
-        t.problems().mark_known(&t.raw(), "rotation_angle_deg");
-        t.problems().mark_known(&t.raw(), "rotation_quaternion_wxyz");
-    }
 }
 
 SceneBody read_body(TableReader b) {

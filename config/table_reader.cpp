@@ -44,7 +44,7 @@ std::string TableReader::key_path(std::string_view key) const {
 const toml::node* TableReader::lookup(std::string_view key, std::string_view expected) {
     problems_->mark_known(table_, key);
     const toml::node* n = table_->get(key);
-    if (n == nullptr && !expected.empty()) {
+    if (n == nullptr && !expected.empty() && !stand_in_) {
         problems_->add(ConfigErrorKind::kMissingKey, table_->source(), key_path(key), "",
                        std::string(expected), "required key is missing");
     }
@@ -245,12 +245,12 @@ std::vector<std::int64_t> TableReader::integer_list_or(std::string_view key, std
 
 TableReader TableReader::table(std::string_view key, bool required) {
     const toml::node* n = lookup(key, required ? "a table ([" + key_path(key) + "])" : "");
-    if (n == nullptr) return TableReader(empty_table(), key_path(key), *problems_);
-    if (!n->is_table()) {
-        wrong_type(key, *n, "a table ([" + key_path(key) + "])");
-        return TableReader(empty_table(), key_path(key), *problems_);
-    }
-    return TableReader(*n->as_table(), key_path(key), *problems_);
+    if (n != nullptr && n->is_table()) return TableReader(*n->as_table(), key_path(key), *problems_);
+    if (n != nullptr) wrong_type(key, *n, "a table ([" + key_path(key) + "])");
+    TableReader stand_in(empty_table(), key_path(key), *problems_);
+    // A missing required table is one problem, not one per key; an optional one uses defaults.
+    stand_in.stand_in_ = required || n != nullptr || stand_in_;
+    return stand_in;
 }
 
 std::vector<TableReader> TableReader::tables(std::string_view key) {

@@ -145,15 +145,18 @@ ConfigError Problems::first() const {
         if ((a.line == 0) != (b.line == 0)) return a.line != 0;
         return a.line != b.line ? a.line < b.line : a.column < b.column;
     };
-    auto is_key_problem = [](const ConfigError& e) {
-        return e.kind == ConfigErrorKind::kUnknownKey ||
-               (e.kind == ConfigErrorKind::kBadUnit && e.value.empty());
+    // A misspelt key explains the "missing key" it causes; a value problem is more specific
+    // than a missing key. Within a rank, document order.
+    auto rank = [](const ConfigError& e) {
+        if (e.kind == ConfigErrorKind::kUnknownKey) return 0;
+        if (e.kind == ConfigErrorKind::kBadUnit && e.value.empty()) return 0;
+        return e.kind == ConfigErrorKind::kMissingKey ? 2 : 1;
     };
     const ConfigError* best = nullptr;
     for (const auto& e : list_) {
         if (best == nullptr) { best = &e; continue; }
-        bool ek = is_key_problem(e), bk = is_key_problem(*best);
-        if (ek != bk ? ek : earlier(e, *best)) best = &e;
+        int re = rank(e), rb = rank(*best);
+        if (re != rb ? re < rb : earlier(e, *best)) best = &e;
     }
     ConfigError out = *best;
     out.more_problems = list_.size() - 1;

@@ -48,7 +48,8 @@ public:
     void add(ConfigErrorKind kind, const toml::source_region& where, std::string key,
              std::string value, std::string expected, std::string note = {});
     void add(ConfigError error) { list_.push_back(std::move(error)); }
-    /// The most useful problem (unknown keys / bad units first, then document order).
+    /// The most useful problem: unknown keys (and unit-suffix mistakes) first, then bad values,
+    /// then missing keys; document order within each.
     /// @pre !empty()
     ConfigError first() const;
     /// Remembers that the schema knows `key` in `table`.
@@ -109,6 +110,7 @@ private:
     const toml::table* table_;
     std::string path_;
     Problems* problems_;
+    bool stand_in_ = false;  ///< reading an empty stand-in for a missing table: no missing keys
 };
 
 template <std::size_t N>

@@ -1,0 +1,151 @@
+// Device profiles: per-kind rules (joint vs Cartesian fields, emulator only when simulated) and
+// each kind of bad input.
+#include <gtest/gtest.h>
+
+#include "config/device_profile.hpp"
+#include "tests/config/config_test_support.hpp"
+
+namespace kerf::config {
+namespace {
+
+using test::edit;
+using test::error_of;
+using test::line_of;
+using test::shipped;
+
+const std::string kFalcon = shipped("devices/falcon.toml");
+const std::string kSimulated = shipped("devices/simulated.toml");
+const std::string kHid = shipped("devices/kerf_hid_reference.toml");
+
+ConfigError parse_error(const std::string& text) {
+    return error_of(parse_device_profile(text, "devices/test.toml"));
+}
+
+TEST(DeviceProfileParse, CartesianDevicesHaveNoJointFields) {
+    auto p = parse_device_profile(kHid, "hid");
+    ASSERT_TRUE(p) << p.error().message();
+    EXPECT_EQ(p->kind, DeviceKind::kKerfHid);
+    EXPECT_EQ(p->kinematic_model, KinematicModel::kCartesian);
+    EXPECT_DOUBLE_EQ(p->encoder.resolution_m, 1e-5);
+    EXPECT_EQ(p->encoder.counts_per_rev, 0u);
+    EXPECT_EQ(p->motor.command_limit, 0);
+}
+
+TEST(DeviceProfileParse, SimulatedDeviceCarriesItsEmulatorSettings) {
+    auto p = parse_device_profile(kSimulated, "sim");
+    ASSERT_TRUE(p) << p.error().message();
+    EXPECT_EQ(p->emulator.protocol, DeviceKind::kKerfHid);
+    EXPECT_EQ(p->emulator.socket_path, "${runtime}/kerf-hapsim.sock");
+    EXPECT_FALSE(p->emulator.lockstep);
+    EXPECT_EQ(p->ids.serial, "HAPSIM-0001");
+}
+
+TEST(DeviceProfileParse, UnknownKindListsTheAcceptedKinds) {
+    auto text = edit(kFalcon, "kind = \"falcon\"", "kind = \"falcom\"");
+    auto e = parse_error(text);
+    EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue);
+    EXPECT_EQ(e.key, "kind");
+    EXPECT_EQ(e.line, line_of(text, "kind ="));
+    EXPECT_EQ(e.expected, "one of \"falcon\", \"kerf_hid\", \"simulated\"");
+}
+
+TEST(DeviceProfileParse, VendorIdBeyondSixteenBitsIsOutOfRange) {
+    auto e = parse_error(edit(kFalcon, "vendor_id = 0x0403", "vendor_id = 0x10403"));
+    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.key, "ids.vendor_id");
+    EXPECT_EQ(e.value, "66563");
+    EXPECT_EQ(e.expected, "an integer, 1 <= value <= 65535");
+}
+
+TEST(DeviceProfileParse, ContinuousForceAbovePeakIsRejected) {
+    auto e = parse_error(edit(kFalcon, "continuous_force_n = 4.0", "continuous_force_n = 9.5"));
+    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.key, "limits.continuous_force_n");
+    EXPECT_NE(e.expected.find("limits.peak_force_n (8.9 N)"), std::string::npos) << e.expected;
+}
+
+TEST(DeviceProfileParse, WorkspaceMinAboveMaxIsRejected) {
+    auto text = edit(kFalcon, "min_m = [-0.06, -0.06, 0.075]", "min_m = [-0.06, 0.07, 0.075]");
+    auto e = parse_error(text);
+    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.key, "workspace.max_m");
+    EXPECT_NE(e.note.find("axis y"), std::string::npos);
+}
+
+TEST(DeviceProfileParse, WorkspaceWithTwoComponentsIsOutOfRange) {
+    auto e = parse_error(edit(kFalcon, "max_m = [0.06, 0.06, 0.175]", "max_m = [0.06, 0.06]"));
+    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.key, "workspace.max_m");
+    EXPECT_NE(e.note.find("has 2 elements"), std::string::npos);
+}
+
+TEST(DeviceProfileParse, NonNumberInsideAListNamesTheElement) {
+    auto e = parse_error(edit(kFalcon, "[105.0, -15.0, -135.0]", "[105.0, \"x\", -135.0]"));
+    EXPECT_EQ(e.kind, ConfigErrorKind::kWrongType);
+    EXPECT_EQ(e.key, "kinematics.leg_angles_deg[1]");
+    EXPECT_EQ(e.value, "\"x\"");
+}
+
+TEST(DeviceProfileParse, NanLinkLengthIsNotFinite) {
+    auto e = parse_error(edit(kFalcon, "a_m = 0.060", "a_m = nan"));
+    EXPECT_EQ(e.kind, ConfigErrorKind::kNonFinite);
+    EXPECT_EQ(e.key, "kinematics.a_m");
+}
+
+TEST(DeviceProfileParse, LinkLengthInMillimetresIsABadUnit) {
+    auto e = parse_error(edit(kFalcon, "b_m = 0.1025", "b_mm = 102.5"));
+    EXPECT_EQ(e.kind, ConfigErrorKind::kBadUnit);
+    EXPECT_EQ(e.key, "kinematics.b_mm");
+    EXPECT_NE(e.note.find("'b_m'"), std::string::npos);
+}
+
+TEST(DeviceProfileParse, JointSpaceDeviceWithoutMotorTableIsMissingIt) {
+    auto text = edit(kFalcon, "[motor]", "[unused]");
+    auto e = parse_error(text);
+    EXPECT_EQ(e.kind, ConfigErrorKind::kUnknownKey);  // the renamed table, reported first
+    EXPECT_EQ(e.key, "unused");
+    EXPECT_EQ(e.more_problems, 1u);  // and the missing [motor]
+}
+
+TEST(DeviceProfileParse, CartesianResolutionOnAJointDeviceIsABadValue) {
+    auto e = parse_error(edit(kFalcon, "counts_per_rev = 1280", "counts_per_rev = 1280\n"
+                                                                 "resolution_m = 1e-5"));
+    EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue);
+    EXPECT_EQ(e.key, "encoder.resolution_m");
+    EXPECT_NE(e.note.find("reporting_space = \"cartesian\""), std::string::npos);
+}
+
+TEST(DeviceProfileParse, EmulatorTableOnARealDeviceIsABadValue) {
+    auto e = parse_error(kFalcon + "\n[emulator]\nprotocol = \"falcon\"\n");
+    EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue);
+    EXPECT_EQ(e.key, "emulator");
+    EXPECT_NE(e.note.find("kind = \"simulated\""), std::string::npos);
+}
+
+TEST(DeviceProfileParse, JointReportingWithCartesianModelIsInconsistent) {
+    auto e = parse_error(edit(kHid, "reporting_space = \"cartesian\"", "reporting_space = \"joint\""));
+    EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue);
+    EXPECT_EQ(e.key, "kinematics.model");
+}
+
+TEST(DeviceProfileParse, SimulatedDeviceNeedsItsSocketPath) {
+    auto e = parse_error(edit(kSimulated, "socket_path = \"${runtime}/kerf-hapsim.sock\"", ""));
+    EXPECT_EQ(e.kind, ConfigErrorKind::kMissingKey);
+    EXPECT_EQ(e.key, "emulator.socket_path");
+    EXPECT_EQ(e.line, line_of(kSimulated, "[emulator]"));
+}
+
+TEST(DeviceProfileParse, WatchdogOfZeroIsOutOfRange) {
+    auto e = parse_error(edit(kFalcon, "watchdog_ms = 20", "watchdog_ms = 0"));
+    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.key, "limits.watchdog_ms");
+}
+
+TEST(DeviceProfileEnums, NamesRoundTripThroughTheFiles) {
+    EXPECT_EQ(to_string(DeviceKind::kKerfHid), "kerf_hid");
+    EXPECT_EQ(to_string(ReportingSpace::kJoint), "joint");
+    EXPECT_EQ(to_string(KinematicModel::kFalconDelta), "falcon_delta");
+}
+
+}  // namespace
+}  // namespace kerf::config

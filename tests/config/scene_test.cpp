@@ -1,0 +1,165 @@
+// Scenes: mesh sources, units, the two rotation forms, path variables, and bad input.
+#include <cmath>
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "config/scene.hpp"
+#include "tests/config/config_test_support.hpp"
+
+namespace kerf::config {
+namespace {
+
+using test::edit;
+using test::error_of;
+using test::line_of;
+using test::shipped;
+
+const std::string kBuiltin = shipped("scenes/builtin_foot.toml");
+const std::string kCalcaneus = shipped("scenes/calcaneus.toml");
+
+ConfigError parse_error(const std::string& text) {
+    return error_of(parse_scene(text, "scenes/test.toml"));
+}
+
+TEST(SceneParse, BuiltinFootHasTargetTrianglesAndSeed) {
+    auto s = parse_scene(kBuiltin, "b");
+    ASSERT_TRUE(s) << s.error().message();
+    ASSERT_EQ(s->bodies.size(), 1u);
+    const SceneBody& b = s->bodies[0];
+    EXPECT_EQ(b.mesh.kind, MeshSourceKind::kBuiltinFoot);
+    EXPECT_EQ(b.mesh.target_triangles, 200'000u);
+    EXPECT_EQ(b.mesh.seed, 1u);
+    EXPECT_EQ(b.material, BodyMaterial::kCortical);
+    EXPECT_DOUBLE_EQ(b.transform.rotation_wxyz[0], 1.0);
+}
+
+TEST(SceneParse, FileMeshKeepsItsPathTemplateAndUnits) {
+    auto s = parse_scene(kCalcaneus, "c");
+    ASSERT_TRUE(s) << s.error().message();
+    const SceneBody& b = s->bodies.at(0);
+    EXPECT_EQ(b.mesh.kind, MeshSourceKind::kFile);
+    EXPECT_EQ(b.mesh.path, "${shared}/meshes/jma_norm01_calcaneus_right.stl");
+    EXPECT_EQ(b.mesh.units, LengthUnit::kMillimetre);
+    EXPECT_DOUBLE_EQ(metres_per_unit(b.mesh.units), 0.001);
+    EXPECT_DOUBLE_EQ(b.transform.translation_m[1], 0.11307);
+}
+
+TEST(SceneParse, AxisAngleBecomesANormalisedQuaternion) {
+    auto text = edit(edit(kBuiltin, "rotation_axis = [0.0, 0.0, 1.0]", "rotation_axis = [0, 0, 2]"),
+                     "rotation_angle_deg = 0.0", "rotation_angle_deg = 90.0");
+    auto s = parse_scene(text, "t");
+    ASSERT_TRUE(s) << s.error().message();
+    const auto& q = s->bodies[0].transform.rotation_wxyz;
+    EXPECT_NEAR(q[0], std::sqrt(0.5), 1e-12);
+    EXPECT_NEAR(q[1], 0.0, 1e-12);
+    EXPECT_NEAR(q[3], std::sqrt(0.5), 1e-12);
+}
+
+TEST(SceneParse, UnknownLengthUnitIsABadUnitListingTheAcceptedOnes) {
+    auto text = edit(kCalcaneus, "units = \"mm\"", "units = \"furlong\"");
+    auto e = parse_error(text);
+    EXPECT_EQ(e.kind, ConfigErrorKind::kBadUnit);
+    EXPECT_EQ(e.key, "bodies[0].mesh.units");
+    EXPECT_EQ(e.value, "\"furlong\"");
+    EXPECT_EQ(e.line, line_of(text, "units ="));
+    EXPECT_EQ(e.expected, "one of \"m\", \"cm\", \"mm\", \"um\", \"in\"");
+}
+
+TEST(SceneParse, AngleInRadiansIsABadUnit) {
+    auto e = parse_error(edit(kBuiltin, "rotation_angle_deg = 0.0", "rotation_angle_rad = 0.0"));
+    EXPECT_EQ(e.kind, ConfigErrorKind::kBadUnit);
+    EXPECT_EQ(e.key, "bodies[0].transform.rotation_angle_rad");
+}
+
+TEST(SceneParse, BothRotationFormsAtOnceAreRejected) {
+    auto e = parse_error(edit(kBuiltin, "rotation_angle_deg = 0.0",
+                              "rotation_angle_deg = 0.0\nrotation_quaternion_wxyz = [1, 0, 0, 0]"));
+    EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue);
+    EXPECT_NE(e.note.find("write the rotation once"), std::string::npos);
+}
+
+TEST(SceneParse, NonUnitQuaternionIsOutOfRange) {
+    auto e = parse_error(edit(kCalcaneus, "[1.0, 0.0, 0.0, 0.0]", "[0.5, 0.0, 0.0, 0.0]"));
+    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.key, "bodies[0].transform.rotation_quaternion_wxyz");
+    EXPECT_NE(e.note.find("|q| = 0.5"), std::string::npos);
+}
+
+TEST(SceneParse, ZeroRotationAxisIsOutOfRange) {
+    auto e = parse_error(edit(kBuiltin, "rotation_axis = [0.0, 0.0, 1.0]", "rotation_axis = [0, 0, 0]"));
+    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.key, "bodies[0].transform.rotation_axis");
+}
+
+TEST(SceneParse, AxisWithoutAngleIsAMissingKey) {
+    auto e = parse_error(edit(kBuiltin, "rotation_angle_deg = 0.0", ""));
+    EXPECT_EQ(e.kind, ConfigErrorKind::kMissingKey);
+    EXPECT_EQ(e.key, "bodies[0].transform.rotation_angle_deg");
+}
+
+TEST(SceneParse, TooFewTrianglesIsOutOfRange) {
+    auto e = parse_error(edit(kBuiltin, "target_triangles = 200_000", "target_triangles = 12"));
+    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.expected, "an integer, 1000 <= value <= 4000000");
+}
+
+TEST(SceneParse, FileKeysOnABuiltinMeshAreBadValues) {
+    auto e = parse_error(edit(kBuiltin, "seed = 1", "seed = 1\nunits = \"mm\""));
+    EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue);
+    EXPECT_EQ(e.key, "bodies[0].mesh.units");
+}
+
+TEST(SceneParse, UnknownPathVariableIsADanglingReference) {
+    auto e = parse_error(edit(kCalcaneus, "${shared}/meshes", "${home}/meshes"));
+    EXPECT_EQ(e.kind, ConfigErrorKind::kBadReference);
+    EXPECT_NE(e.note.find("${home}"), std::string::npos);
+}
+
+TEST(SceneParse, DuplicateBodyNamesAreRejected) {
+    auto body = kBuiltin.substr(kBuiltin.find("[[bodies]]"));
+    auto e = parse_error(kBuiltin + "\n" + body);
+    EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue);
+    EXPECT_EQ(e.key, "bodies[1].name");
+}
+
+TEST(SceneParse, BodiesMustBeAnArrayOfTables) {
+    auto e = parse_error("name = \"x\"\nbodies = 3\n");
+    EXPECT_EQ(e.kind, ConfigErrorKind::kWrongType);
+    EXPECT_EQ(e.key, "bodies");
+    EXPECT_EQ(e.line, 2u);
+}
+
+TEST(SceneResolve, MissingMeshFileIsADanglingReference) {
+    auto s = parse_scene(kCalcaneus, "c");
+    ASSERT_TRUE(s);
+    auto e = error_of(resolve_mesh_path(s->bodies[0], {"/nonexistent", "/nonexistent/shared"}));
+    EXPECT_EQ(e.kind, ConfigErrorKind::kBadReference);
+    EXPECT_NE(e.note.find("/nonexistent/shared/meshes/jma_norm01_calcaneus_right.stl"),
+              std::string::npos) << e.note;
+}
+
+TEST(SceneResolve, SharedCalcaneusResolvesWhenTheSharedMeshesArePresent) {
+    std::filesystem::path meshes(KERF_SHARED_MESHES);
+    if (!std::filesystem::exists(meshes / "jma_norm01_calcaneus_right.stl"))
+        GTEST_SKIP() << "shared meshes not found at " << meshes;
+    auto s = parse_scene(kCalcaneus, "c");
+    ASSERT_TRUE(s);
+    auto p = resolve_mesh_path(s->bodies[0], {test::kConfigDir, meshes.parent_path()});
+    ASSERT_TRUE(p) << p.error().message();
+    EXPECT_TRUE(std::filesystem::is_regular_file(*p));
+}
+
+TEST(ExpandPath, RelativePathsAreTakenFromTheConfigFolder) {
+    auto p = expand_path("meshes/a.stl", {"/etc/kerf", "/srv/shared"});
+    ASSERT_TRUE(p);
+    EXPECT_EQ(*p, "/etc/kerf/meshes/a.stl");
+    auto q = expand_path("${shared}/../x/${config}", {"/c", "/s"});
+    ASSERT_TRUE(q);
+    EXPECT_EQ(*q, "/x/c");
+    EXPECT_FALSE(expand_path("${shared", {"/c", "/s"}));
+    EXPECT_FALSE(expand_path("", {"/c", "/s"}));
+}
+
+}  // namespace
+}  // namespace kerf::config
