@@ -1,0 +1,176 @@
+// Loaders and writers: round trips through every format and encoding, unit conversion,
+// welding, STL binary/ASCII detection, and what becomes of non-manifold input.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "display/mesh/mesh_io.hpp"
+#include "display/mesh/shapes.hpp"
+#include "display/mesh/validate.hpp"
+#include "tests/mesh/mesh_test_support.hpp"
+
+namespace kerf::mesh {
+namespace {
+
+struct Case {
+    Format format;
+    Encoding encoding;
+    bool exact;  // doubles survive; STL stores float32
+};
+
+class RoundTrip : public ::testing::TestWithParam<Case> {};
+
+TEST_P(RoundTrip, TorusSurvivesWithSameTopologyVolumeAndPositions) {
+    const Case c = GetParam();
+    const TriMesh torus = make_torus(0.03, 0.01, 24, 12);
+    const std::string data = serialize_mesh(torus, c.format, Units::kMillimetres, c.encoding);
+    auto back = parse_mesh(as_bytes(data), c.format, Units::kMillimetres, "roundtrip");
+    ASSERT_TRUE(back) << back.error().to_string();
+    const ValidationReport a = validate(torus);
+    const ValidationReport b = validate(back->indexed);
+    EXPECT_EQ(b.triangles, a.triangles);
+    EXPECT_EQ(b.vertices, a.vertices);
+    EXPECT_TRUE(b.closed);
+    EXPECT_TRUE(b.oriented);
+    EXPECT_EQ(back->detached_triangles, 0u);
+    EXPECT_NEAR(b.volume_m3, a.volume_m3, a.volume_m3 * (c.exact ? 1e-12 : 1e-6));
+    const IndexedMesh original = to_indexed(torus);
+    ASSERT_EQ(back->indexed.triangles.size(), original.triangles.size());
+    for (std::size_t i = 0; i < original.triangles.size(); ++i) {  // same corners, same winding
+        for (std::size_t k = 0; k < 3; ++k) {
+            const Point p = back->indexed.positions_m[back->indexed.triangles[i][k]];
+            const double d = (p - original.positions_m[original.triangles[i][k]]).norm();
+            EXPECT_LE(d, c.exact ? 1e-16 : 1e-8) << "triangle " << i;  // mm -> m: 1 ulp
+        }
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    EveryFormat, RoundTrip,
+    ::testing::Values(Case{Format::kStl, Encoding::kBinaryLittleEndian, false},
+                      Case{Format::kStl, Encoding::kAscii, false},
+                      Case{Format::kObj, Encoding::kAscii, true},
+                      Case{Format::kPly, Encoding::kAscii, true},
+                      Case{Format::kPly, Encoding::kBinaryLittleEndian, true},
+                      Case{Format::kPly, Encoding::kBinaryBigEndian, true},
+                      Case{Format::kOff, Encoding::kAscii, true}));
+
+TEST(MeshIo, PlyCarriesVertexMaterialsThroughARoundTrip) {
+    const TriMesh tube = make_hollow_tube(0.04, 0.006, 0.003, 16, 4);
+    const std::string data = serialize_mesh(tube, Format::kPly, Units::kMetres);
+    auto back = parse_mesh(as_bytes(data), Format::kPly, Units::kMetres);
+    ASSERT_TRUE(back) << back.error().to_string();
+    std::size_t cancellous = 0;
+    for (const VertexHandle v : back->mesh.vertices()) {
+        cancellous += back->mesh.data(v).material() == Material::kCancellous ? 1 : 0;
+    }
+    EXPECT_EQ(cancellous, 16u * 5u);
+}
+
+TEST(MeshIo, UnitsScaleEveryCoordinateToMetres) {
+    const std::string obj = "v 0 0 0\nv 10 0 0\nv 0 20 0\nf 1 2 3\n";
+    for (const auto& [units, metres] : {std::pair{Units::kMillimetres, 0.01},
+                                        std::pair{Units::kCentimetres, 0.1},
+                                        std::pair{Units::kInches, 0.254},
+                                        std::pair{Units::kMetres, 10.0}}) {
+        auto m = parse_indexed(as_bytes(obj), Format::kObj, units);
+        ASSERT_TRUE(m) << m.error().to_string();
+        EXPECT_DOUBLE_EQ(m->positions_m[1][0], metres) << to_string(units);
+        EXPECT_DOUBLE_EQ(m->positions_m[2][1], 2.0 * metres) << to_string(units);
+    }
+}
+
+TEST(MeshIo, BinaryStlThatBeginsWithSolidIsReadAsBinary) {
+    std::string data = serialize_mesh(make_box({0, 0, 0}, {1, 1, 1}), Format::kStl, Units::kMetres);
+    std::memcpy(data.data(), "solid exported-by-a-cad-tool", 28);
+    auto m = parse_indexed(as_bytes(data), Format::kStl, Units::kMetres);
+    ASSERT_TRUE(m) << m.error().to_string();
+    EXPECT_EQ(m->triangles.size(), 12u);
+    EXPECT_EQ(m->positions_m.size(), 8u);
+}
+
+TEST(MeshIo, StoredStlNormalsAreIgnoredEvenWhenGarbage) {
+    std::string data = serialize_mesh(make_box({0, 0, 0}, {1, 1, 1}), Format::kStl, Units::kMetres);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    for (std::size_t f = 0; f < 12; ++f) std::memcpy(data.data() + 84 + 50 * f, &nan, 4);
+    auto m = parse_mesh(as_bytes(data), Format::kStl, Units::kMetres);
+    ASSERT_TRUE(m) << m.error().to_string();
+    for (const FaceHandle f : m->mesh.faces()) EXPECT_NEAR(m->mesh.normal(f).norm(), 1.0, 1e-12);
+}
+
+TEST(MeshIo, VerticesWeldOnlyWhenBitIdenticalWithNegativeZeroAsZero) {
+    const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv -0 0 0\nv 1.0000001 0 0\nv 0 1 0\n"
+                            "f 1 2 3\nf 4 5 6\n";
+    auto m = parse_indexed(as_bytes(obj), Format::kObj, Units::kMetres);
+    ASSERT_TRUE(m) << m.error().to_string();
+    EXPECT_EQ(m->positions_m.size(), 4u);  // v4 = v1, v6 = v3, v5 is new
+    EXPECT_EQ(m->triangles[1], (Triangle{0, 3, 2}));
+}
+
+TEST(MeshIo, PolygonsBecomeTriangleFans) {
+    const std::string off = "OFF\n5 1 0\n0 0 0\n1 0 0\n1 1 0\n0.5 1.5 0\n0 1 0\n5 0 1 2 3 4\n";
+    auto m = parse_indexed(as_bytes(off), Format::kOff, Units::kMetres);
+    ASSERT_TRUE(m) << m.error().to_string();
+    ASSERT_EQ(m->triangles.size(), 3u);
+    EXPECT_EQ(m->triangles[2], (Triangle{0, 3, 4}));
+}
+
+TEST(MeshIo, NonManifoldEdgeIsKeptDetachedAndCountedNotDropped) {
+    // Three triangles on one edge (a "book" of three pages).
+    const std::string obj = "v 0 0 0\nv 0 0 1\nv 1 0 0\nv 0 1 0\nv -1 0 0\n"
+                            "f 1 2 3\nf 2 1 4\nf 1 2 5\n";
+    auto m = parse_mesh(as_bytes(obj), Format::kObj, Units::kMetres);
+    ASSERT_TRUE(m) << m.error().to_string();
+    EXPECT_EQ(m->mesh.n_faces(), 3u);
+    EXPECT_EQ(m->detached_triangles, 1u);
+    const ValidationReport r = validate(m->indexed);
+    EXPECT_EQ(r.non_manifold_edges, 1u);
+    EXPECT_EQ(r.non_manifold_vertices, 2u);
+    EXPECT_FALSE(r.closed);
+    EXPECT_FALSE(r.oriented);
+}
+
+TEST(MeshIo, RepeatedIndexTriangleIsDegenerateAndDetached) {
+    const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 1 2\n";
+    auto m = parse_mesh(as_bytes(obj), Format::kObj, Units::kMetres);
+    ASSERT_TRUE(m) << m.error().to_string();
+    EXPECT_EQ(m->mesh.n_faces(), 2u);
+    EXPECT_EQ(m->detached_triangles, 1u);
+    EXPECT_EQ(validate(m->indexed).degenerate_triangles, 1u);
+}
+
+TEST(MeshIo, SaveAndLoadThroughTheFileSystem) {
+    const auto dir = std::filesystem::temp_directory_path() / ("kerf_mesh_io_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const TriMesh sphere = make_uv_sphere(0.01, 800);
+    for (const char* name : {"s.stl", "s.obj", "s.ply", "s.off", "S.STL"}) {
+        const auto path = dir / name;
+        auto saved = save_mesh(sphere, path, Units::kMillimetres);
+        ASSERT_TRUE(saved) << saved.error().to_string();
+        auto loaded = load_mesh(path, Units::kMillimetres);
+        ASSERT_TRUE(loaded) << loaded.error().to_string();
+        EXPECT_EQ(loaded->n_faces(), sphere.n_faces()) << name;
+    }
+    std::filesystem::remove_all(dir);
+}
+
+TEST(MeshIo, FileErrorsNameThePathAndTheReason) {
+    auto missing = load_mesh("/nonexistent/dir/bone.stl", Units::kMillimetres);
+    ASSERT_FALSE(missing);
+    EXPECT_EQ(missing.error().kind, MeshErrorKind::kIo);
+    EXPECT_EQ(missing.error().to_string(), "/nonexistent/dir/bone.stl: io: no such file");
+    auto directory = load_mesh_file(std::filesystem::temp_directory_path() / ".", Units::kMetres);
+    ASSERT_FALSE(directory);
+    auto unknown = load_mesh("bone.vtk", Units::kMillimetres);
+    ASSERT_FALSE(unknown);
+    EXPECT_EQ(unknown.error().kind, MeshErrorKind::kUnknownFormat);
+    auto unwritable = save_mesh(make_box({0, 0, 0}, {1, 1, 1}), "/nonexistent/dir/x.stl", Units::kMetres);
+    ASSERT_FALSE(unwritable);
+    EXPECT_EQ(unwritable.error().kind, MeshErrorKind::kIo);
+    EXPECT_NE(unwritable.error().to_string().find("/nonexistent/dir/x.stl"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace kerf::mesh
