@@ -1,0 +1,168 @@
+#include "display/cut/apply_plan.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "display/cut/context_state.hpp"
+
+namespace kerf::cut::detail {
+
+namespace {
+
+using mesh::EdgeHandle;
+using mesh::FaceHandle;
+using mesh::HalfedgeHandle;
+using mesh::TriMesh;
+using mesh::VertexHandle;
+
+// The vertex for an edge cut point: every attribute interpolated with the plan's t, from the
+// lower-index endpoint a towards b; the material is the nearer endpoint's.
+VertexHandle make_edge_vertex(TriMesh& m, const PlanPoint& p) {
+    const VertexHandle a(p.a), b(p.b);
+    const double t = p.t;
+    const VertexHandle v = m.add_vertex(p.position);
+    OpenMesh::Vec3d n = m.normal(a) + (m.normal(b) - m.normal(a)) * t;
+    const double len = n.norm();
+    m.set_normal(v, len > 0 ? n / len : m.normal(a));
+    const auto ta = m.texcoord2D(a), tb = m.texcoord2D(b);
+    m.set_texcoord2D(v, TriMesh::TexCoord2D(static_cast<float>(ta[0] + (tb[0] - ta[0]) * t),
+                                            static_cast<float>(ta[1] + (tb[1] - ta[1]) * t)));
+    const auto ca = m.color(a), cb = m.color(b);
+    TriMesh::Color c;
+    for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(ca[i] + (cb[i] - ca[i]) * t);
+    m.set_color(v, c);
+    m.data(v).set_material(t <= 0.5 ? m.data(a).material() : m.data(b).material());
+    return v;
+}
+
+VertexHandle duplicate_vertex(TriMesh& m, VertexHandle v) {
+    const VertexHandle d = m.add_vertex(m.point(v));
+    m.set_normal(d, m.normal(v));
+    m.set_texcoord2D(d, m.texcoord2D(v));
+    m.set_color(d, m.color(v));
+    m.data(d).set_material(m.data(v).material());
+    return d;
+}
+
+// Gives the negative-side face of rim halfedge o (r[i+1] -> r[i]) its own edge x between the
+// duplicates, leaving o as a boundary halfedge of the positive side.
+HalfedgeHandle detach(TriMesh& m, HalfedgeHandle o, VertexHandle from_dup, VertexHandle to_dup) {
+    const FaceHandle f = m.face_handle(o);
+    const HalfedgeHandle p = m.prev_halfedge_handle(o);
+    const HalfedgeHandle n = m.next_halfedge_handle(o);
+    const HalfedgeHandle x = m.new_edge(from_dup, to_dup);
+    m.set_next_halfedge_handle(p, x);
+    m.set_next_halfedge_handle(x, n);
+    m.set_face_handle(x, f);
+    if (m.halfedge_handle(f) == o) m.set_halfedge_handle(f, x);
+    m.set_face_handle(o, FaceHandle());
+    return x;
+}
+
+// Cuts one loop apart: rim vertices r (positive side keeps them) and their duplicates d.
+bool separate_loop(TriMesh& m, const std::vector<VertexHandle>& r, const std::vector<VertexHandle>& d) {
+    const std::size_t n = r.size();
+    std::vector<HalfedgeHandle> h(n), x(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        h[i] = m.find_halfedge(r[i], r[(i + 1) % n]);
+        if (!h[i].is_valid() || m.is_boundary(h[i]) || m.is_boundary(m.opposite_halfedge_handle(h[i])))
+            return false;
+    }
+    for (std::size_t i = 0; i < n; ++i)
+        x[i] = detach(m, m.opposite_halfedge_handle(h[i]), d[(i + 1) % n], d[i]);
+    // Move the negative fan of every rim vertex to its duplicate: from x[i] (into r[i]) around
+    // r[i] through negative faces until the rim halfedge x[i-1] leaves it.
+    for (std::size_t i = 0; i < n; ++i) {
+        const HalfedgeHandle stop = x[(i + n - 1) % n];
+        HalfedgeHandle in = x[i];
+        for (int guard = 0; guard < 100000; ++guard) {
+            const HalfedgeHandle g = m.next_halfedge_handle(in);
+            if (g == stop) break;
+            in = m.opposite_halfedge_handle(g);
+            if (m.is_boundary(in)) return false;
+            m.set_vertex_handle(in, d[i]);
+        }
+    }
+    // Boundary cycles: positive side o[i] = r[i+1] -> r[i]; negative side y[i] = d[i] -> d[i+1].
+    for (std::size_t i = 0; i < n; ++i) {
+        const HalfedgeHandle o = m.opposite_halfedge_handle(h[i]);
+        const HalfedgeHandle o_prev = m.opposite_halfedge_handle(h[(i + n - 1) % n]);
+        m.set_next_halfedge_handle(o, o_prev);
+        const HalfedgeHandle y = m.opposite_halfedge_handle(x[i]);
+        m.set_next_halfedge_handle(y, m.opposite_halfedge_handle(x[(i + 1) % n]));
+        m.set_halfedge_handle(r[(i + 1) % n], o);
+        m.set_halfedge_handle(d[i], y);
+    }
+    return true;
+}
+
+}  // namespace
+
+CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, CutStats& stats) {
+    TriMesh& m = s.mesh;
+    SectionPlan& plan = s.plan;
+    const int faces_before = static_cast<int>(m.n_faces());
+    const int vertices_before = static_cast<int>(m.n_vertices());
+    std::vector<VertexHandle> rim(plan.points.size());
+    std::uint32_t splits = 0;
+    for (const PlanLoop& l : plan.loops) {
+        if (!l.selected) continue;
+        for (std::uint32_t i = l.first; i < l.first + l.count; ++i) {
+            const PlanPoint& p = plan.points[i];
+            if (!p.key.edge) {
+                rim[i] = VertexHandle(p.key.id);
+                continue;
+            }
+            rim[i] = make_edge_vertex(m, p);
+            m.split_copy(EdgeHandle(p.key.id), rim[i]);
+            ++splits;
+        }
+    }
+    out.clear();
+    out.plane = plane;
+    std::vector<VertexHandle> dup(plan.points.size());
+    for (const PlanLoop& l : plan.loops) {
+        if (!l.selected) continue;
+        std::vector<VertexHandle> r(rim.begin() + l.first, rim.begin() + l.first + l.count);
+        std::vector<VertexHandle> d(l.count);
+        for (std::uint32_t i = 0; i < l.count; ++i) d[i] = dup[l.first + i] = duplicate_vertex(m, r[i]);
+        if (!separate_loop(m, r, d)) return CutStatus::kInternalError;
+        std::vector<Vec2> uv(l.count);
+        for (std::uint32_t i = 0; i < l.count; ++i) uv[i] = plan.points[l.first + i].uv;
+        out.loops_2d.push_back(std::move(uv));
+        out.loop_is_hole.push_back(l.area_m2 < 0 ? 1 : 0);
+        out.positive.cap_vertices.insert(out.positive.cap_vertices.end(), r.begin(), r.end());
+        out.negative.cap_vertices.insert(out.negative.cap_vertices.end(), d.begin(), d.end());
+        out.positive.loops.push_back(std::move(r));
+        out.negative.loops.push_back(std::move(d));
+    }
+    for (int fi = faces_before; fi < static_cast<int>(m.n_faces()); ++fi) {
+        const FaceHandle f(fi);
+        if (m.property(s.cap, f) != kCapNone) s.cap_faces.push_back(f);
+        else s.grid.insert(m, f);
+    }
+    // Caps: positive side faces -normal (reversed triangles), negative side +normal.
+    for (const Triangle& t : plan.cap_triangles) {
+        const std::uint32_t a = plan.cap_points[t.a], b = plan.cap_points[t.b], c = plan.cap_points[t.c];
+        const FaceHandle fp = m.add_face(rim[a], rim[c], rim[b]);
+        const FaceHandle fn = m.add_face(dup[a], dup[b], dup[c]);
+        if (!fp.is_valid() || !fn.is_valid()) return CutStatus::kInternalError;
+        m.set_normal(fp, -plane.normal());
+        m.set_normal(fn, plane.normal());
+        m.property(s.cap, fp) = kCapPositive;
+        m.property(s.cap, fn) = kCapNegative;
+        s.cap_faces.push_back(fp);
+        s.cap_faces.push_back(fn);
+        out.positive.cap_faces.push_back(fp);
+        out.negative.cap_faces.push_back(fn);
+    }
+    stats.faces_split += plan.faces_crossed;
+    stats.vertices_added += static_cast<std::uint32_t>(static_cast<int>(m.n_vertices()) - vertices_before);
+    stats.triangles_added += static_cast<std::uint32_t>(static_cast<int>(m.n_faces()) - faces_before);
+    stats.cap_triangles += static_cast<std::uint32_t>(2 * plan.cap_triangles.size());
+    stats.loops += static_cast<std::uint32_t>(out.loops_2d.size());
+    (void)splits;
+    return CutStatus::kOk;
+}
+
+}  // namespace kerf::cut::detail

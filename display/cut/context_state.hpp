@@ -1,0 +1,51 @@
+// Library-internal: what a CutContext holds. Scratch properties are created on the mesh once and
+// reused by every cut through generation stamps (no clearing pass, no property churn per cut).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "display/cut/face_grid.hpp"
+#include "display/cut/section_plan.hpp"
+#include "display/cut/triangulate.hpp"
+#include "display/mesh/tri_mesh.hpp"
+
+namespace kerf::cut::detail {
+
+struct ContextState {
+    explicit ContextState(mesh::TriMesh& m);
+    ~ContextState();
+    ContextState(const ContextState&) = delete;
+    ContextState& operator=(const ContextState&) = delete;
+
+    /// Measures the mesh and rebuilds the face index.
+    void rebuild();
+    /// Starts a new stamp generation (resets every stamp on wrap-around).
+    void next_generation();
+
+    bool vertex_marked(mesh::VertexHandle v) const { return mesh.property(v_stamp, v) == generation; }
+    bool edge_marked(mesh::EdgeHandle e) const { return mesh.property(e_stamp, e) == generation; }
+    bool face_marked(mesh::FaceHandle f) const { return mesh.property(f_stamp, f) == generation; }
+    void mark_face(mesh::FaceHandle f) { mesh.property(f_stamp, f) = generation; }
+
+    mesh::TriMesh& mesh;
+    double scale_m = 0.0;
+    double tolerance_m = 0.0;
+    FaceGrid grid;
+    std::vector<mesh::FaceHandle> cap_faces;  ///< every cap face made so far (not in the grid)
+
+    OpenMesh::VPropHandleT<std::uint32_t> v_stamp;
+    OpenMesh::VPropHandleT<std::int32_t> v_node;
+    OpenMesh::EPropHandleT<std::uint32_t> e_stamp;
+    OpenMesh::EPropHandleT<std::int32_t> e_node;
+    OpenMesh::FPropHandleT<std::uint32_t> f_stamp;
+    OpenMesh::FPropHandleT<std::uint8_t> cap;  ///< named kCapFaceProperty
+    std::uint32_t generation = 1;
+
+    SectionPlan plan;
+    Triangulator triangulator;
+    std::vector<std::int8_t> vertex_sides;  ///< full-plane classification scratch
+    std::vector<std::uint32_t> heap;        ///< seed search scratch
+};
+
+}  // namespace kerf::cut::detail

@@ -1,0 +1,71 @@
+#include "display/cut/cut_context.hpp"
+
+#include <algorithm>
+
+#include "display/cut/context_state.hpp"
+#include "display/cut/cross_section.hpp"
+
+namespace kerf::cut {
+
+namespace detail {
+
+ContextState::ContextState(mesh::TriMesh& m) : mesh(m) {
+    mesh.add_property(v_stamp);
+    mesh.add_property(v_node);
+    mesh.add_property(e_stamp);
+    mesh.add_property(e_node);
+    mesh.add_property(f_stamp);
+    if (!mesh.get_property_handle(cap, kCapFaceProperty)) mesh.add_property(cap, kCapFaceProperty);
+    rebuild();
+}
+
+ContextState::~ContextState() {
+    mesh.remove_property(v_stamp);
+    mesh.remove_property(v_node);
+    mesh.remove_property(e_stamp);
+    mesh.remove_property(e_node);
+    mesh.remove_property(f_stamp);
+}
+
+void ContextState::rebuild() {
+    Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
+    for (auto v : mesh.vertices()) {
+        lo.minimize(mesh.point(v));
+        hi.maximize(mesh.point(v));
+    }
+    scale_m = mesh.n_vertices() == 0 ? 0.0 : (hi - lo).norm();
+    tolerance_m = Plane::tolerance_for_scale(scale_m);
+    grid.build(mesh);
+    cap_faces.clear();
+    for (auto f : mesh.faces())
+        if (mesh.property(cap, f) != kCapNone) cap_faces.push_back(f);
+    for (auto v : mesh.all_vertices()) mesh.property(v_stamp, v) = 0;
+    for (auto e : mesh.all_edges()) mesh.property(e_stamp, e) = 0;
+    for (auto f : mesh.all_faces()) mesh.property(f_stamp, f) = 0;
+    generation = 1;
+}
+
+void ContextState::next_generation() {
+    if (++generation != 0) return;
+    for (auto v : mesh.all_vertices()) mesh.property(v_stamp, v) = 0;
+    for (auto e : mesh.all_edges()) mesh.property(e_stamp, e) = 0;
+    for (auto f : mesh.all_faces()) mesh.property(f_stamp, f) = 0;
+    generation = 1;
+}
+
+}  // namespace detail
+
+CutContext::CutContext(mesh::TriMesh& mesh) : state_(std::make_unique<detail::ContextState>(mesh)) {}
+CutContext::~CutContext() = default;
+
+mesh::TriMesh& CutContext::mesh() noexcept { return state_->mesh; }
+double CutContext::scale_m() const noexcept { return state_->scale_m; }
+double CutContext::tolerance_m() const noexcept { return state_->tolerance_m; }
+
+void CutContext::note_vertices_moved(double max_distance_m) noexcept {
+    if (max_distance_m > 0.0) state_->grid.widen(max_distance_m);
+}
+
+void CutContext::rebuild() { state_->rebuild(); }
+
+}  // namespace kerf::cut

@@ -1,0 +1,95 @@
+#include "display/cut/face_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace kerf::cut::detail {
+
+namespace {
+
+constexpr double kCellsPerFaceSize = 3.0;
+constexpr std::size_t kMaxCells = std::size_t{1} << 22;
+
+void face_box(const mesh::TriMesh& m, mesh::FaceHandle f, Vec3& lo, Vec3& hi) {
+    lo = Vec3(1e300, 1e300, 1e300);
+    hi = Vec3(-1e300, -1e300, -1e300);
+    for (auto v : m.fv_range(f)) {
+        lo.minimize(m.point(v));
+        hi.maximize(m.point(v));
+    }
+}
+
+}  // namespace
+
+int FaceGrid::clamp_cell(double x, int axis) const noexcept {
+    const double c = std::floor((x - origin_[axis]) / cell_m_);
+    if (!(c >= 0.0)) return 0;
+    return static_cast<int>(std::min(c, static_cast<double>(dims_[axis] - 1)));
+}
+
+void FaceGrid::build(const mesh::TriMesh& mesh) {
+    Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
+    double size_sum = 0.0;
+    std::size_t n = 0;
+    for (auto f : mesh.faces()) {
+        Vec3 a, b;
+        face_box(mesh, f, a, b);
+        lo.minimize(a);
+        hi.maximize(b);
+        size_sum += (b - a).max();
+        ++n;
+    }
+    margin_m_ = 0.0;
+    if (n == 0) {
+        offsets_.clear(), faces_.clear(), extra_head_.clear(), extra_.clear();
+        return;
+    }
+    const Vec3 ext = hi - lo;
+    const double diag = std::max(ext.norm(), 1e-12);
+    cell_m_ = std::max(kCellsPerFaceSize * size_sum / static_cast<double>(n), diag * 1e-6);
+    auto cells_for = [&](double c) {
+        double total = 1.0;
+        for (int a = 0; a < 3; ++a) total *= std::floor(ext[a] / c) + 1.0;
+        return total;
+    };
+    while (cells_for(cell_m_) > static_cast<double>(kMaxCells)) cell_m_ *= 1.25;
+    origin_ = lo;
+    for (int a = 0; a < 3; ++a) dims_[a] = static_cast<int>(std::floor(ext[a] / cell_m_)) + 1;
+    const std::size_t cells = static_cast<std::size_t>(dims_[0]) * dims_[1] * dims_[2];
+    offsets_.assign(cells + 1, 0);
+    auto for_cells = [&](mesh::FaceHandle f, auto&& fn) {
+        Vec3 a, b;
+        face_box(mesh, f, a, b);
+        const int i0 = clamp_cell(a[0], 0), i1 = clamp_cell(b[0], 0);
+        const int j0 = clamp_cell(a[1], 1), j1 = clamp_cell(b[1], 1);
+        const int k0 = clamp_cell(a[2], 2), k1 = clamp_cell(b[2], 2);
+        for (int k = k0; k <= k1; ++k)
+            for (int j = j0; j <= j1; ++j)
+                for (int i = i0; i <= i1; ++i) fn(cell_id(i, j, k));
+    };
+    for (auto f : mesh.faces()) for_cells(f, [&](std::size_t c) { ++offsets_[c + 1]; });
+    for (std::size_t c = 0; c < cells; ++c) offsets_[c + 1] += offsets_[c];
+    faces_.resize(offsets_[cells]);
+    std::vector<std::uint32_t> fill(offsets_.begin(), offsets_.end() - 1);
+    for (auto f : mesh.faces()) for_cells(f, [&](std::size_t c) { faces_[fill[c]++] = f.idx(); });
+    extra_head_.assign(cells, -1);
+    extra_.clear();
+}
+
+void FaceGrid::insert(const mesh::TriMesh& mesh, mesh::FaceHandle f) {
+    if (offsets_.empty()) return;
+    Vec3 a, b;
+    face_box(mesh, f, a, b);
+    const int i0 = clamp_cell(a[0], 0), i1 = clamp_cell(b[0], 0);
+    const int j0 = clamp_cell(a[1], 1), j1 = clamp_cell(b[1], 1);
+    const int k0 = clamp_cell(a[2], 2), k1 = clamp_cell(b[2], 2);
+    for (int k = k0; k <= k1; ++k)
+        for (int j = j0; j <= j1; ++j)
+            for (int i = i0; i <= i1; ++i) {
+                const std::size_t c = cell_id(i, j, k);
+                extra_.push_back(Node{f.idx(), extra_head_[c]});
+                extra_head_[c] = static_cast<std::int32_t>(extra_.size() - 1);
+            }
+}
+
+}  // namespace kerf::cut::detail

@@ -1,0 +1,502 @@
+#include "display/cut/section_plan.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "display/cut/context_state.hpp"
+
+namespace kerf::cut::detail {
+
+namespace {
+
+using mesh::EdgeHandle;
+using mesh::FaceHandle;
+using mesh::HalfedgeHandle;
+using mesh::TriMesh;
+using mesh::VertexHandle;
+
+constexpr std::size_t kMaxSeedSearchFaces = 20000;
+constexpr double kSeedRelativeTolerance = 1e-3;
+constexpr double kMinCapRelativeArea = 2e-15;
+
+// Walks cross-section loops on the unedited mesh.
+class Walker {
+public:
+    Walker(ContextState& s, const Plane& plane) : s_(s), m_(s.mesh), plane_(plane), tol_(s.tolerance_m) {}
+
+    int side(VertexHandle v) const { return plane_.side(m_.point(v), tol_); }
+
+    // +1 / -1 for a face that does not cross the plane (an in-plane face by its normal).
+    int label(FaceHandle f) const {
+        int pos = 0, neg = 0;
+        Vec3 p[3];
+        int k = 0;
+        for (auto v : m_.fv_range(f)) {
+            const int sd = side(v);
+            pos += sd > 0;
+            neg += sd < 0;
+            p[k++] = m_.point(v);
+        }
+        if (pos > 0) return 1;
+        if (neg > 0) return -1;
+        return OpenMesh::dot(OpenMesh::cross(p[1] - p[0], p[2] - p[0]), plane_.normal()) < 0 ? 1 : -1;
+    }
+
+    // For a face with vertices on both sides: its segment, directed along the positive part's
+    // halfedge. False when the face does not cross.
+    bool segment(FaceHandle f, CutPointKey& from, CutPointKey& to) const {
+        HalfedgeHandle h[3];
+        h[0] = m_.halfedge_handle(f);
+        h[1] = m_.next_halfedge_handle(h[0]);
+        h[2] = m_.next_halfedge_handle(h[1]);
+        int sg[3];
+        bool pos = false, neg = false;
+        for (int k = 0; k < 3; ++k) {
+            sg[k] = side(m_.from_vertex_handle(h[k]));
+            pos |= sg[k] > 0;
+            neg |= sg[k] < 0;
+        }
+        if (!(pos && neg)) return false;
+        struct Item {
+            int kind;  // 1 positive vertex, 2 cut point, 3 negative vertex
+            CutPointKey key;
+        };
+        Item items[6];
+        int n = 0;
+        for (int k = 0; k < 3; ++k) {
+            const int vk = m_.from_vertex_handle(h[k]).idx();
+            items[n++] = Item{sg[k] > 0 ? 1 : (sg[k] < 0 ? 3 : 2), CutPointKey{vk, false}};
+            if (sg[k] * sg[(k + 1) % 3] == -1)
+                items[n++] = Item{2, CutPointKey{m_.edge_handle(h[k]).idx(), true}};
+        }
+        for (int i = 0; i < n; ++i) {
+            const Item& prev = items[(i + n - 1) % n];
+            if (items[i].kind != 1 || prev.kind == 1) continue;
+            int j = i;
+            while (items[j].kind == 1) j = (j + 1) % n;
+            from = items[j].key;
+            to = prev.key;
+            return prev.kind == 2 && items[j].kind == 2;
+        }
+        return false;
+    }
+
+    // Outgoing segments at on-plane vertex v: how many, and the last one's end.
+    int outgoing(VertexHandle v, CutPointKey& next, bool& via_face) const {
+        int count = 0;
+        const CutPointKey self{v.idx(), false};
+        for (auto g : m_.voh_range(v)) {
+            const FaceHandle f = m_.face_handle(g);
+            CutPointKey a, b;
+            if (segment(f, a, b)) {
+                if (a == self) next = b, via_face = true, ++count;
+                continue;
+            }
+            const VertexHandle w = m_.to_vertex_handle(g);
+            if (side(w) != 0) continue;
+            const FaceHandle o = m_.face_handle(m_.opposite_halfedge_handle(g));
+            CutPointKey c, d;
+            if (segment(o, c, d)) continue;
+            if (label(f) > 0 && label(o) < 0) next = CutPointKey{w.idx(), false}, via_face = false, ++count;
+        }
+        return count;
+    }
+
+    CutStatus next(const CutPointKey& k, CutPointKey& out, bool& via_face) const {
+        if (k.edge) {
+            const EdgeHandle e(k.id);
+            for (int i = 0; i < 2; ++i) {
+                const FaceHandle f = m_.face_handle(m_.halfedge_handle(e, i));
+                if (!f.is_valid()) return CutStatus::kNonManifoldInput;
+                CutPointKey a, b;
+                if (segment(f, a, b) && a == k) {
+                    out = b;
+                    via_face = true;
+                    return CutStatus::kOk;
+                }
+            }
+            return CutStatus::kInternalError;
+        }
+        const VertexHandle v(k.id);
+        if (m_.is_boundary(v)) return CutStatus::kNonManifoldInput;
+        const int count = outgoing(v, out, via_face);
+        return count == 1 ? CutStatus::kOk : CutStatus::kDegenerateCrossSection;
+    }
+
+    bool marked(const CutPointKey& k) const {
+        return k.edge ? s_.edge_marked(EdgeHandle(k.id)) : s_.vertex_marked(VertexHandle(k.id));
+    }
+
+    void mark(const CutPointKey& k, std::int32_t node) {
+        if (k.edge) {
+            m_.property(s_.e_stamp, EdgeHandle(k.id)) = s_.generation;
+            m_.property(s_.e_node, EdgeHandle(k.id)) = node;
+        } else {
+            m_.property(s_.v_stamp, VertexHandle(k.id)) = s_.generation;
+            m_.property(s_.v_node, VertexHandle(k.id)) = node;
+        }
+    }
+
+    PlanPoint make_point(const CutPointKey& k) const {
+        PlanPoint p;
+        p.key = k;
+        if (!k.edge) {
+            p.position = m_.point(VertexHandle(k.id));
+            p.a = p.b = k.id;
+        } else {
+            const EdgeHandle e(k.id);
+            VertexHandle a = m_.to_vertex_handle(m_.halfedge_handle(e, 0));
+            VertexHandle b = m_.to_vertex_handle(m_.halfedge_handle(e, 1));
+            if (b.idx() < a.idx()) std::swap(a, b);
+            const Vec3& pa = m_.point(a);
+            const Vec3& pb = m_.point(b);
+            const double da = plane_.signed_distance(pa);
+            const double db = plane_.signed_distance(pb);
+            p.t = da / (da - db);
+            p.position = pa + (pb - pa) * p.t;
+            p.a = a.idx();
+            p.b = b.idx();
+        }
+        p.uv = plane_.to_2d(p.position);
+        return p;
+    }
+
+    // Walks the loop through `start` and appends it to the plan (not selected yet).
+    CutStatus walk(const CutPointKey& start) {
+        SectionPlan& plan = s_.plan;
+        PlanLoop loop;
+        loop.first = static_cast<std::uint32_t>(plan.points.size());
+        std::uint32_t faces = 0;
+        CutPointKey k = start;
+        const std::size_t limit = 3 * m_.n_faces() + 3;
+        while (!marked(k)) {
+            mark(k, static_cast<std::int32_t>(plan.points.size()));
+            plan.points.push_back(make_point(k));
+            bool via_face = false;
+            CutPointKey nx;
+            const CutStatus st = next(k, nx, via_face);
+            if (st != CutStatus::kOk) return st;
+            faces += via_face;
+            k = nx;
+            if (plan.points.size() - loop.first > limit) return CutStatus::kInternalError;
+        }
+        if (!(k == start)) return CutStatus::kDegenerateCrossSection;
+        loop.count = static_cast<std::uint32_t>(plan.points.size()) - loop.first;
+        double area = 0;
+        for (std::uint32_t i = 0; i < loop.count; ++i) {
+            const Vec2& p = plan.points[loop.first + i].uv;
+            const Vec2& q = plan.points[loop.first + (i + 1) % loop.count].uv;
+            area += p[0] * q[1] - p[1] * q[0];
+        }
+        loop.area_m2 = 0.5 * area;
+        plan.loops.push_back(loop);
+        faces_ += faces;
+        return CutStatus::kOk;
+    }
+
+    // A loop start on face f, if f carries a segment whose start is not yet walked.
+    bool start_on(FaceHandle f, CutPointKey& start) const {
+        CutPointKey a, b;
+        if (segment(f, a, b)) {
+            start = a;
+            return !marked(a);
+        }
+        for (auto v : m_.fv_range(f)) {
+            if (side(v) != 0 || s_.vertex_marked(v) || m_.is_boundary(v)) continue;
+            CutPointKey nx;
+            bool via = false;
+            if (outgoing(v, nx, via) > 0) {
+                start = CutPointKey{v.idx(), false};
+                return true;
+            }
+        }
+        return false;
+    }
+
+    std::uint32_t faces_ = 0;
+
+private:
+    ContextState& s_;
+    TriMesh& m_;
+    const Plane& plane_;
+    double tol_;
+};
+
+double area2(const std::vector<Point2>& uv, const Triangle& t) {
+    const Point2& a = uv[t.a];
+    const Point2& b = uv[t.b];
+    const Point2& c = uv[t.c];
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+double longest2(const std::vector<Point2>& uv, const Triangle& t) {
+    return std::max({(uv[t.a] - uv[t.b]).sqrnorm(), (uv[t.b] - uv[t.c]).sqrnorm(),
+                     (uv[t.c] - uv[t.a]).sqrnorm()});
+}
+
+// Rim points that are collinear up to rounding (a plane crossing a flat quad) can leave ears of
+// near-zero area. Each such sliver (a, b, c), b between a and c, is removed by flipping its long
+// edge (c, a) with the neighbouring triangle (a, c, d): (a, b, d) and (b, c, d).
+bool repair_slivers(const std::vector<Point2>& uv, std::vector<Triangle>& tris) {
+    constexpr double kSliver = 1e-9;
+    for (int round = 0; round < 8; ++round) {
+        bool changed = false;
+        for (std::size_t i = 0; i < tris.size(); ++i) {
+            if (area2(uv, tris[i]) > kSliver * longest2(uv, tris[i])) continue;
+            Triangle t = tris[i];
+            // Rotate so that (c, a) is the longest edge and b the middle vertex.
+            for (int r = 0; r < 3 && (uv[t.c] - uv[t.a]).sqrnorm() < longest2(uv, t); ++r)
+                t = Triangle{t.b, t.c, t.a};
+            std::size_t j = tris.size();
+            std::uint32_t d = 0;
+            for (std::size_t k = 0; k < tris.size() && j == tris.size(); ++k) {
+                const Triangle& o = tris[k];
+                const std::uint32_t v[3] = {o.a, o.b, o.c};
+                for (int e = 0; e < 3; ++e)
+                    if (v[e] == t.a && v[(e + 1) % 3] == t.c) j = k, d = v[(e + 2) % 3];
+            }
+            if (j == tris.size()) return false;  // the long edge is on the rim: cannot flip
+            const Triangle n1{t.a, t.b, d}, n2{t.b, t.c, d};
+            const double worst = std::min(area2(uv, n1), area2(uv, n2));
+            if (!(worst > area2(uv, t))) continue;
+            tris[i] = n1;
+            tris[j] = n2;
+            changed = true;
+        }
+        if (!changed) return true;
+    }
+    return true;
+}
+
+bool inside(const SectionPlan& plan, const PlanLoop& loop, const Vec2& q) {
+    bool in = false;
+    for (std::uint32_t i = 0, j = loop.count - 1; i < loop.count; j = i++) {
+        const Vec2& a = plan.points[loop.first + i].uv;
+        const Vec2& b = plan.points[loop.first + j].uv;
+        if ((a[1] > q[1]) != (b[1] > q[1]) && q[0] < (b[0] - a[0]) * (q[1] - a[1]) / (b[1] - a[1]) + a[0])
+            in = !in;
+    }
+    return in;
+}
+
+FaceHandle find_seed_face(ContextState& s, const Seed& seed) {
+    const TriMesh& m = s.mesh;
+    const double tol = seed.tolerance_m >= 0 ? seed.tolerance_m : kSeedRelativeTolerance * s.scale_m;
+    const auto n = static_cast<int>(m.n_faces());
+    if (seed.face_hint.is_valid() && seed.face_hint.idx() < n && !m.status(seed.face_hint).deleted() &&
+        distance_to_face(m, seed.face_hint, seed.point_m) <= tol)
+        return seed.face_hint;
+    FaceHandle best;
+    double best_d = tol;
+    auto consider = [&](std::int32_t fi) {
+        const FaceHandle f(fi);
+        if (fi >= n || m.status(f).deleted() || s.face_marked(f)) return;
+        s.mark_face(f);
+        const double d = distance_to_face(m, f, seed.point_m);
+        if (d <= best_d) best_d = d, best = f;
+    };
+    s.grid.for_each_near_point(seed.point_m, tol, consider);
+    if (!best.is_valid())
+        for (FaceHandle f : s.cap_faces) consider(f.idx());
+    return best;
+}
+
+// Best-first search from the seed face, nearest-to-plane first, for a face carrying a segment.
+CutStatus find_start(ContextState& s, Walker& w, const Plane& plane, FaceHandle seed_face,
+                     CutPointKey& start) {
+    TriMesh& m = s.mesh;
+    struct Entry {
+        double d;
+        std::int32_t f;
+        bool operator<(const Entry& o) const { return d > o.d || (d == o.d && f > o.f); }
+    };
+    std::vector<Entry> heap;
+    auto key = [&](FaceHandle f) {
+        double d = 1e300;
+        for (auto v : m.fv_range(f)) d = std::min(d, std::abs(plane.signed_distance(m.point(v))));
+        return d;
+    };
+    heap.push_back({key(seed_face), seed_face.idx()});
+    s.mark_face(seed_face);
+    for (std::size_t popped = 0; !heap.empty() && popped < kMaxSeedSearchFaces; ++popped) {
+        std::pop_heap(heap.begin(), heap.end());
+        const FaceHandle f(heap.back().f);
+        heap.pop_back();
+        if (w.start_on(f, start)) return CutStatus::kOk;
+        for (auto g : m.fh_range(f)) {
+            const FaceHandle o = m.face_handle(m.opposite_halfedge_handle(g));
+            if (!o.is_valid() || s.face_marked(o)) continue;
+            s.mark_face(o);
+            heap.push_back({key(o), o.idx()});
+            std::push_heap(heap.begin(), heap.end());
+        }
+    }
+    return CutStatus::kSeedFarFromCut;
+}
+
+// Walks every loop met in the grid cells along the outer loop's box; selects the nested ones.
+CutStatus add_nested_loops(ContextState& s, Walker& w, const Plane& plane) {
+    SectionPlan& plan = s.plan;
+    const PlanLoop outer = plan.loops.front();
+    Vec2 lo(1e300, 1e300), hi(-1e300, -1e300);
+    for (std::uint32_t i = 0; i < outer.count; ++i) {
+        lo.minimize(plan.points[outer.first + i].uv);
+        hi.maximize(plan.points[outer.first + i].uv);
+    }
+    const auto n = static_cast<int>(s.mesh.n_faces());
+    CutStatus error = CutStatus::kOk;
+    s.grid.for_each_near_plane(plane, lo, hi, s.tolerance_m, [&](std::int32_t fi) {
+        const FaceHandle f(fi);
+        if (error != CutStatus::kOk || fi >= n || s.mesh.status(f).deleted() || s.face_marked(f)) return;
+        s.mark_face(f);
+        CutPointKey start;
+        if (!w.start_on(f, start)) return;
+        const std::size_t points_before = plan.points.size();
+        const CutStatus st = w.walk(start);
+        const bool in = inside(plan, outer, plan.points[points_before].uv);
+        if (st != CutStatus::kOk) {
+            if (in) error = st;
+            plan.points.resize(points_before);  // an unrelated broken loop outside: not ours
+            return;
+        }
+        plan.loops.back().selected = in;
+    });
+    return error;
+}
+
+}  // namespace
+
+void SectionPlan::clear() {
+    points.clear();
+    loops.clear();
+    cap_points.clear();
+    cap_triangles.clear();
+    faces_crossed = 0;
+}
+
+double distance_to_face(const TriMesh& m, FaceHandle f, const Vec3& p) {
+    auto it = m.cfv_iter(f);
+    const Vec3 a = m.point(*it++), b = m.point(*it++), c = m.point(*it);
+    // Ericson, Real-Time Collision Detection, 5.1.5.
+    const Vec3 ab = b - a, ac = c - a, ap = p - a;
+    const double d1 = OpenMesh::dot(ab, ap), d2 = OpenMesh::dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) return (p - a).norm();
+    const Vec3 bp = p - b;
+    const double d3 = OpenMesh::dot(ab, bp), d4 = OpenMesh::dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return (p - b).norm();
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return (p - (a + ab * (d1 / (d1 - d3)))).norm();
+    const Vec3 cp = p - c;
+    const double d5 = OpenMesh::dot(ab, cp), d6 = OpenMesh::dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return (p - c).norm();
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return (p - (a + ac * (d2 / (d2 - d6)))).norm();
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+        return (p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))))).norm();
+    const double denom = 1.0 / (va + vb + vc);
+    return (p - (a + ab * (vb * denom) + ac * (vc * denom))).norm();
+}
+
+CutStatus plan_full(ContextState& s, const Plane& plane) {
+    s.plan.clear();
+    s.next_generation();
+    TriMesh& m = s.mesh;
+    Walker w(s, plane);
+    auto& sides = s.vertex_sides;
+    sides.resize(m.n_vertices());
+    for (std::size_t i = 0; i < sides.size(); ++i)
+        sides[i] = static_cast<std::int8_t>(plane.side(m.point(VertexHandle(static_cast<int>(i))), s.tolerance_m));
+    const auto n_edges = static_cast<int>(m.n_edges());
+    for (int i = 0; i < n_edges; ++i) {
+        const EdgeHandle e(i);
+        if (m.status(e).deleted()) continue;
+        const HalfedgeHandle h0 = m.halfedge_handle(e, 0);
+        const int sa = sides[m.to_vertex_handle(h0).idx()];
+        const int sb = sides[m.from_vertex_handle(h0).idx()];
+        CutPointKey start;
+        if (sa * sb == -1) {
+            start = CutPointKey{i, true};
+            if (w.marked(start)) continue;
+        } else if (sa == 0 && sb == 0) {
+            const FaceHandle f = m.face_handle(h0);
+            if (!f.is_valid() || !w.start_on(f, start)) continue;
+        } else {
+            continue;
+        }
+        const CutStatus st = w.walk(start);
+        if (st != CutStatus::kOk) return st;
+        s.plan.loops.back().selected = true;
+    }
+    s.plan.faces_crossed = w.faces_;
+    return s.plan.loops.empty() ? CutStatus::kPlaneMissesMesh : CutStatus::kOk;
+}
+
+CutStatus plan_localised(ContextState& s, const Plane& plane, const Seed& seed) {
+    s.plan.clear();
+    s.next_generation();
+    const FaceHandle seed_face = find_seed_face(s, seed);
+    if (!seed_face.is_valid()) return CutStatus::kSeedNotOnSurface;
+    s.next_generation();
+    Walker w(s, plane);
+    CutPointKey start;
+    CutStatus st = find_start(s, w, plane, seed_face, start);
+    if (st != CutStatus::kOk) return st;
+    s.next_generation();
+    st = w.walk(start);
+    if (st != CutStatus::kOk) return st;
+    if (s.plan.loops.front().area_m2 < 0) return CutStatus::kSeedOnInnerBoundary;
+    s.plan.loops.front().selected = true;
+    st = add_nested_loops(s, w, plane);
+    s.plan.faces_crossed = 0;
+    for (const PlanLoop& l : s.plan.loops) (void)l;
+    s.plan.faces_crossed = w.faces_;
+    return st;
+}
+
+CutStatus plan_from_faces(ContextState& s, const Plane& plane, const std::vector<FaceHandle>& faces) {
+    s.plan.clear();
+    s.next_generation();
+    Walker w(s, plane);
+    for (FaceHandle f : faces) {
+        CutPointKey start;
+        if (s.mesh.status(f).deleted() || !w.start_on(f, start)) continue;
+        const CutStatus st = w.walk(start);
+        if (st != CutStatus::kOk) return st;
+        s.plan.loops.back().selected = true;
+    }
+    s.plan.faces_crossed = w.faces_;
+    return s.plan.loops.empty() ? CutStatus::kPlaneMissesMesh : CutStatus::kOk;
+}
+
+CutStatus plan_caps(ContextState& s) {
+    SectionPlan& plan = s.plan;
+    std::vector<Point2> uv;
+    std::vector<std::span<const Point2>> spans;
+    plan.cap_points.clear();
+    for (const PlanLoop& l : plan.loops) {
+        if (!l.selected) continue;
+        for (std::uint32_t i = 0; i < l.count; ++i) {
+            plan.cap_points.push_back(l.first + i);
+            uv.push_back(plan.points[l.first + i].uv);
+        }
+    }
+    std::size_t offset = 0;
+    for (const PlanLoop& l : plan.loops) {
+        if (!l.selected) continue;
+        spans.emplace_back(uv.data() + offset, l.count);
+        offset += l.count;
+    }
+    const auto st = s.triangulator.triangulate(spans, plan.cap_triangles);
+    if (!st || !repair_slivers(uv, plan.cap_triangles)) return CutStatus::kCapTriangulationFailed;
+    const double min_area = kMinCapRelativeArea * s.scale_m * s.scale_m;
+    for (const Triangle& t : plan.cap_triangles) {
+        const Vec3& a = plan.points[plan.cap_points[t.a]].position;
+        const Vec3& b = plan.points[plan.cap_points[t.b]].position;
+        const Vec3& c = plan.points[plan.cap_points[t.c]].position;
+        if (!(0.5 * OpenMesh::cross(b - a, c - a).norm() >= min_area)) return CutStatus::kCapTriangulationFailed;
+    }
+    return CutStatus::kOk;
+}
+
+}  // namespace kerf::cut::detail

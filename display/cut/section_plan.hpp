@@ -1,0 +1,74 @@
+// Library-internal: the read-only first phase of a slice. It finds the cross-section loops (as
+// sequences of cut points: on-plane vertices and crossing edges), decides which loops the cut
+// takes, computes every new point and triangulates the caps — all before the mesh is touched, so
+// any failure leaves the mesh unchanged.
+//
+// Loop direction: a loop runs along the positive side's rim halfedges, so outer loops are
+// counter-clockwise in the plane frame (positive area) and holes clockwise.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "display/cut/cut_result.hpp"
+#include "display/cut/plane.hpp"
+#include "display/cut/slice_by_plane.hpp"
+#include "display/cut/triangulate.hpp"
+
+namespace kerf::cut::detail {
+
+struct ContextState;
+
+/// A point where the cross-section meets the mesh: an on-plane vertex or a crossing edge.
+struct CutPointKey {
+    std::int32_t id = -1;  ///< vertex index or edge index
+    bool edge = false;
+    friend bool operator==(const CutPointKey&, const CutPointKey&) = default;
+};
+
+/// One cut point with its geometry.
+struct PlanPoint {
+    CutPointKey key;
+    Vec3 position;  ///< m (the vertex's own position for on-plane vertices)
+    Vec2 uv;        ///< in the plane frame, m
+    double t = 0;   ///< edge parameter from the lower-index endpoint `a` towards `b`
+    std::int32_t a = -1;
+    std::int32_t b = -1;
+};
+
+/// A closed loop of cut points: points[first .. first + count).
+struct PlanLoop {
+    std::uint32_t first = 0;
+    std::uint32_t count = 0;
+    double area_m2 = 0;     ///< signed, in the plane frame
+    bool selected = false;  ///< cut by this slice
+};
+
+/// Everything the second (editing) phase needs.
+struct SectionPlan {
+    std::vector<PlanPoint> points;
+    std::vector<PlanLoop> loops;
+    std::vector<std::uint32_t> cap_points;  ///< selected loops' point indices, concatenated
+    std::vector<Triangle> cap_triangles;    ///< counter-clockwise, indexing cap_points
+    std::uint32_t faces_crossed = 0;        ///< faces of the selected loops that get split
+
+    void clear();
+};
+
+/// Plans a full-plane slice: every loop. O(n) classification.
+CutStatus plan_full(ContextState& s, const Plane& plane);
+
+/// Plans a localised slice: the seed's loop and the loops nested inside it.
+CutStatus plan_localised(ContextState& s, const Plane& plane, const Seed& seed);
+
+/// Plans the slice that cuts the loops through the given crossing faces (used by the slab).
+CutStatus plan_from_faces(ContextState& s, const Plane& plane,
+                          const std::vector<mesh::FaceHandle>& faces);
+
+/// Triangulates the selected loops into plan.cap_triangles (kCapTriangulationFailed if not).
+CutStatus plan_caps(ContextState& s);
+
+/// Closest distance from `p` to triangle `f`, m.
+double distance_to_face(const mesh::TriMesh& m, mesh::FaceHandle f, const Vec3& p);
+
+}  // namespace kerf::cut::detail

@@ -1,0 +1,43 @@
+#include "display/cut/slice_by_plane.hpp"
+
+#include <chrono>
+
+#include "display/cut/apply_plan.hpp"
+#include "display/cut/context_state.hpp"
+#include "display/cut/section_plan.hpp"
+
+namespace kerf::cut {
+
+namespace {
+
+std::int64_t now_ns() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(
+               std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+}
+
+CutResult finish(detail::ContextState& s, const Plane& plane, CutStatus planned, CrossSection& out,
+                 std::int64_t t0) {
+    CutResult r;
+    r.status = planned;
+    if (r.ok()) r.status = detail::plan_caps(s);
+    if (r.ok()) r.status = detail::apply_plan(s, plane, out, r.stats);
+    r.stats.time_ns = now_ns() - t0;
+    return r;
+}
+
+}  // namespace
+
+CutResult slice_by_plane(CutContext& ctx, const Plane& plane, CrossSection& out) {
+    const std::int64_t t0 = now_ns();
+    detail::ContextState& s = ctx.state();
+    return finish(s, plane, detail::plan_full(s, plane), out, t0);
+}
+
+CutResult slice_by_plane(CutContext& ctx, const Plane& plane, const Seed& seed, CrossSection& out) {
+    const std::int64_t t0 = now_ns();
+    detail::ContextState& s = ctx.state();
+    return finish(s, plane, detail::plan_localised(s, plane, seed), out, t0);
+}
+
+}  // namespace kerf::cut

@@ -1,0 +1,86 @@
+// Helpers shared by the slice tests: snapshots for "unchanged / bit-identical" checks, cap and
+// loop areas, and a one-call strict check after a cut.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+#include "display/cut/cross_section.hpp"
+#include "display/mesh/tri_mesh.hpp"
+#include "tests/cut/mesh_checks.hpp"
+
+namespace kerf::cut::testing {
+
+/// Every non-deleted face's vertex positions, bit for bit, in face-index order.
+struct FaceSnapshot {
+    std::vector<int> face_ids;
+    std::vector<double> coords;
+    friend bool operator==(const FaceSnapshot&, const FaceSnapshot&) = default;
+};
+
+/// Snapshot of the faces whose index is in [first, last) (all when last < 0).
+inline FaceSnapshot snapshot(const kerf::mesh::TriMesh& m, int first = 0, int last = -1) {
+    FaceSnapshot s;
+    for (auto f : m.faces()) {
+        if (f.idx() < first || (last >= 0 && f.idx() >= last)) continue;
+        s.face_ids.push_back(f.idx());
+        for (auto v : m.fv_range(f))
+            for (int i = 0; i < 3; ++i) s.coords.push_back(m.point(v)[i]);
+    }
+    return s;
+}
+
+/// Total area of some faces, m^2.
+inline double area_of(const kerf::mesh::TriMesh& m, const std::vector<kerf::mesh::FaceHandle>& faces) {
+    double a = 0;
+    for (auto f : faces) {
+        auto it = m.cfv_iter(f);
+        const auto p = m.point(*it++);
+        const auto q = m.point(*it++);
+        const auto r = m.point(*it);
+        a += 0.5 * OpenMesh::cross(q - p, r - p).norm();
+    }
+    return a;
+}
+
+/// Net polygon area of the cross-section (outer loops minus holes), from its 2-D loops, m^2.
+inline double polygon_area(const CrossSection& cs) {
+    double a = 0;
+    for (const auto& loop : cs.loops_2d)
+        for (std::size_t i = 0; i < loop.size(); ++i) {
+            const auto& p = loop[i];
+            const auto& q = loop[(i + 1) % loop.size()];
+            a += 0.5 * (p[0] * q[1] - p[1] * q[0]);
+        }
+    return a;
+}
+
+/// The checks every cut test runs on the cross-section it got: pairing, planarity of the rim,
+/// cap areas equal to the polygon area on both sides, cap normals.
+inline void expect_cross_section_consistent(const kerf::mesh::TriMesh& m, const CrossSection& cs,
+                                            double tolerance_m) {
+    ASSERT_EQ(cs.positive.loops.size(), cs.loops_2d.size());
+    ASSERT_EQ(cs.negative.loops.size(), cs.loops_2d.size());
+    for (std::size_t i = 0; i < cs.loops_2d.size(); ++i) {
+        ASSERT_EQ(cs.positive.loops[i].size(), cs.loops_2d[i].size());
+        for (std::size_t j = 0; j < cs.loops_2d[i].size(); ++j) {
+            const auto p = cs.positive.loops[i][j];
+            const auto n = cs.negative.loops[i][j];
+            ASSERT_NE(p, n);
+            EXPECT_EQ(std::memcmp(&m.point(p), &m.point(n), sizeof(m.point(p))), 0);
+            EXPECT_LE(std::abs(cs.plane.signed_distance(m.point(p))), tolerance_m * 1.0001);
+        }
+    }
+    const double poly = polygon_area(cs);
+    EXPECT_GT(poly, 0.0);
+    EXPECT_NEAR(area_of(m, cs.positive.cap_faces), poly, 1e-9 * poly);
+    EXPECT_NEAR(area_of(m, cs.negative.cap_faces), poly, 1e-9 * poly);
+    for (auto f : cs.positive.cap_faces) EXPECT_LT(OpenMesh::dot(m.calc_face_normal(f), cs.plane.normal()), 0.0);
+    for (auto f : cs.negative.cap_faces) EXPECT_GT(OpenMesh::dot(m.calc_face_normal(f), cs.plane.normal()), 0.0);
+}
+
+}  // namespace kerf::cut::testing

@@ -1,0 +1,141 @@
+#include "display/cut/slice_by_plane.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "tests/cut/cut_test_util.hpp"
+#include "tests/cut/mesh_checks.hpp"
+#include "tests/cut/test_shapes.hpp"
+
+namespace kerf::cut {
+namespace {
+
+using namespace kerf::cut::testing;
+
+Plane plane_of(Vec3 p, Vec3 n) { return *Plane::make(p, n); }
+
+// Cuts `m` with a full-plane slice and runs the strict checks; returns the result.
+CutResult full_cut_checked(TriMesh& m, const Plane& plane, CrossSection& cs, std::size_t pieces) {
+    const double v0 = signed_volume(m);
+    CutContext ctx(m);
+    const CutResult r = slice_by_plane(ctx, plane, cs);
+    EXPECT_EQ(r.status, CutStatus::kOk) << to_string(r.status);
+    if (!r.ok()) return r;
+    const auto rep = expect_closed_2_manifold(m);
+    EXPECT_EQ(rep.piece_volumes_m3.size(), pieces);
+    EXPECT_NEAR(rep.total_volume_m3, v0, 1e-9 * std::abs(v0));
+    expect_face_normals_agree(m);
+    expect_cross_section_consistent(m, cs, ctx.tolerance_m());
+    return r;
+}
+
+TEST(SliceByPlane, FullPlaneCutOfASphereMakesTwoClosedPiecesWhoseVolumesAddUp) {
+    auto m = uv_sphere(0.01, 24, 48);
+    CrossSection cs;
+    const auto r = full_cut_checked(m, plane_of(Vec3(0, 0, 0.0012345), Vec3(0.1, 0.2, 1)), cs, 2);
+    EXPECT_EQ(r.stats.loops, 1u);
+    EXPECT_GT(r.stats.faces_split, 0u);
+    EXPECT_LE(r.stats.triangles_added, 3 * r.stats.faces_split + r.stats.cap_triangles);
+    EXPECT_GT(r.stats.time_ns, 0);
+}
+
+TEST(SliceByPlane, PlaneThroughAVertexRingReusesTheRingVertices) {
+    auto m = uv_sphere(1.0, 12, 24);
+    const double z = 1.0 * std::cos(std::numbers::pi * 5 / 12);  // exactly the ring's z
+    const auto n_vertices = m.n_vertices();
+    CrossSection cs;
+    const auto r = full_cut_checked(m, plane_of(Vec3(0, 0, z), Vec3(0, 0, 1)), cs, 2);
+    EXPECT_EQ(r.stats.faces_split, 0u);          // nothing crosses: the ring is the cut
+    EXPECT_EQ(m.n_vertices(), n_vertices + 24);  // only the duplicates
+    ASSERT_EQ(cs.positive.loops.size(), 1u);
+    EXPECT_EQ(cs.positive.loops[0].size(), 24u);
+}
+
+TEST(SliceByPlane, PlaneAlongGridEdgesOfABoxCutsWithoutSplitting) {
+    auto m = box(TriMesh::Point(0, 0, 0), TriMesh::Point(1, 1, 1), 4);
+    CrossSection cs;
+    const auto r = full_cut_checked(m, plane_of(Vec3(0.5, 0.5, 0.5), Vec3(1, 0, 0)), cs, 2);
+    EXPECT_EQ(r.stats.faces_split, 0u);
+    EXPECT_NEAR(polygon_area(cs), 1.0, 1e-12);
+}
+
+TEST(SliceByPlane, DiagonalPlaneThroughABoxIsCappedWithCollinearRimPoints) {
+    auto m = box(TriMesh::Point(0, 0, 0), TriMesh::Point(1, 1, 1), 3);
+    CrossSection cs;
+    full_cut_checked(m, plane_of(Vec3(0.5, 0.5, 0.5), Vec3(1, 1, 0.3)), cs, 2);
+}
+
+TEST(SliceByPlane, TangentAndMissingPlanesLeaveTheMeshUnchanged) {
+    auto m = uv_sphere(1.0, 12, 24);
+    const auto before = snapshot(m);
+    CutContext ctx(m);
+    CrossSection cs;
+    EXPECT_EQ(slice_by_plane(ctx, plane_of(Vec3(0, 0, 1.0), Vec3(0, 0, 1)), cs).status,
+              CutStatus::kPlaneMissesMesh);  // touches the pole vertex only
+    EXPECT_EQ(slice_by_plane(ctx, plane_of(Vec3(0, 0, 2.0), Vec3(0, 0, 1)), cs).status,
+              CutStatus::kPlaneMissesMesh);
+    auto b = box(TriMesh::Point(0, 0, 0), TriMesh::Point(1, 1, 1), 2);
+    const auto box_before = snapshot(b);
+    CutContext bctx(b);
+    EXPECT_EQ(slice_by_plane(bctx, plane_of(Vec3(0, 0, 1), Vec3(0, 0, 1)), cs).status,
+              CutStatus::kPlaneMissesMesh);  // coplanar with the top face
+    EXPECT_TRUE(snapshot(m) == before);
+    EXPECT_TRUE(snapshot(b) == box_before);
+    EXPECT_EQ(m.n_vertices(), 12u * 24u - 24u + 2u);
+}
+
+TEST(SliceByPlane, HollowTubeCutHasAnOuterLoopAndAHole) {
+    auto m = hollow_tube(0.01, 0.006, 0.05, 10, 32);
+    CrossSection cs;
+    const auto r = full_cut_checked(m, plane_of(Vec3(0, 0, 0.0213), Vec3(0.05, 0.02, 1)), cs, 2);
+    EXPECT_EQ(r.stats.loops, 2u);
+    ASSERT_EQ(cs.loop_is_hole.size(), 2u);
+    EXPECT_EQ(cs.loop_is_hole[0] + cs.loop_is_hole[1], 1);
+}
+
+TEST(SliceByPlane, RepeatingACutIsAMissBecauseTheCapsLieInThePlane) {
+    auto m = uv_sphere(1.0, 16, 32);
+    CutContext ctx(m);
+    CrossSection cs;
+    const Plane p = plane_of(Vec3(0, 0, 0.1), Vec3(0.3, 0, 1));
+    ASSERT_TRUE(slice_by_plane(ctx, p, cs).ok());
+    const auto after_first = snapshot(m);
+    EXPECT_EQ(slice_by_plane(ctx, p, cs).status, CutStatus::kPlaneMissesMesh);
+    EXPECT_TRUE(snapshot(m) == after_first);
+    expect_closed_2_manifold(m);
+}
+
+TEST(SliceByPlane, InvalidSeedIsRefusedAndTheMeshIsUnchanged) {
+    auto m = uv_sphere(1.0, 16, 32);
+    const auto before = snapshot(m);
+    CutContext ctx(m);
+    CrossSection cs;
+    const Plane p = plane_of(Vec3(0, 0, 0.1), Vec3(0, 0, 1));
+    EXPECT_EQ(slice_by_plane(ctx, p, Seed{Vec3(0, 0, 0.1), mesh::FaceHandle(), -1.0}, cs).status, CutStatus::kSeedNotOnSurface);
+    EXPECT_EQ(slice_by_plane(ctx, p, Seed{Vec3(5, 5, 5), mesh::FaceHandle(3)}, cs).status,
+              CutStatus::kSeedNotOnSurface);
+    EXPECT_TRUE(snapshot(m) == before);
+}
+
+TEST(SliceByPlane, EdgeVerticesInterpolateEveryAttributeWithOneParameter) {
+    auto m = box(TriMesh::Point(0, 0, 0), TriMesh::Point(1, 1, 1), 1);
+    for (auto v : m.vertices()) {
+        const auto p = m.point(v);
+        m.set_color(v, TriMesh::Color(static_cast<float>(p[0]), 0.5f, 0.25f));
+        m.data(v).set_material(p[0] < 0.5 ? mesh::Material::kCortical : mesh::Material::kCancellous);
+    }
+    CrossSection cs;
+    full_cut_checked(m, plane_of(Vec3(0.25, 0, 0), Vec3(1, 0, 0)), cs, 2);
+    for (auto v : cs.positive.loops[0]) {
+        EXPECT_NEAR(m.point(v)[0], 0.25, 1e-15);
+        EXPECT_NEAR(m.color(v)[0], 0.25f, 1e-6f);  // colour follows x linearly
+        EXPECT_NEAR(m.texcoord2D(v)[0], 0.25f, 1e-6f);
+        EXPECT_EQ(m.data(v).material(), mesh::Material::kCortical);  // nearer endpoint
+        EXPECT_NEAR(m.normal(v).norm(), 1.0, 1e-12);
+    }
+}
+
+}  // namespace
+}  // namespace kerf::cut
