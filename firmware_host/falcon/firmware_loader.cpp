@@ -1,0 +1,199 @@
+#include "firmware_host/falcon/firmware_loader.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstring>
+#include <fstream>
+
+#include "firmware_host/falcon/ftdi.hpp"
+
+namespace kerf::firmware_host::falcon {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr std::array<std::byte, 3> kHandshake = {std::byte{0x0A}, std::byte{0x43}, std::byte{0x0D}};
+constexpr std::array<std::byte, 4> kHandshakeReply = {std::byte{0x0A}, std::byte{0x44},
+                                                      std::byte{0x2C}, std::byte{0x0D}};
+constexpr std::byte kProbe{0x41};
+
+// The reply is `0A 44 2C 0D`, optionally preceded by a 0x00 the FTDI does not always deliver.
+bool is_handshake_reply(std::span<const std::byte> got) noexcept {
+    if (got.size() == 5 && got[0] == std::byte{0}) got = got.subspan(1);
+    return got.size() == 4 && std::equal(got.begin(), got.end(), kHandshakeReply.begin());
+}
+
+}  // namespace
+
+std::string_view to_string(FirmwareErrorCode code) noexcept {
+    switch (code) {
+        case FirmwareErrorCode::kImageUnreadable: return "cannot read the firmware image";
+        case FirmwareErrorCode::kImageEmpty: return "the firmware image is empty";
+        case FirmwareErrorCode::kImageTooLarge: return "the firmware image is larger than 1 MiB";
+        case FirmwareErrorCode::kSetupFailed: return "FTDI set-up request failed";
+        case FirmwareErrorCode::kHandshakeFailed: return "boot loader did not answer the handshake";
+        case FirmwareErrorCode::kProbeFailed: return "boot loader did not answer the baud probe";
+        case FirmwareErrorCode::kEchoMismatch: return "firmware chunk echoed back different bytes";
+        case FirmwareErrorCode::kEchoTimeout: return "firmware chunk echo did not arrive";
+        case FirmwareErrorCode::kWriteFailed: return "bulk write failed";
+        case FirmwareErrorCode::kNormalModeFailed: return "switching to normal mode failed";
+    }
+    return "unknown firmware error";
+}
+
+std::string FirmwareError::message() const {
+    std::string m = "falcon firmware: ";
+    m += to_string(code);
+    if (!path.empty()) m += ": " + path;
+    if (code == FirmwareErrorCode::kEchoMismatch || code == FirmwareErrorCode::kEchoTimeout ||
+        code == FirmwareErrorCode::kWriteFailed) {
+        m += ": at image offset " + std::to_string(offset);
+    }
+    if (link != LinkStatus::kOk) m += ": " + std::string(to_string(link));
+    if (attempts > 0) m += " (after " + std::to_string(attempts) + " load attempts)";
+    return m;
+}
+
+Result<std::vector<std::byte>, FirmwareError> read_firmware_image(const std::filesystem::path& p) {
+    auto error = [&p](FirmwareErrorCode code) {
+        FirmwareError e;
+        e.code = code;
+        e.path = p.string();
+        return Err{e};
+    };
+    std::error_code ec;
+    if (std::filesystem::is_directory(p, ec)) return error(FirmwareErrorCode::kImageUnreadable);
+    std::ifstream f(p, std::ios::binary);
+    if (!f) return error(FirmwareErrorCode::kImageUnreadable);
+    std::vector<char> raw((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    if (f.bad()) return error(FirmwareErrorCode::kImageUnreadable);
+    if (raw.empty()) return error(FirmwareErrorCode::kImageEmpty);
+    if (raw.size() > kMaxFirmwareImageBytes) return error(FirmwareErrorCode::kImageTooLarge);
+    std::vector<std::byte> image(raw.size());
+    std::memcpy(image.data(), raw.data(), raw.size());
+    return image;
+}
+
+std::size_t read_payload(UsbLink& link, std::span<std::byte> out, std::size_t want,
+                         std::uint32_t timeout_ms, LinkStatus& last) noexcept {
+    const auto deadline = Clock::now() + std::chrono::milliseconds(timeout_ms);
+    std::array<std::byte, 512> transfer{};
+    std::size_t got = 0;
+    want = std::min(want, out.size());
+    last = LinkStatus::kOk;
+    while (got < want) {
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+        if (left.count() <= 0) break;
+        std::size_t n = 0;
+        last = link.bulk_read(transfer, n, static_cast<std::uint32_t>(left.count()));
+        if (last == LinkStatus::kTimeout) continue;
+        if (last != LinkStatus::kOk) break;
+        got += strip_ftdi_status(std::span(transfer).first(n), out.subspan(got, want - got));
+    }
+    return got;
+}
+
+FirmwareLoader::FirmwareLoader(UsbLink& link, std::span<const std::byte> image,
+                               FirmwareLoadOptions options)
+    : link_(link), image_(image), options_(options) {}
+
+FirmwareLoader::State FirmwareLoader::fail(FirmwareErrorCode code, LinkStatus link) noexcept {
+    error_.code = code;
+    error_.link = link;
+    error_.offset = offset_;
+    error_.attempts = attempt_;
+    return state_ = State::kFailed;
+}
+
+// A failure inside one load attempt: start over from firmware mode while attempts remain.
+FirmwareLoader::State FirmwareLoader::fail_attempt(FirmwareErrorCode code, LinkStatus link) noexcept {
+    if (link == LinkStatus::kDisconnected || attempt_ >= options_.load_attempts) return fail(code, link);
+    ++attempt_;
+    offset_ = 0;
+    return state_ = State::kFirmwareMode;
+}
+
+FirmwareLoader::State FirmwareLoader::step() noexcept {
+    const auto timeout = options_.transfer_timeout_ms;
+    switch (state_) {
+        case State::kFirmwareMode: {
+            const auto s = send_requests(link_, firmware_mode_requests(), timeout);
+            if (s != LinkStatus::kOk) return fail(FirmwareErrorCode::kSetupFailed, s);
+            return state_ = State::kHandshake;
+        }
+        case State::kHandshake: return do_handshake();
+        case State::kLoadBaud: {
+            const auto s = send_requests(link_, firmware_load_requests(), timeout);
+            if (s != LinkStatus::kOk) return fail(FirmwareErrorCode::kSetupFailed, s);
+            return state_ = State::kProbe;
+        }
+        case State::kProbe: return do_probe();
+        case State::kChunk: return do_chunk();
+        case State::kNormalMode: {
+            const auto s = send_requests(link_, normal_mode_requests(), timeout);
+            if (s != LinkStatus::kOk) return fail(FirmwareErrorCode::kNormalModeFailed, s);
+            return state_ = State::kDone;
+        }
+        case State::kDone:
+        case State::kFailed: return state_;
+    }
+    return state_;
+}
+
+FirmwareLoader::State FirmwareLoader::do_handshake() noexcept {
+    std::array<std::byte, 8> reply{};
+    LinkStatus last = LinkStatus::kOk;
+    for (int i = 0; i < options_.handshake_tries; ++i) {
+        last = link_.bulk_write(kHandshake, options_.transfer_timeout_ms);
+        if (last != LinkStatus::kOk) return fail(FirmwareErrorCode::kWriteFailed, last);
+        const auto n = read_payload(link_, reply, 5, options_.transfer_timeout_ms, last);
+        if (is_handshake_reply(std::span(reply).first(n))) return state_ = State::kLoadBaud;
+        if (last == LinkStatus::kDisconnected) break;
+    }
+    return fail_attempt(FirmwareErrorCode::kHandshakeFailed, last);
+}
+
+FirmwareLoader::State FirmwareLoader::do_probe() noexcept {
+    auto last = link_.bulk_write(std::span(&kProbe, 1), options_.transfer_timeout_ms);
+    if (last != LinkStatus::kOk) return fail(FirmwareErrorCode::kWriteFailed, last);
+    std::array<std::byte, 1> reply{};
+    const auto n = read_payload(link_, reply, 1, options_.transfer_timeout_ms, last);
+    if (n != 1 || reply[0] != kProbe) return fail_attempt(FirmwareErrorCode::kProbeFailed, last);
+    return state_ = State::kChunk;
+}
+
+FirmwareLoader::State FirmwareLoader::do_chunk() noexcept {
+    if (offset_ >= image_.size()) return state_ = State::kNormalMode;
+    const auto chunk = image_.subspan(offset_, std::min(kFirmwareChunkSize, image_.size() - offset_));
+    auto last = link_.bulk_write(chunk, options_.transfer_timeout_ms);
+    if (last != LinkStatus::kOk) return fail_attempt(FirmwareErrorCode::kWriteFailed, last);
+    std::array<std::byte, kFirmwareChunkSize> echo{};
+    const auto n = read_payload(link_, echo, chunk.size(), options_.transfer_timeout_ms, last);
+    if (n != chunk.size()) return fail_attempt(FirmwareErrorCode::kEchoTimeout, last);
+    if (!std::equal(chunk.begin(), chunk.end(), echo.begin())) {
+        error_.offset = offset_;
+        return fail_attempt(FirmwareErrorCode::kEchoMismatch, LinkStatus::kOk);
+    }
+    offset_ += chunk.size();
+    return state_;
+}
+
+Status<FirmwareError> load_firmware(UsbLink& link, std::span<const std::byte> image,
+                                    const FirmwareLoadOptions& options) {
+    if (image.empty()) {
+        FirmwareError e;
+        e.code = FirmwareErrorCode::kImageEmpty;
+        return Err{e};
+    }
+    FirmwareLoader loader(link, image, options);
+    // Bounded: each step is bounded and the chunk count and attempts are finite.
+    while (loader.state() != FirmwareLoader::State::kDone &&
+           loader.state() != FirmwareLoader::State::kFailed) {
+        (void)loader.step();
+    }
+    if (loader.state() == FirmwareLoader::State::kFailed) return Err{loader.error()};
+    return {};
+}
+
+}  // namespace kerf::firmware_host::falcon
