@@ -1,5 +1,8 @@
 #include "config/device_profile.hpp"
 
+#include <algorithm>
+#include <system_error>
+
 #include "config/toml_reader.hpp"
 
 namespace kerf::config {
@@ -152,6 +155,31 @@ Result<DeviceProfile, ConfigError> load_device_profile(const std::filesystem::pa
     auto text = detail::read_text_file(path.string());
     if (!text) return Err{text.error()};
     return parse_device_profile(*text, path.string());
+}
+
+Result<std::vector<NamedDeviceProfile>, ConfigError> load_device_profiles(
+    const std::filesystem::path& devices_dir) {
+    std::vector<std::filesystem::path> files;
+    std::error_code ec;
+    for (std::filesystem::directory_iterator it(devices_dir, ec), end; !ec && it != end;
+         it.increment(ec)) {
+        if (it->path().extension() == ".toml") files.push_back(it->path());
+    }
+    if (ec) {
+        ConfigError e;
+        e.kind = ConfigErrorKind::kIo;
+        e.source = devices_dir.string();
+        e.note = ec.message();
+        return Err{e};
+    }
+    std::sort(files.begin(), files.end());
+    std::vector<NamedDeviceProfile> out;
+    for (const auto& f : files) {
+        auto p = load_device_profile(f);
+        if (!p) return Err{p.error()};
+        out.push_back({f.stem().string(), std::move(*p)});
+    }
+    return out;
 }
 
 }  // namespace kerf::config

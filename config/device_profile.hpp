@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "config/config_error.hpp"
 #include "config/result.hpp"
@@ -117,5 +118,16 @@ Result<DeviceProfile, ConfigError> parse_device_profile(std::string_view text,
 
 /// Reads and parses a device profile file.
 Result<DeviceProfile, ConfigError> load_device_profile(const std::filesystem::path& path);
+
+/// A device profile and the name kerf.toml refers to it by (its file stem).
+struct NamedDeviceProfile {
+    std::string profile_name;  ///< e.g. "falcon" for devices/falcon.toml
+    DeviceProfile profile;
+};
+
+/// Loads every `*.toml` in `devices_dir`, sorted by name (e.g. to match enumerated USB ids);
+/// the first bad file is the error.
+Result<std::vector<NamedDeviceProfile>, ConfigError> load_device_profiles(
+    const std::filesystem::path& devices_dir);
 
 }  // namespace kerf::config

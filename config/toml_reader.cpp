@@ -200,7 +200,10 @@ void Problems::walk(const toml::table& table, const std::string& path) {
                     hint = "did you mean '" + known + "'?";
                 }
             }
-            std::string expected = "one of the keys this table accepts";
+            std::string expected = path.empty() ? "a top-level key:" : "a key of [" + path + "]:";
+            for (std::size_t i = 0; i < keys.size(); ++i)
+                expected += (i ? ", " : " ") + keys[i];
+            if (keys.empty()) expected = "no keys here";
             add(kind, k.source(), full, "", expected, hint);
             continue;
         }
@@ -277,7 +280,6 @@ Result<toml::table, ConfigError> parse_toml(std::string_view text, std::string_v
     } catch (const toml::parse_error& err) {
         e.line = err.source().begin.line;
         e.column = err.source().begin.column;
-        e.expected = "valid TOML (https://toml.io/en/v1.0.0)";
         e.note = std::string(err.description());
     } catch (const std::exception& err) {
         e.note = err.what();

@@ -149,3 +149,25 @@ TEST(DeviceProfileEnums, NamesRoundTripThroughTheFiles) {
 
 }  // namespace
 }  // namespace kerf::config
+
+namespace kerf::config {
+namespace {
+
+TEST(DeviceProfileList, LoadsEveryShippedProfileSortedByName) {
+    auto list = load_device_profiles(test::kConfigDir / "devices");
+    ASSERT_TRUE(list) << list.error().message();
+    ASSERT_EQ(list->size(), 3u);
+    EXPECT_EQ((*list)[0].profile_name, "falcon");
+    EXPECT_EQ((*list)[0].profile.ids.product_id, 0xCB48);
+    EXPECT_EQ((*list)[1].profile_name, "kerf_hid_reference");
+    EXPECT_EQ((*list)[2].profile_name, "simulated");
+}
+
+TEST(DeviceProfileList, MissingFolderIsAnIoError) {
+    auto e = test::error_of(load_device_profiles("/nonexistent/devices"));
+    EXPECT_EQ(e.kind, ConfigErrorKind::kIo);
+    EXPECT_EQ(e.source, "/nonexistent/devices");
+}
+
+}  // namespace
+}  // namespace kerf::config
