@@ -69,6 +69,16 @@ struct Node {
     std::uint32_t z;
 };
 
+/// An ear candidate: a max-heap on `key` reversed, so the smallest ear (then lowest node) pops.
+struct Candidate {
+    double key;
+    std::uint32_t node;
+    std::uint32_t version;
+    bool operator<(const Candidate& o) const noexcept {
+        return key != o.key ? key > o.key : node > o.node;
+    }
+};
+
 }  // namespace
 
 struct Triangulator::Impl {
@@ -78,11 +88,16 @@ struct Triangulator::Impl {
     std::vector<double> area;          // signed area per loop
     std::vector<std::int32_t> depth;
     std::vector<std::int32_t> parent;
+    std::vector<std::uint32_t> seg_next;    // successor of each point in its loop
+    std::vector<std::int32_t> seg_loop;     // loop of each point
+    std::vector<Box> seg_box;               // box of the segment from each point to its successor
     std::vector<std::uint32_t> cell_start;  // self-intersection grid (CSR)
     std::vector<std::uint32_t> cell_items;
     std::vector<Node> nodes;
     std::vector<std::uint32_t> holes;       // leftmost node of each hole ring
     std::vector<std::uint32_t> order;       // scratch for z sorting
+    std::vector<Candidate> heap;            // ear candidates, smallest first
+    std::vector<std::uint32_t> version;     // per node: bumped when its candidate goes stale
     double zx0 = 0, zy0 = 0, zinv = 0;      // z-order frame of the current region
 
     std::uint32_t loops() const noexcept { return static_cast<std::uint32_t>(begin.size() - 1); }
@@ -93,9 +108,9 @@ struct Triangulator::Impl {
 
     Status<TriangulateError> load(std::span<const std::span<const Point2>> loops_in);
     Status<TriangulateError> measure();
+    void build_segments();
     Status<TriangulateError> check_crossings();
     bool segments_meet(std::uint32_t s, std::uint32_t t) const noexcept;
-    std::int32_t loop_of(std::uint32_t p) const noexcept;
     void find_nesting();
     bool point_in_loop(const Point2& p, std::uint32_t l) const noexcept;
 
@@ -116,6 +131,8 @@ struct Triangulator::Impl {
     bool is_ear(std::uint32_t ear, bool strict) const noexcept;
     bool is_ear_hashed(std::uint32_t ear, bool strict) const noexcept;
     void clip(std::uint32_t start, std::vector<Triangle>& out, std::uint32_t& degenerate);
+    void cut_ear(std::uint32_t ear, std::vector<Triangle>& out);
+    void offer(std::uint32_t n);
     std::uint32_t relaxed_ear(std::uint32_t start, int pass) const noexcept;
 };
 
@@ -164,11 +181,6 @@ Status<TriangulateError> Triangulator::Impl::measure() {
     return {};
 }
 
-std::int32_t Triangulator::Impl::loop_of(std::uint32_t p) const noexcept {
-    const auto it = std::upper_bound(begin.begin(), begin.end(), p);
-    return static_cast<std::int32_t>(it - begin.begin()) - 1;
-}
-
 namespace {
 
 inline int sign(double v) noexcept { return (v > 0) - (v < 0); }
@@ -198,11 +210,9 @@ bool closed_segments_meet(const Point2& a, const Point2& b, const Point2& c,
 
 /// Segments are named by their first point; segment s runs from s to its successor in the loop.
 bool Triangulator::Impl::segments_meet(std::uint32_t s, std::uint32_t t) const noexcept {
-    const auto ls = static_cast<std::uint32_t>(loop_of(s));
-    const auto lt = static_cast<std::uint32_t>(loop_of(t));
-    const std::uint32_t s1 = next_in_loop(s, ls);
-    const std::uint32_t t1 = next_in_loop(t, lt);
-    if (ls == lt && (s1 == t || t1 == s)) {
+    const std::uint32_t s1 = seg_next[s];
+    const std::uint32_t t1 = seg_next[t];
+    if (s1 == t || t1 == s) {
         // Neighbours share one endpoint: they meet elsewhere only when they fold back onto
         // each other (collinear, pointing the same way from the shared point).
         const std::uint32_t shared = s1 == t ? t : s;
@@ -216,34 +226,53 @@ bool Triangulator::Impl::segments_meet(std::uint32_t s, std::uint32_t t) const n
     return closed_segments_meet(pts[s], pts[s1], pts[t], pts[t1]);
 }
 
+void Triangulator::Impl::build_segments() {
+    const auto n = static_cast<std::uint32_t>(pts.size());
+    seg_next.resize(n);
+    seg_loop.resize(n);
+    seg_box.resize(n);
+    for (std::uint32_t l = 0; l < loops(); ++l) {
+        for (std::uint32_t p = begin[l]; p < begin[l + 1]; ++p) {
+            seg_next[p] = next_in_loop(p, l);
+            seg_loop[p] = static_cast<std::int32_t>(l);
+            seg_box[p] = Box{};
+            seg_box[p].add(pts[p]);
+            seg_box[p].add(pts[seg_next[p]]);
+        }
+    }
+}
+
+/// Every pair of segments whose boxes share a grid cell is tested once (in the cell holding the
+/// low corner of their boxes' overlap). Cells are about two mean segment lengths wide, capped at
+/// 4 cells per segment, so a smooth cross-section costs O(n).
 Status<TriangulateError> Triangulator::Impl::check_crossings() {
+    build_segments();
     const auto n = static_cast<std::uint32_t>(pts.size());
     Box all;
-    for (const Point2& p : pts) all.add(p);
-    const double w = std::max(all.x1 - all.x0, 1e-300);
-    const double h = std::max(all.y1 - all.y0, 1e-300);
-    const double cells_per_len = std::sqrt(static_cast<double>(n) / (w * h));
-    const auto gx = static_cast<std::uint32_t>(std::clamp(w * cells_per_len, 1.0, 2048.0));
-    const auto gy = static_cast<std::uint32_t>(std::clamp(h * cells_per_len, 1.0, 2048.0));
-    auto cell_x = [&](double x) {
-        return std::min(gx - 1, static_cast<std::uint32_t>((x - all.x0) / w * gx));
+    double length = 0.0;
+    for (std::uint32_t s = 0; s < n; ++s) {
+        all.add(pts[s]);
+        length += (pts[seg_next[s]] - pts[s]).norm();
+    }
+    const double w = all.x1 - all.x0;
+    const double h = all.y1 - all.y0;
+    const double cell = std::max(2.0 * length / n, std::sqrt(w * h / (4.0 * n)));
+    const auto gx = static_cast<std::uint32_t>(std::clamp(w / cell, 1.0, 4096.0));
+    const auto gy = static_cast<std::uint32_t>(std::clamp(h / cell, 1.0, 4096.0));
+    const double sx = gx / std::max(w, 1e-300);
+    const double sy = gy / std::max(h, 1e-300);
+    auto cx_of = [&](double x) {
+        return std::min(gx - 1, static_cast<std::uint32_t>((x - all.x0) * sx));
     };
-    auto cell_y = [&](double y) {
-        return std::min(gy - 1, static_cast<std::uint32_t>((y - all.y0) / h * gy));
+    auto cy_of = [&](double y) {
+        return std::min(gy - 1, static_cast<std::uint32_t>((y - all.y0) * sy));
     };
-    auto seg_box = [&](std::uint32_t s) {
-        Box b;
-        b.add(pts[s]);
-        b.add(pts[next_in_loop(s, static_cast<std::uint32_t>(loop_of(s)))]);
-        return b;
-    };
-    // Two passes over the segments: count per cell, then fill (compressed rows).
     cell_start.assign(std::size_t{gx} * gy + 1, 0);
-    for (int pass = 0; pass < 2; ++pass) {
+    for (int pass = 0; pass < 2; ++pass) {  // count per cell, then fill (compressed rows)
         for (std::uint32_t s = 0; s < n; ++s) {
-            const Box b = seg_box(s);
-            for (std::uint32_t cy = cell_y(b.y0); cy <= cell_y(b.y1); ++cy) {
-                for (std::uint32_t cx = cell_x(b.x0); cx <= cell_x(b.x1); ++cx) {
+            const Box& b = seg_box[s];
+            for (std::uint32_t cy = cy_of(b.y0); cy <= cy_of(b.y1); ++cy) {
+                for (std::uint32_t cx = cx_of(b.x0); cx <= cx_of(b.x1); ++cx) {
                     const std::size_t c = std::size_t{cy} * gx + cx;
                     if (pass == 0) ++cell_start[c + 1];
                     else cell_items[cell_start[c]++] = s;
@@ -258,19 +287,16 @@ Status<TriangulateError> Triangulator::Impl::check_crossings() {
     // After the fill, cell_start[c] is the END of cell c; cell c begins at cell_start[c - 1].
     for (std::size_t c = 0; c + 1 < cell_start.size(); ++c) {
         const std::uint32_t lo = c == 0 ? 0 : cell_start[c - 1];
-        const std::uint32_t hi = cell_start[c];
-        for (std::uint32_t i = lo; i < hi; ++i) {
-            for (std::uint32_t j = i + 1; j < hi; ++j) {
-                const std::uint32_t s = cell_items[i];
-                const std::uint32_t t = cell_items[j];
-                // Test each pair once: in the cell holding the corner of their boxes' overlap.
-                const Box bs = seg_box(s);
-                const Box bt = seg_box(t);
-                const std::size_t home = std::size_t{cell_y(std::max(bs.y0, bt.y0))} * gx +
-                                         cell_x(std::max(bs.x0, bt.x0));
-                if (home != c || !segments_meet(s, t)) continue;
-                return Err{TriangulateError{TriangulateFailure::kSelfIntersecting, loop_of(s),
-                                            loop_of(t)}};
+        for (std::uint32_t i = lo; i < cell_start[c]; ++i) {
+            for (std::uint32_t j = i + 1; j < cell_start[c]; ++j) {
+                const Box& bs = seg_box[cell_items[i]];
+                const Box& bt = seg_box[cell_items[j]];
+                if (bs.x1 < bt.x0 || bt.x1 < bs.x0 || bs.y1 < bt.y0 || bt.y1 < bs.y0) continue;
+                const std::size_t home = std::size_t{cy_of(std::max(bs.y0, bt.y0))} * gx +
+                                         cx_of(std::max(bs.x0, bt.x0));
+                if (home != c || !segments_meet(cell_items[i], cell_items[j])) continue;
+                return Err{TriangulateError{TriangulateFailure::kSelfIntersecting,
+                                            seg_loop[cell_items[i]], seg_loop[cell_items[j]]}};
             }
         }
     }
@@ -431,8 +457,8 @@ std::uint32_t Triangulator::Impl::find_bridge(std::uint32_t hole,
     p = m;
     do {
         const Node& np = nodes[p];
-        if (hx >= np.x && np.x >= mx && hx != np.x && cross(ax, hy, mx, my, np.x, np.y) <= 0 &&
-            cross(mx, my, cx, hy, np.x, np.y) <= 0 && cross(cx, hy, ax, hy, np.x, np.y) <= 0) {
+        if (hx >= np.x && np.x >= mx && hx != np.x && cross(ax, hy, mx, my, np.x, np.y) >= 0 &&
+            cross(mx, my, cx, hy, np.x, np.y) >= 0 && cross(cx, hy, ax, hy, np.x, np.y) >= 0) {
             const double tan = std::abs(hy - np.y) / (hx - np.x);
             if (locally_inside(p, hole) &&
                 (tan < tan_min ||
@@ -572,32 +598,65 @@ std::uint32_t Triangulator::Impl::relaxed_ear(std::uint32_t start, int pass) con
     return best;
 }
 
-void Triangulator::Impl::clip(std::uint32_t ear, std::vector<Triangle>& out,
+/// Queues node n as an ear candidate if it is convex, keyed by its ear's longest edge.
+void Triangulator::Impl::offer(std::uint32_t n) {
+    ++version[n];
+    if (!(turn(n) > 0)) return;
+    const Node& b = nodes[n];
+    const Node& a = nodes[b.prev];
+    const Node& c = nodes[b.next];
+    auto sq = [](const Node& u, const Node& v) {
+        return (u.x - v.x) * (u.x - v.x) + (u.y - v.y) * (u.y - v.y);
+    };
+    heap.push_back(Candidate{std::max({sq(a, b), sq(b, c), sq(c, a)}), n, version[n]});
+    std::push_heap(heap.begin(), heap.end());
+}
+
+void Triangulator::Impl::cut_ear(std::uint32_t ear, std::vector<Triangle>& out) {
+    const Node& e = nodes[ear];
+    out.push_back(Triangle{nodes[e.prev].i, e.i, nodes[e.next].i});
+    unlink(ear);
+    ++version[ear];
+    offer(e.prev);
+    offer(e.next);
+}
+
+/// Clips the smallest ear first, so triangles stay local and each ear test looks at few points.
+/// Clipping an ear changes only its two neighbours' ear status (a vertex inside another ear stays
+/// inside it), so only they are re-queued: O(n log n) for a smooth region. If the queue runs dry
+/// early (rounding), a full turn with relaxed tests picks the next ear, so the loop always ends.
+void Triangulator::Impl::clip(std::uint32_t start, std::vector<Triangle>& out,
                               std::uint32_t& degenerate) {
-    std::uint32_t stop = ear;
-    while (nodes[ear].prev != nodes[ear].next) {
-        const std::uint32_t prev = nodes[ear].prev;
-        const std::uint32_t next = nodes[ear].next;
-        if (zinv > 0 ? is_ear_hashed(ear, false) : is_ear(ear, false)) {
-            out.push_back(Triangle{nodes[prev].i, nodes[ear].i, nodes[next].i});
-            unlink(ear);
-            ear = nodes[next].next;  // skipping a vertex gives fewer slivers
-            stop = ear;
+    version.assign(nodes.size(), 0);
+    heap.clear();
+    std::uint32_t left = 0;
+    std::uint32_t p = start;
+    do {
+        offer(p);
+        ++left;
+        p = nodes[p].next;
+    } while (p != start);
+    std::uint32_t any = start;  // a live node
+    while (left > 2) {
+        if (!heap.empty()) {
+            std::pop_heap(heap.begin(), heap.end());
+            const Candidate c = heap.back();
+            heap.pop_back();
+            if (c.version != version[c.node]) continue;
+            if (!(zinv > 0 ? is_ear_hashed(c.node, false) : is_ear(c.node, false))) continue;
+            any = nodes[c.node].next;
+            cut_ear(c.node, out);
+            --left;
             continue;
         }
-        ear = next;
-        if (ear != stop) continue;
-        // A full turn without a proper ear: relax step by step (never stall).
         std::uint32_t forced = kNone;
         for (int pass = 1; pass <= 3 && forced == kNone; ++pass) {
-            forced = relaxed_ear(ear, pass);
+            forced = relaxed_ear(any, pass);
             if (forced != kNone && pass >= 2) ++degenerate;
         }
-        const Node& f = nodes[forced];
-        out.push_back(Triangle{nodes[f.prev].i, f.i, nodes[f.next].i});
-        unlink(forced);
-        ear = nodes[f.next].next;
-        stop = ear;
+        any = nodes[forced].next;
+        cut_ear(forced, out);
+        --left;
     }
 }
 

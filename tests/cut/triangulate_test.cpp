@@ -1,0 +1,210 @@
+// Cap triangulation: loops with any nesting and orientation, degenerate input, determinism.
+#include "display/cut/triangulate.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "tests/cut/triangulation_checks.hpp"
+
+namespace kerf::cut {
+namespace {
+
+using testing::check_triangulation;
+using testing::Loops;
+using testing::spans_of;
+
+std::vector<Point2> circle(Point2 c, double r, int n, bool ccw = true) {
+    std::vector<Point2> loop;
+    for (int k = 0; k < n; ++k) {
+        const double a = 2.0 * M_PI * k / n * (ccw ? 1.0 : -1.0);
+        loop.emplace_back(c[0] + r * std::cos(a), c[1] + r * std::sin(a));
+    }
+    return loop;
+}
+
+std::vector<Point2> square(Point2 lo, double side, bool ccw = true) {
+    std::vector<Point2> s{lo, lo + Point2(side, 0), lo + Point2(side, side), lo + Point2(0, side)};
+    if (!ccw) std::reverse(s.begin(), s.end());
+    return s;
+}
+
+/// Triangulates, expects success and every invariant of check_triangulation.
+std::vector<Triangle> expect_valid(const Loops& loops, bool exact = false,
+                                   TriangulateStats* stats = nullptr) {
+    Triangulator t;
+    std::vector<Triangle> tris;
+    const auto spans = spans_of(loops);
+    const auto s = t.triangulate(spans, tris);
+    EXPECT_TRUE(s.has_value()) << to_string(s.error().failure) << " loop " << s.error().loop;
+    EXPECT_EQ(check_triangulation(loops, tris, exact), "");
+    EXPECT_EQ(t.stats().degenerate_ears, 0u);
+    if (stats != nullptr) *stats = t.stats();
+    return tris;
+}
+
+TriangulateError expect_refused(const Loops& loops, TriangulateFailure why) {
+    std::vector<Triangle> tris{{0, 1, 2}};
+    Triangulator t;
+    const auto spans = spans_of(loops);
+    const auto s = t.triangulate(spans, tris);
+    EXPECT_FALSE(s.has_value());
+    EXPECT_TRUE(tris.empty());
+    if (s.has_value()) return {};
+    EXPECT_EQ(s.error().failure, why) << to_string(s.error().failure);
+    return s.error();
+}
+
+TEST(Triangulate, SquareGivesTwoCounterClockwiseTrianglesInEitherOrientation) {
+    TriangulateStats st;
+    EXPECT_EQ(expect_valid({square({0, 0}, 1.0)}, true, &st).size(), 2u);
+    EXPECT_EQ(st.fans, 1u);
+    EXPECT_EQ(expect_valid({square({0, 0}, 1.0, false)}, true).size(), 2u);
+}
+
+TEST(Triangulate, ConvexLoopIsFannedAndConcaveLoopIsEarClipped) {
+    TriangulateStats st;
+    expect_valid({circle({0, 0}, 1.0, 50)}, false, &st);
+    EXPECT_EQ(st.fans, 1u);
+    // An L-shape: one reflex vertex, so no fan.
+    expect_valid({{{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}}}, true, &st);
+    EXPECT_EQ(st.fans, 0u);
+}
+
+TEST(Triangulate, AnnulusLikeABoneCrossSectionHasTheRingArea) {
+    TriangulateStats st;
+    const Loops bone{circle({0, 0}, 0.010, 400), circle({0.001, 0}, 0.004, 200, true)};
+    const auto tris = expect_valid(bone, false, &st);
+    EXPECT_EQ(st.outer_loops, 1u);
+    EXPECT_EQ(st.holes, 1u);
+    EXPECT_EQ(tris.size(), 600u);
+}
+
+TEST(Triangulate, IslandsInsideHolesAndLoopsSideBySideAreAllCapped) {
+    TriangulateStats st;
+    const Loops loops{
+        square({0, 0}, 16), square({2, 2}, 12, false),  // outer + hole
+        square({4, 4}, 8),  square({6, 6}, 4),          // island in the hole, hole in the island
+        square({20, 0}, 4), square({21, 1}, 2),         // a second annulus beside the first
+        square({30, 0}, 3),                             // and a plain square
+    };
+    expect_valid(loops, true, &st);
+    EXPECT_EQ(st.outer_loops, 4u);
+    EXPECT_EQ(st.holes, 3u);
+}
+
+TEST(Triangulate, CollinearPointsOnEdgesNeverGiveZeroAreaTriangles) {
+    // A square with 10 points on every side, and a comb with collinear teeth bases.
+    std::vector<Point2> dense;
+    for (int side = 0; side < 4; ++side) {
+        for (int k = 0; k < 10; ++k) {
+            const double t = k;
+            const Point2 p = side == 0 ? Point2(t, 0) : side == 1 ? Point2(10, t)
+                           : side == 2 ? Point2(10 - t, 10) : Point2(0, 10 - t);
+            dense.push_back(p);
+        }
+    }
+    expect_valid({dense}, true);
+    // A comb whose tooth bases are collinear runs along y = 2.
+    std::vector<Point2> comb{{0, 0}, {20, 0}};
+    for (int k = 9; k >= 0; --k) {
+        const double x = 2.0 * k;
+        comb.insert(comb.end(), {Point2(x + 2, 2), Point2(x + 1.5, 2), Point2(x + 1.25, 6),
+                                 Point2(x + 0.75, 6), Point2(x + 0.5, 2)});
+    }
+    comb.emplace_back(0, 2);
+    expect_valid({comb, square({4, 0.5}, 1, false)}, true);
+}
+
+TEST(Triangulate, HolesTouchingTheBridgeRayAtVerticesAreBridgedCleanly) {
+    // Holes whose leftmost vertices share one y with outer vertices and with each other.
+    const Loops loops{{{0, 0}, {10, 0}, {10, 4}, {5, 4}, {5, 6}, {10, 6}, {10, 10}, {0, 10}},
+                      {{2, 5}, {3, 4}, {4, 5}, {3, 6}},
+                      {{6, 2}, {7, 1}, {8, 2}, {7, 3}},
+                      {{6, 8}, {7, 7}, {8, 8}, {7, 9}}};
+    expect_valid(loops, true);
+}
+
+TEST(Triangulate, RandomRegionsWithHolesAndIslandsKeepEveryInvariant) {
+    std::mt19937_64 rng(12345);
+    for (int trial = 0; trial < 300; ++trial) {
+        const Loops loops = testing::random_region(rng, trial % 2 == 0 ? 12 : 80);
+        SCOPED_TRACE(trial);
+        expect_valid(loops, true);
+    }
+}
+
+TEST(Triangulate, LargeCrossSectionOfThousandsOfPointsIsValid) {
+    std::mt19937_64 rng(7);
+    Loops loops{testing::star_loop(rng, {0, 0}, 0.009, 0.010, 3000, false, false),
+                testing::star_loop(rng, {0, 0}, 0.003, 0.004, 1500, true, false)};
+    TriangulateStats st;
+    const auto tris = expect_valid(loops, false, &st);
+    EXPECT_EQ(tris.size(), 4500u);
+}
+
+TEST(Triangulate, SameInputGivesTheSameTrianglesAndTheTriangulatorIsReusable) {
+    std::mt19937_64 rng(99);
+    const Loops a = testing::random_region(rng, 40);
+    const Loops b = testing::random_region(rng, 40);
+    Triangulator t;
+    std::vector<Triangle> first, other, again;
+    ASSERT_TRUE(t.triangulate(spans_of(a), first).has_value());
+    ASSERT_TRUE(t.triangulate(spans_of(b), other).has_value());
+    ASSERT_TRUE(t.triangulate(spans_of(a), again).has_value());
+    EXPECT_EQ(first, again);
+    const auto oneshot = triangulate_loops(spans_of(a));
+    ASSERT_TRUE(oneshot.has_value());
+    EXPECT_EQ(*oneshot, first);
+}
+
+TEST(Triangulate, EmptyAndTooShortLoopsAreRefused) {
+    expect_refused({}, TriangulateFailure::kNoLoops);
+    const auto e = expect_refused({square({0, 0}, 1), {{0, 0}, {1, 1}}},
+                                  TriangulateFailure::kTooFewPoints);
+    EXPECT_EQ(e.loop, 1);
+}
+
+TEST(Triangulate, NonFiniteCoordinatesAreRefused) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double inf = std::numeric_limits<double>::infinity();
+    expect_refused({{{0, 0}, {1, 0}, {nan, 1}}}, TriangulateFailure::kNonFinite);
+    expect_refused({{{0, 0}, {inf, 0}, {0, 1}}}, TriangulateFailure::kNonFinite);
+}
+
+TEST(Triangulate, ZeroAreaLoopIsRefused) {
+    const auto e = expect_refused({square({5, 5}, 1), {{0, 0}, {1, 1}, {2, 2}, {3, 3}}},
+                                  TriangulateFailure::kZeroArea);
+    EXPECT_EQ(e.loop, 1);
+}
+
+TEST(Triangulate, CrossingTouchingOrRepeatingLoopsAreRefusedWithTheLoopsNamed) {
+    // A bow-tie crosses itself.
+    auto e = expect_refused({{{0, 0}, {4, 4}, {4, 0}, {0, 2}}}, TriangulateFailure::kSelfIntersecting);
+    EXPECT_EQ(e.loop, 0);
+    EXPECT_EQ(e.other_loop, 0);
+    // Two overlapping squares.
+    e = expect_refused({square({0, 0}, 2), square({1, 1}, 2)}, TriangulateFailure::kSelfIntersecting);
+    EXPECT_NE(e.loop, e.other_loop);
+    // A hole touching its outer loop at a vertex.
+    expect_refused({square({0, 0}, 4), {{0, 2}, {1, 1}, {2, 2}, {1, 3}}},
+                   TriangulateFailure::kSelfIntersecting);
+    // A repeated point, and a spike folding back along an edge.
+    expect_refused({{{0, 0}, {1, 0}, {1, 0}, {1, 1}}}, TriangulateFailure::kSelfIntersecting);
+    expect_refused({{{0, 0}, {2, 0}, {1, 0}, {1, 1}}}, TriangulateFailure::kSelfIntersecting);
+}
+
+TEST(Triangulate, FailureNamesReadAsText) {
+    EXPECT_EQ(to_string(TriangulateFailure::kSelfIntersecting), "loops cross or touch");
+    EXPECT_EQ(to_string(TriangulateFailure::kZeroArea), "loop encloses zero area");
+}
+
+TEST(Triangulate, SignedAreaIsPositiveCounterClockwise) {
+    EXPECT_DOUBLE_EQ(signed_area(square({1, 1}, 2)), 4.0);
+    EXPECT_DOUBLE_EQ(signed_area(square({1, 1}, 2, false)), -4.0);
+}
+
+}  // namespace
+}  // namespace kerf::cut
