@@ -86,7 +86,7 @@ std::size_t read_payload(UsbLink& link, std::span<std::byte> out, std::size_t wa
         const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
         if (left.count() <= 0) break;
         std::size_t n = 0;
-        last = link.bulk_read(transfer, n, static_cast<std::uint32_t>(left.count()));
+        last = link.bulk_read(transfer, n, static_cast<std::uint32_t>(left.count()) * 1000U);
         if (last == LinkStatus::kTimeout) continue;
         if (last != LinkStatus::kOk) break;
         got += strip_ftdi_status(std::span(transfer).first(n), out.subspan(got, want - got));

@@ -39,10 +39,10 @@ public:
                                   std::uint32_t timeout_ms) noexcept = 0;
 
     /// Takes one completed bulk IN (0x81) transfer into `buffer`, FTDI status bytes included
-    /// (2 per 64-byte USB packet); waits at most `timeout_ms` (0: only what already completed).
+    /// (2 per 64-byte USB packet); waits at most `timeout_us` (0: only what already completed).
     /// `received` is the byte count on kOk.
     virtual LinkStatus bulk_read(std::span<std::byte> buffer, std::size_t& received,
-                                 std::uint32_t timeout_ms) noexcept = 0;
+                                 std::uint32_t timeout_us) noexcept = 0;
 };
 
 }  // namespace kerf::firmware_host
