@@ -72,7 +72,7 @@ TEST(ForceSafety, RampsInAfterEngaging) {
     l.max_slew_n_per_s = 1e9;
     ForceSafety s(l);
     const Vec3d out = engage_and_hold(s, {0, 0, 4}, 10);
-    EXPECT_NEAR(norm(out), 4.0 * 15 * 0.001 / 0.1, 1e-9);  // engaged at tick 5 of 10 quiet + 10
+    EXPECT_NEAR(norm(out), 4.0 * 16 * 0.001 / 0.1, 1e-9);  // engaged on quiet tick 5: 6 + 10 ramp steps
     EXPECT_TRUE(s.reasons() & kReasonRamping);
 }
 
