@@ -4,16 +4,26 @@ namespace kerf::config {
 
 std::string_view to_string(ConfigErrorKind kind) noexcept {
     switch (kind) {
-        case ConfigErrorKind::kIo: return "cannot read";
-        case ConfigErrorKind::kSyntax: return "syntax error";
-        case ConfigErrorKind::kUnknownKey: return "unknown key";
-        case ConfigErrorKind::kMissingKey: return "missing key";
-        case ConfigErrorKind::kWrongType: return "wrong type";
-        case ConfigErrorKind::kOutOfRange: return "out of range";
-        case ConfigErrorKind::kNonFinite: return "not finite";
-        case ConfigErrorKind::kBadUnit: return "bad unit";
-        case ConfigErrorKind::kBadValue: return "bad value";
-        case ConfigErrorKind::kBadReference: return "dangling reference";
+        case ConfigErrorKind::kIo:
+            return "cannot read";
+        case ConfigErrorKind::kSyntax:
+            return "syntax error";
+        case ConfigErrorKind::kUnknownKey:
+            return "unknown key";
+        case ConfigErrorKind::kMissingKey:
+            return "missing key";
+        case ConfigErrorKind::kWrongType:
+            return "wrong type";
+        case ConfigErrorKind::kOutOfRange:
+            return "out of range";
+        case ConfigErrorKind::kNonFinite:
+            return "not finite";
+        case ConfigErrorKind::kBadUnit:
+            return "bad unit";
+        case ConfigErrorKind::kBadValue:
+            return "bad value";
+        case ConfigErrorKind::kBadReference:
+            return "dangling reference";
     }
     return "unknown problem";
 }

@@ -38,13 +38,13 @@ std::string_view to_string(ConfigErrorKind kind) noexcept;
 /// One configuration problem with its location.
 struct ConfigError {
     ConfigErrorKind kind = ConfigErrorKind::kBadValue;
-    std::string source;        ///< file path, or the source name given to a parse_* function
-    std::uint32_t line = 0;    ///< 1-based; 0 when not tied to a line (I/O, validator output)
-    std::uint32_t column = 0;  ///< 1-based; 0 when unknown
-    std::string key;           ///< dotted key path, e.g. "limits.peak_force_n"; may be empty
-    std::string value;         ///< the offending value as TOML text (truncated); may be empty
-    std::string expected;      ///< what is accepted: a range, a type, a list of choices
-    std::string note;          ///< extra detail: "did you mean ...", the TOML parser's words
+    std::string source;             ///< file path, or the source name given to a parse_* function
+    std::uint32_t line = 0;         ///< 1-based; 0 when not tied to a line (I/O, validator output)
+    std::uint32_t column = 0;       ///< 1-based; 0 when unknown
+    std::string key;                ///< dotted key path, e.g. "limits.peak_force_n"; may be empty
+    std::string value;              ///< the offending value as TOML text (truncated); may be empty
+    std::string expected;           ///< what is accepted: a range, a type, a list of choices
+    std::string note;               ///< extra detail: "did you mean ...", the TOML parser's words
     std::size_t more_problems = 0;  ///< how many further problems the same file has
 
     /// One line: `<source>:<line>:<col>: <key> = <value>: <kind> (expected ...) <note>`.

@@ -131,9 +131,12 @@ DeviceProfile read_device_profile(TableReader& root) {
 
 std::string_view to_string(DeviceKind kind) noexcept {
     switch (kind) {
-        case DeviceKind::kFalcon: return "falcon";
-        case DeviceKind::kKerfHid: return "kerf_hid";
-        case DeviceKind::kSimulated: return "simulated";
+        case DeviceKind::kFalcon:
+            return "falcon";
+        case DeviceKind::kKerfHid:
+            return "kerf_hid";
+        case DeviceKind::kSimulated:
+            return "simulated";
     }
     return "unknown";
 }

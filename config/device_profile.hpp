@@ -71,8 +71,8 @@ struct EncoderSpec {
 
 /// Motor command scaling (joint-space devices; zero for Cartesian devices).
 struct MotorSpec {
-    double command_per_n_m = 0;       ///< device command units per N·m of arm torque
-    std::int32_t command_limit = 0;   ///< largest |command| the wire field holds
+    double command_per_n_m = 0;      ///< device command units per N·m of arm torque
+    std::int32_t command_limit = 0;  ///< largest |command| the wire field holds
 };
 
 /// Force limits the host-side safety layer enforces, whatever the force model asks.

@@ -12,11 +12,16 @@ std::string env_or_tmp(const char* name) {
 
 /// The value of variable `name`, or false when it is not one of ours.
 bool lookup(std::string_view name, const PathVars& vars, std::string* out) {
-    if (name == "config") *out = vars.config_dir.string();
-    else if (name == "shared") *out = vars.shared_dir.string();
-    else if (name == "tmp") *out = env_or_tmp("TMPDIR");
-    else if (name == "runtime") *out = env_or_tmp("XDG_RUNTIME_DIR");
-    else return false;
+    if (name == "config")
+        *out = vars.config_dir.string();
+    else if (name == "shared")
+        *out = vars.shared_dir.string();
+    else if (name == "tmp")
+        *out = env_or_tmp("TMPDIR");
+    else if (name == "runtime")
+        *out = env_or_tmp("XDG_RUNTIME_DIR");
+    else
+        return false;
     return true;
 }
 
@@ -50,20 +55,22 @@ bool scan(std::string_view raw, std::string* bad, Text text, Var var) {
 bool check_path_template(std::string_view raw, std::string* bad) {
     PathVars none;
     std::string ignored;
-    return scan(raw, bad, [](std::string_view) {},
-                [&](std::string_view name) { return lookup(name, none, &ignored); });
+    return scan(
+        raw, bad, [](std::string_view) {},
+        [&](std::string_view name) { return lookup(name, none, &ignored); });
 }
 
 Result<std::filesystem::path, ConfigError> expand_path(std::string_view raw, const PathVars& vars) {
     std::string out;
     std::string bad;
-    bool ok = scan(raw, &bad, [&](std::string_view chunk) { out += chunk; },
-                   [&](std::string_view name) {
-                       std::string value;
-                       if (!lookup(name, vars, &value)) return false;
-                       out += value;
-                       return true;
-                   });
+    bool ok = scan(
+        raw, &bad, [&](std::string_view chunk) { out += chunk; },
+        [&](std::string_view name) {
+            std::string value;
+            if (!lookup(name, vars, &value)) return false;
+            out += value;
+            return true;
+        });
     if (!ok || raw.empty()) {
         ConfigError e;
         e.kind = ConfigErrorKind::kBadReference;

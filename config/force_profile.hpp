@@ -6,9 +6,9 @@
 // thread before swapping a new profile in at a tick boundary; the loader runs the same checks.
 #pragma once
 
+#include <filesystem>
 #include <string>
 #include <string_view>
-#include <filesystem>
 #include <vector>
 
 #include "config/config_error.hpp"
@@ -18,26 +18,26 @@ namespace kerf::config {
 
 /// Surface contact: a spring-damper wall with Coulomb friction.
 struct ContactParams {
-    double stiffness_n_per_m = 0;    ///< wall spring
-    double damping_n_s_per_m = 0;    ///< wall damper (on penetration velocity)
-    double static_friction_n = 0;    ///< tangential force before sliding starts
-    double dynamic_friction_n = 0;   ///< tangential force while sliding, <= static
+    double stiffness_n_per_m = 0;   ///< wall spring
+    double damping_n_s_per_m = 0;   ///< wall damper (on penetration velocity)
+    double static_friction_n = 0;   ///< tangential force before sliding starts
+    double dynamic_friction_n = 0;  ///< tangential force while sliding, <= static
 };
 
 /// The envelope the force model's output is shaped into before the device's own limits.
 struct ForceLimits {
-    double max_force_n = 0;           ///< clamp on |F| (must not exceed the device's peak)
-    double slew_rate_n_per_s = 0;     ///< largest rate of change of |F|
-    double ramp_in_s = 0;             ///< time to ramp from 0 to full force after engaging
-    double engage_threshold_n = 0;    ///< forces engage only once the demand is below this...
+    double max_force_n = 0;                ///< clamp on |F| (must not exceed the device's peak)
+    double slew_rate_n_per_s = 0;          ///< largest rate of change of |F|
+    double ramp_in_s = 0;                  ///< time to ramp from 0 to full force after engaging
+    double engage_threshold_n = 0;         ///< forces engage only once the demand is below this...
     std::uint32_t engage_quiet_ticks = 0;  ///< ...for this many consecutive ticks
 };
 
 /// Resistance of one bone material to the saw.
 struct CuttingMaterial {
-    double feed_resistance_n_s_per_m = 0;    ///< force opposing advance, per m/s of feed speed
-    double plane_lock_stiffness_n_per_m = 0; ///< spring holding the blade in the cut plane
-    double twist_damping_n_m_s_per_rad = 0;  ///< torque opposing rotation about the plane normal
+    double feed_resistance_n_s_per_m = 0;     ///< force opposing advance, per m/s of feed speed
+    double plane_lock_stiffness_n_per_m = 0;  ///< spring holding the blade in the cut plane
+    double twist_damping_n_m_s_per_rad = 0;   ///< torque opposing rotation about the plane normal
 };
 
 /// The oscillating saw: an oriented thin box (length x depth x kerf width).

@@ -118,30 +118,42 @@ KerfConfig read_kerf_config(TableReader& root) {
 
 std::string_view to_string(DisplayMode mode) noexcept {
     switch (mode) {
-        case DisplayMode::kHeadless: return "headless";
-        case DisplayMode::kWindow: return "window";
-        case DisplayMode::kKms: return "kms";
+        case DisplayMode::kHeadless:
+            return "headless";
+        case DisplayMode::kWindow:
+            return "window";
+        case DisplayMode::kKms:
+            return "kms";
     }
     return "unknown";
 }
 
 std::string_view to_string(SchedPolicy policy) noexcept {
     switch (policy) {
-        case SchedPolicy::kFifo: return "fifo";
-        case SchedPolicy::kRoundRobin: return "rr";
-        case SchedPolicy::kOther: return "other";
+        case SchedPolicy::kFifo:
+            return "fifo";
+        case SchedPolicy::kRoundRobin:
+            return "rr";
+        case SchedPolicy::kOther:
+            return "other";
     }
     return "unknown";
 }
 
 std::string_view to_string(LogLevel level) noexcept {
     switch (level) {
-        case LogLevel::kTrace: return "trace";
-        case LogLevel::kDebug: return "debug";
-        case LogLevel::kInfo: return "info";
-        case LogLevel::kWarn: return "warn";
-        case LogLevel::kError: return "error";
-        case LogLevel::kOff: return "off";
+        case LogLevel::kTrace:
+            return "trace";
+        case LogLevel::kDebug:
+            return "debug";
+        case LogLevel::kInfo:
+            return "info";
+        case LogLevel::kWarn:
+            return "warn";
+        case LogLevel::kError:
+            return "error";
+        case LogLevel::kOff:
+            return "off";
     }
     return "unknown";
 }

@@ -50,13 +50,13 @@ struct DisplaySettings {
 /// The real-time loop's settings. Each request is checked at start; without permission the loop
 /// runs degraded and says so, unless `require_realtime` is set.
 struct RealtimeSettings {
-    std::int64_t period_ns = 1'000'000;       ///< loop period (absolute deadlines)
+    std::int64_t period_ns = 1'000'000;  ///< loop period (absolute deadlines)
     SchedPolicy policy = SchedPolicy::kFifo;
-    std::int32_t priority = 80;               ///< 1..99 for fifo/rr; 0 for other
-    std::vector<std::uint32_t> cpu_affinity;  ///< CPUs to pin to; empty: no pinning
+    std::int32_t priority = 80;                          ///< 1..99 for fifo/rr; 0 for other
+    std::vector<std::uint32_t> cpu_affinity;             ///< CPUs to pin to; empty: no pinning
     std::uint32_t consecutive_misses_to_safe_state = 3;  ///< overruns in a row -> zero force
-    bool mlockall = true;                     ///< lock current and future pages
-    bool require_realtime = false;            ///< refuse to start when a request is denied
+    bool mlockall = true;                                ///< lock current and future pages
+    bool require_realtime = false;  ///< refuse to start when a request is denied
 };
 
 /// The shared-memory session (rt_core/ipc).
@@ -71,8 +71,8 @@ struct ShmSettings {
 
 /// The session event journal.
 struct JournalSettings {
-    std::string dir;                 ///< as written; `${config}`/`${shared}`/`${tmp}` expand
-    std::uint32_t flush_ms = 100;    ///< flush period
+    std::string dir;               ///< as written; `${config}`/`${shared}`/`${tmp}` expand
+    std::uint32_t flush_ms = 100;  ///< flush period
 };
 
 /// Everything in kerf.toml.

@@ -71,6 +71,54 @@ Status<ConfigError> check_meshes(const Config& c, const fs::path& scene_file) {
     return {};
 }
 
+/// A profile loaded from `<config_dir>/<folder>/<name>.toml`, and the file it came from.
+template <class T>
+struct Loaded {
+    T value;
+    fs::path file;
+};
+
+template <class T, class Load>
+Result<Loaded<T>, ConfigError> load_named(const fs::path& main_file, std::string_view folder,
+                                          const std::string& name, std::string_view key,
+                                          Load load) {
+    auto file = profile_path(main_file, folder, name, key);
+    if (!file) return Err{file.error()};
+    auto value = load(*file);
+    if (!value) return Err{value.error()};
+    return Loaded<T>{std::move(*value), *file};
+}
+
+/// kerf.toml itself, with its folders expanded.
+Result<Config, ConfigError> load_main(const fs::path& main_file) {
+    Config c;
+    c.config_dir = main_file.parent_path();
+    auto main = load_kerf_config(main_file);
+    if (!main) return Err{main.error()};
+    c.main = std::move(*main);
+    auto shared = expand_path(c.main.shared_dir, {c.config_dir, {}});
+    if (!shared) return Err{located(shared.error(), main_file, "paths.shared")};
+    c.shared_dir = *shared;
+    auto journal = expand_path(c.main.journal.dir, path_vars(c));
+    if (!journal) return Err{located(journal.error(), main_file, "journal.dir")};
+    c.journal_dir = *journal;
+    return c;
+}
+
+/// The force profile may not ask for more than the device can give.
+Status<ConfigError> check_force_within_device(const Config& c, const fs::path& force_file,
+                                              const fs::path& device_file) {
+    if (c.force.limits.max_force_n <= c.device.limits.peak_force_n) return {};
+    ConfigError e;
+    e.kind = ConfigErrorKind::kOutOfRange;
+    e.key = "limits.max_force_n";
+    e.value = detail::format_number(c.force.limits.max_force_n);
+    e.expected = "<= the device's peak_force_n (" +
+                 detail::format_number(c.device.limits.peak_force_n) + " N in " +
+                 device_file.string() + ")";
+    return Err{located(e, force_file, e.key)};
+}
+
 }  // namespace
 
 PathVars path_vars(const Config& config) { return {config.config_dir, config.shared_dir}; }
@@ -79,48 +127,23 @@ Result<Config, ConfigError> load_config(const fs::path& kerf_toml) {
     std::error_code ec;
     fs::path main_file = fs::absolute(kerf_toml, ec).lexically_normal();
     if (ec) main_file = kerf_toml;
-    Config c;
-    c.config_dir = main_file.parent_path();
-    auto main = load_kerf_config(main_file);
-    if (!main) return Err{main.error()};
-    c.main = std::move(*main);
-
-    auto shared = expand_path(c.main.shared_dir, {c.config_dir, {}});
-    if (!shared) return Err{located(shared.error(), main_file, "paths.shared")};
-    c.shared_dir = *shared;
-    auto journal = expand_path(c.main.journal.dir, path_vars(c));
-    if (!journal) return Err{located(journal.error(), main_file, "journal.dir")};
-    c.journal_dir = *journal;
-
-    auto device_file =
-        profile_path(main_file, "devices", c.main.profiles.device, "profiles.device");
-    if (!device_file) return Err{device_file.error()};
-    auto force_file = profile_path(main_file, "force", c.main.profiles.force, "profiles.force");
-    if (!force_file) return Err{force_file.error()};
-    auto scene_file = profile_path(main_file, "scenes", c.main.profiles.scene, "profiles.scene");
-    if (!scene_file) return Err{scene_file.error()};
-
-    auto device = load_device_profile(*device_file);
+    auto c = load_main(main_file);
+    if (!c) return c;
+    const ProfileNames& names = c->main.profiles;
+    auto device = load_named<DeviceProfile>(main_file, "devices", names.device, "profiles.device",
+                                            load_device_profile);
     if (!device) return Err{device.error()};
-    c.device = std::move(*device);
-    auto force = load_force_profile(*force_file);
+    auto force = load_named<ForceProfile>(main_file, "force", names.force, "profiles.force",
+                                          load_force_profile);
     if (!force) return Err{force.error()};
-    c.force = std::move(*force);
-    auto scene = load_scene(*scene_file);
+    auto scene = load_named<Scene>(main_file, "scenes", names.scene, "profiles.scene", load_scene);
     if (!scene) return Err{scene.error()};
-    c.scene = std::move(*scene);
-
-    if (c.force.limits.max_force_n > c.device.limits.peak_force_n) {
-        ConfigError e;
-        e.kind = ConfigErrorKind::kOutOfRange;
-        e.key = "limits.max_force_n";
-        e.value = detail::format_number(c.force.limits.max_force_n);
-        e.expected = "<= the device's peak_force_n (" +
-                     detail::format_number(c.device.limits.peak_force_n) + " N in " +
-                     device_file->string() + ")";
-        return Err{located(e, *force_file, e.key)};
-    }
-    if (auto meshes = check_meshes(c, *scene_file); !meshes) return Err{meshes.error()};
+    c->device = std::move(device->value);
+    c->force = std::move(force->value);
+    c->scene = std::move(scene->value);
+    if (auto s = check_force_within_device(*c, force->file, device->file); !s)
+        return Err{s.error()};
+    if (auto s = check_meshes(*c, scene->file); !s) return Err{s.error()};
     return c;
 }
 

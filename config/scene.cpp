@@ -33,13 +33,13 @@ void read_mesh(TableReader m, MeshSource& out) {
                    "a path; variables ${config}, ${shared}, ${tmp}, ${runtime}",
                    "cannot expand " + bad);
         }
-        out.units = static_cast<LengthUnit>(
-            m.choice("units", kUnitNames, ConfigErrorKind::kBadUnit));
+        out.units =
+            static_cast<LengthUnit>(m.choice("units", kUnitNames, ConfigErrorKind::kBadUnit));
         for (auto key : {"target_triangles", "seed"})
             m.forbid(key, "only for source = \"builtin_foot\"");
     } else {
-        out.target_triangles = static_cast<std::uint64_t>(
-            m.integer("target_triangles", kMinTriangles, kMaxTriangles));
+        out.target_triangles =
+            static_cast<std::uint64_t>(m.integer("target_triangles", kMinTriangles, kMaxTriangles));
         out.seed = static_cast<std::uint64_t>(m.integer("seed", 0, INT64_MAX));
         out.units = LengthUnit::kMetre;
         for (auto key : {"path", "units"}) m.forbid(key, "only for source = \"file\"");
@@ -125,22 +125,32 @@ Scene read_scene(TableReader& root) {
 
 std::string_view to_string(LengthUnit unit) noexcept {
     switch (unit) {
-        case LengthUnit::kMetre: return "m";
-        case LengthUnit::kCentimetre: return "cm";
-        case LengthUnit::kMillimetre: return "mm";
-        case LengthUnit::kMicrometre: return "um";
-        case LengthUnit::kInch: return "in";
+        case LengthUnit::kMetre:
+            return "m";
+        case LengthUnit::kCentimetre:
+            return "cm";
+        case LengthUnit::kMillimetre:
+            return "mm";
+        case LengthUnit::kMicrometre:
+            return "um";
+        case LengthUnit::kInch:
+            return "in";
     }
     return "unknown";
 }
 
 double metres_per_unit(LengthUnit unit) noexcept {
     switch (unit) {
-        case LengthUnit::kMetre: return 1.0;
-        case LengthUnit::kCentimetre: return 0.01;
-        case LengthUnit::kMillimetre: return 0.001;
-        case LengthUnit::kMicrometre: return 1e-6;
-        case LengthUnit::kInch: return 0.0254;
+        case LengthUnit::kMetre:
+            return 1.0;
+        case LengthUnit::kCentimetre:
+            return 0.01;
+        case LengthUnit::kMillimetre:
+            return 0.001;
+        case LengthUnit::kMicrometre:
+            return 1e-6;
+        case LengthUnit::kInch:
+            return 0.0254;
     }
     return 1.0;
 }

@@ -41,10 +41,10 @@ std::string_view to_string(MeshSourceKind kind) noexcept;
 /// A body's mesh source.
 struct MeshSource {
     MeshSourceKind kind = MeshSourceKind::kBuiltinFoot;
-    std::string path;                         ///< kFile: as written, may hold ${shared}/${config}
-    LengthUnit units = LengthUnit::kMetre;    ///< kFile: the file's length unit
-    std::uint64_t target_triangles = 0;       ///< kBuiltinFoot: approximate triangle count
-    std::uint64_t seed = 0;                   ///< kBuiltinFoot: generator seed (deterministic)
+    std::string path;                       ///< kFile: as written, may hold ${shared}/${config}
+    LengthUnit units = LengthUnit::kMetre;  ///< kFile: the file's length unit
+    std::uint64_t target_triangles = 0;     ///< kBuiltinFoot: approximate triangle count
+    std::uint64_t seed = 0;                 ///< kBuiltinFoot: generator seed (deterministic)
 };
 
 /// Rigid placement of a body in the world frame.

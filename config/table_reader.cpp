@@ -53,9 +53,8 @@ const toml::node* TableReader::lookup(std::string_view key, std::string_view exp
 
 void TableReader::wrong_type(std::string_view key, const toml::node& node,
                              std::string_view expected) {
-    problems_->add(ConfigErrorKind::kWrongType, node.source(), key_path(key),
-                   describe_value(node), std::string(expected),
-                   "got " + std::string(node_type_name(node)));
+    problems_->add(ConfigErrorKind::kWrongType, node.source(), key_path(key), describe_value(node),
+                   std::string(expected), "got " + std::string(node_type_name(node)));
 }
 
 void TableReader::fail(std::string_view key, ConfigErrorKind kind, std::string expected,
@@ -93,8 +92,8 @@ double TableReader::number(std::string_view key, const Range& range) {
     return number_or(key, range.min, range);
 }
 
-std::int64_t TableReader::integer_or(std::string_view key, std::int64_t fallback,
-                                     std::int64_t min, std::int64_t max) {
+std::int64_t TableReader::integer_or(std::string_view key, std::int64_t fallback, std::int64_t min,
+                                     std::int64_t max) {
     const toml::node* n = lookup(key, "");
     if (n == nullptr) return fallback;
     std::string range = std::to_string(min) + " <= value <= " + std::to_string(max);
@@ -163,8 +162,8 @@ std::size_t TableReader::choice(std::string_view key, const std::vector<std::str
         if (v == names[i]) return i;
     std::string note;
     for (auto name : names) {
-        if (name.size() >= 2 && (v.find(name) != std::string::npos ||
-                                 name.find(v) != std::string::npos)) {
+        if (name.size() >= 2 &&
+            (v.find(name) != std::string::npos || name.find(v) != std::string::npos)) {
             note = "did you mean \"" + std::string(name) + "\"?";
             break;
         }
@@ -193,8 +192,8 @@ void TableReader::numbers_into(std::string_view key, const Range& range, double*
         std::string element = key_path(key) + "[" + std::to_string(i) + "]";
         if (!e.is_number()) {
             problems_->add(ConfigErrorKind::kWrongType, e.source(), element, describe_value(e),
-                           "a number, " + range.describe(), "got " +
-                           std::string(node_type_name(e)));
+                           "a number, " + range.describe(),
+                           "got " + std::string(node_type_name(e)));
             continue;
         }
         double v = e.value<double>().value_or(0.0);
@@ -245,7 +244,8 @@ std::vector<std::int64_t> TableReader::integer_list_or(std::string_view key, std
 
 TableReader TableReader::table(std::string_view key, bool required) {
     const toml::node* n = lookup(key, required ? "a table ([" + key_path(key) + "])" : "");
-    if (n != nullptr && n->is_table()) return TableReader(*n->as_table(), key_path(key), *problems_);
+    if (n != nullptr && n->is_table())
+        return TableReader(*n->as_table(), key_path(key), *problems_);
     if (n != nullptr) wrong_type(key, *n, "a table ([" + key_path(key) + "])");
     TableReader stand_in(empty_table(), key_path(key), *problems_);
     // A missing required table is one problem, not one per key; an optional one uses defaults.

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <system_error>
-#include <filesystem>
 
 namespace kerf::config::detail {
 namespace {
@@ -73,9 +73,9 @@ std::vector<std::string_view> split_tokens(std::string_view s) {
 
 bool is_unit_token(std::string_view t) {
     static constexpr std::string_view kTokens[] = {
-        "m",  "mm",  "cm", "um", "km", "in",  "ft",  "n",  "kn",  "lbf", "s",  "ms",
-        "us", "ns",  "per", "deg", "rad", "hz", "khz", "rpm", "cpm", "kg", "g",  "a",
-        "v",  "w",   "px", "mn", "nm", "sec", "min", "pct", "percent", "mps", "kb", "mb"};
+        "m",  "mm", "cm",  "um",  "km",  "in",  "ft",  "n",   "kn",      "lbf", "s",  "ms",
+        "us", "ns", "per", "deg", "rad", "hz",  "khz", "rpm", "cpm",     "kg",  "g",  "a",
+        "v",  "w",  "px",  "mn",  "nm",  "sec", "min", "pct", "percent", "mps", "kb", "mb"};
     return std::find(std::begin(kTokens), std::end(kTokens), t) != std::end(kTokens);
 }
 
@@ -154,7 +154,10 @@ ConfigError Problems::first() const {
     };
     const ConfigError* best = nullptr;
     for (const auto& e : list_) {
-        if (best == nullptr) { best = &e; continue; }
+        if (best == nullptr) {
+            best = &e;
+            continue;
+        }
         int re = rank(e), rb = rank(*best);
         if (re != rb ? re < rb : earlier(e, *best)) best = &e;
     }
@@ -176,6 +179,32 @@ void Problems::mark_known(const toml::table* table, std::string_view key) {
 
 void Problems::report_unknown_keys(const toml::table& root) { walk(root, ""); }
 
+void Problems::report_unknown(const toml::key& key, const std::string& full,
+                              const std::string& table_path,
+                              const std::vector<std::string>& known) {
+    std::string name(key.str());
+    std::string hint;
+    ConfigErrorKind kind = ConfigErrorKind::kUnknownKey;
+    std::size_t best = 4;
+    for (const auto& k : known) {
+        if (differs_only_in_unit(name, k)) {
+            kind = ConfigErrorKind::kBadUnit;
+            hint = "units are fixed in the key name: write '" + k + "' (SI)";
+            break;
+        }
+        std::size_t d = edit_distance(name, k);
+        if (d < best && d <= std::max<std::size_t>(1, k.size() / 3)) {
+            best = d;
+            hint = "did you mean '" + k + "'?";
+        }
+    }
+    std::string expected =
+        table_path.empty() ? "a top-level key:" : "a key of [" + table_path + "]:";
+    for (std::size_t i = 0; i < known.size(); ++i) expected += (i ? ", " : " ") + known[i];
+    if (known.empty()) expected = "no keys here";
+    add(kind, key.source(), full, "", expected, hint);
+}
+
 void Problems::walk(const toml::table& table, const std::string& path) {
     auto it = std::find_if(known_.begin(), known_.end(),
                            [&](const auto& entry) { return entry.first == &table; });
@@ -185,29 +214,8 @@ void Problems::walk(const toml::table& table, const std::string& path) {
         std::string key(k.str());
         std::string full = path.empty() ? key : path + "." + key;
         if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
-            std::string hint;
-            ConfigErrorKind kind = ConfigErrorKind::kUnknownKey;
-            std::size_t best = 4;
-            for (const auto& known : keys) {
-                if (differs_only_in_unit(key, known)) {
-                    kind = ConfigErrorKind::kBadUnit;
-                    hint = "units are fixed in the key name: write '" + known + "' (SI)";
-                    break;
-                }
-                std::size_t d = edit_distance(key, known);
-                if (d < best && d <= std::max<std::size_t>(1, known.size() / 3)) {
-                    best = d;
-                    hint = "did you mean '" + known + "'?";
-                }
-            }
-            std::string expected = path.empty() ? "a top-level key:" : "a key of [" + path + "]:";
-            for (std::size_t i = 0; i < keys.size(); ++i)
-                expected += (i ? ", " : " ") + keys[i];
-            if (keys.empty()) expected = "no keys here";
-            add(kind, k.source(), full, "", expected, hint);
-            continue;
-        }
-        if (const auto* sub = node.as_table()) {
+            report_unknown(k, full, path, keys);
+        } else if (const auto* sub = node.as_table()) {
             walk(*sub, full);
         } else if (const auto* arr = node.as_array()) {
             for (std::size_t i = 0; i < arr->size(); ++i)

@@ -8,6 +8,8 @@
 // table can forget the check. No exceptions escape.
 #pragma once
 
+#include <toml++/toml.h>
+
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -15,8 +17,6 @@
 #include <string_view>
 #include <utility>
 #include <vector>
-
-#include <toml++/toml.h>
 
 #include "config/config_error.hpp"
 #include "config/result.hpp"
@@ -34,8 +34,8 @@ struct Range {
     bool contains(double v) const noexcept;
     std::string describe() const;  ///< "0 < value <= 100000 N/m"
 };
-Range positive(double max, std::string_view unit);      ///< (0, max]
-Range non_negative(double max, std::string_view unit);  ///< [0, max]
+Range positive(double max, std::string_view unit);            ///< (0, max]
+Range non_negative(double max, std::string_view unit);        ///< [0, max]
 Range closed(double min, double max, std::string_view unit);  ///< [min, max]
 
 /// The problems found in one source, and the rule for which to report.
@@ -59,6 +59,8 @@ public:
 
 private:
     void walk(const toml::table& table, const std::string& path);
+    void report_unknown(const toml::key& key, const std::string& full,
+                        const std::string& table_path, const std::vector<std::string>& known);
 
     std::string source_;
     std::vector<ConfigError> list_;

@@ -2,14 +2,14 @@
 // copy of the config folder for tests that change kerf.toml or add profiles.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <string_view>
-
-#include <gtest/gtest.h>
 
 #include "config/config_error.hpp"
 

@@ -1,8 +1,9 @@
 // Device profiles: per-kind rules (joint vs Cartesian fields, emulator only when simulated) and
 // each kind of bad input.
+#include "config/device_profile.hpp"
+
 #include <gtest/gtest.h>
 
-#include "config/device_profile.hpp"
 #include "tests/config/config_test_support.hpp"
 
 namespace kerf::config {
@@ -108,8 +109,9 @@ TEST(DeviceProfileParse, JointSpaceDeviceWithoutMotorTableIsMissingIt) {
 }
 
 TEST(DeviceProfileParse, CartesianResolutionOnAJointDeviceIsABadValue) {
-    auto e = parse_error(edit(kFalcon, "counts_per_rev = 1280", "counts_per_rev = 1280\n"
-                                                                 "resolution_m = 1e-5"));
+    auto e = parse_error(edit(kFalcon, "counts_per_rev = 1280",
+                              "counts_per_rev = 1280\n"
+                              "resolution_m = 1e-5"));
     EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue);
     EXPECT_EQ(e.key, "encoder.resolution_m");
     EXPECT_NE(e.note.find("reporting_space = \"cartesian\""), std::string::npos);
@@ -123,7 +125,8 @@ TEST(DeviceProfileParse, EmulatorTableOnARealDeviceIsABadValue) {
 }
 
 TEST(DeviceProfileParse, JointReportingWithCartesianModelIsInconsistent) {
-    auto e = parse_error(edit(kHid, "reporting_space = \"cartesian\"", "reporting_space = \"joint\""));
+    auto e =
+        parse_error(edit(kHid, "reporting_space = \"cartesian\"", "reporting_space = \"joint\""));
     EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue);
     EXPECT_EQ(e.key, "kinematics.model");
 }

@@ -1,11 +1,12 @@
 // Force profiles: each kind of bad input gives the error that names it, and the validator the
 // live-reload path uses reports every problem of an in-memory profile.
-#include <cmath>
-#include <limits>
+#include "config/force_profile.hpp"
 
 #include <gtest/gtest.h>
 
-#include "config/force_profile.hpp"
+#include <cmath>
+#include <limits>
+
 #include "tests/config/config_test_support.hpp"
 
 namespace kerf::config {
@@ -29,7 +30,8 @@ TEST(ForceProfileParse, SyntaxErrorNamesFileLineAndColumn) {
     EXPECT_EQ(e.line, line_of(text, "[limits"));
     EXPECT_GT(e.column, 0u);
     EXPECT_NE(e.message().find("force/test.toml:" + std::to_string(e.line) + ":"),
-              std::string::npos) << e.message();
+              std::string::npos)
+        << e.message();
     EXPECT_NE(e.message().find("syntax error"), std::string::npos);
 }
 
@@ -100,7 +102,8 @@ TEST(ForceProfileParse, MissingRequiredTableIsNamed) {
 
 TEST(ForceProfileParse, InfinityAndNanAreNotFinite) {
     for (const char* bad : {"inf", "-inf", "nan", "+nan"}) {
-        auto e = parse_error(edit(kDefault, "max_force_n = 8.0", std::string("max_force_n = ") + bad));
+        auto e =
+            parse_error(edit(kDefault, "max_force_n = 8.0", std::string("max_force_n = ") + bad));
         EXPECT_EQ(e.kind, ConfigErrorKind::kNonFinite) << bad;
         EXPECT_EQ(e.key, "limits.max_force_n");
         EXPECT_NE(e.expected.find("a finite number"), std::string::npos);
@@ -133,9 +136,9 @@ TEST(ForceProfileParse, DynamicFrictionAboveStaticIsReportedAtTheDynamicKey) {
 }
 
 TEST(ForceProfileParse, KerfWiderThanTheBladeIsDeepIsRejected) {
-    auto e = parse_error(edit(kDefault, "kerf_width_m = 0.0008", "kerf_width_m = 0.004")
-                             .replace(kDefault.find("blade_depth_m = 0.010"), 21,
-                                      "blade_depth_m = 0.003"));
+    auto e = parse_error(
+        edit(kDefault, "kerf_width_m = 0.0008", "kerf_width_m = 0.004")
+            .replace(kDefault.find("blade_depth_m = 0.010"), 21, "blade_depth_m = 0.003"));
     EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
     EXPECT_EQ(e.key, "saw.kerf_width_m");
 }
@@ -161,7 +164,8 @@ TEST(ForceProfileLoad, MissingFileIsAnIoErrorNamingThePath) {
     EXPECT_EQ(e.kind, ConfigErrorKind::kIo);
     EXPECT_EQ(e.source, "/nonexistent/kerf/force.toml");
     EXPECT_NE(e.message().find("/nonexistent/kerf/force.toml: cannot read: no such file"),
-              std::string::npos) << e.message();
+              std::string::npos)
+        << e.message();
 }
 
 TEST(ForceProfileLoad, DirectoryIsAnIoError) {

@@ -1,7 +1,7 @@
 // kerf.toml and load_config(): top-level settings, profile references and cross-file checks.
-#include <filesystem>
-
 #include <gtest/gtest.h>
+
+#include <filesystem>
 
 #include "config/load_config.hpp"
 #include "tests/config/config_test_support.hpp"
@@ -44,8 +44,8 @@ TEST(KerfConfigParse, OnlyTheProfilesAreRequired) {
 }
 
 TEST(KerfConfigParse, PolicyOtherDefaultsToPriorityZero) {
-    auto c = parse_kerf_config(edit(edit(kMain, "policy = \"fifo\"", "policy = \"other\""),
-                                    "priority = 80", ""), "k");
+    auto c = parse_kerf_config(
+        edit(edit(kMain, "policy = \"fifo\"", "policy = \"other\""), "priority = 80", ""), "k");
     ASSERT_TRUE(c) << c.error().message();
     EXPECT_EQ(c->realtime.priority, 0);
 }
@@ -134,7 +134,8 @@ TEST(LoadConfig, DanglingDeviceReferenceListsTheProfilesThatExist) {
 
 TEST(LoadConfig, DanglingSceneReferenceIsReported) {
     auto dir = test::scratch_config_copy("dangling_scene");
-    test::write_file(dir / "kerf.toml", edit(kMain, "scene = \"builtin_foot\"", "scene = \"tibia\""));
+    test::write_file(dir / "kerf.toml",
+                     edit(kMain, "scene = \"builtin_foot\"", "scene = \"tibia\""));
     auto e = error_of(load_config(dir / "kerf.toml"));
     EXPECT_EQ(e.kind, ConfigErrorKind::kBadReference);
     EXPECT_EQ(e.key, "profiles.scene");
@@ -152,7 +153,8 @@ TEST(LoadConfig, ErrorInAReferencedProfileNamesThatProfile) {
 
 TEST(LoadConfig, ForceProfileAskingMoreThanTheDevicePeakIsRejected) {
     auto dir = test::scratch_config_copy("over_peak");
-    test::write_file(dir / "kerf.toml", edit(kMain, "device = \"simulated\"", "device = \"falcon\""));
+    test::write_file(dir / "kerf.toml",
+                     edit(kMain, "device = \"simulated\"", "device = \"falcon\""));
     auto force = edit(shipped("force/default.toml"), "max_force_n = 8.0", "max_force_n = 9.5");
     test::write_file(dir / "force" / "default.toml", force);
     auto e = error_of(load_config(dir / "kerf.toml"));

@@ -1,10 +1,11 @@
 // Scenes: mesh sources, units, the two rotation forms, path variables, and bad input.
-#include <cmath>
-#include <filesystem>
+#include "config/scene.hpp"
 
 #include <gtest/gtest.h>
 
-#include "config/scene.hpp"
+#include <cmath>
+#include <filesystem>
+
 #include "tests/config/config_test_support.hpp"
 
 namespace kerf::config {
@@ -87,7 +88,8 @@ TEST(SceneParse, NonUnitQuaternionIsOutOfRange) {
 }
 
 TEST(SceneParse, ZeroRotationAxisIsOutOfRange) {
-    auto e = parse_error(edit(kBuiltin, "rotation_axis = [0.0, 0.0, 1.0]", "rotation_axis = [0, 0, 0]"));
+    auto e =
+        parse_error(edit(kBuiltin, "rotation_axis = [0.0, 0.0, 1.0]", "rotation_axis = [0, 0, 0]"));
     EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
     EXPECT_EQ(e.key, "bodies[0].transform.rotation_axis");
 }
@@ -136,7 +138,8 @@ TEST(SceneResolve, MissingMeshFileIsADanglingReference) {
     auto e = error_of(resolve_mesh_path(s->bodies[0], {"/nonexistent", "/nonexistent/shared"}));
     EXPECT_EQ(e.kind, ConfigErrorKind::kBadReference);
     EXPECT_NE(e.note.find("/nonexistent/shared/meshes/jma_norm01_calcaneus_right.stl"),
-              std::string::npos) << e.note;
+              std::string::npos)
+        << e.note;
 }
 
 TEST(SceneResolve, SharedCalcaneusResolvesWhenTheSharedMeshesArePresent) {

@@ -1,9 +1,9 @@
 // Every TOML file shipped in config/ loads, and carries the values other modules rely on.
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "config/load_config.hpp"
 
