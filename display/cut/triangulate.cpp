@@ -1,10 +1,12 @@
 // Ear clipping with holes. The ring bookkeeping follows the well-tried layout of mapbox/earcut
-// (circular doubly linked nodes, holes bridged left to right, a z-order list for the ear test), in
+// (circular doubly linked nodes, holes bridged left to right, a grid of reflex vertices for the ear test), in
 // double precision and with two Kerf rules: no input point is ever dropped (a cap must use every
 // loop edge exactly once) and input is validated first, so the clipper only meets simple regions.
 #include "display/cut/triangulate.hpp"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -37,7 +39,7 @@ double signed_area(std::span<const Point2> loop) noexcept {
 namespace {
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-constexpr std::size_t kHashThreshold = 64;  // rings at least this long get the z-order index
+constexpr std::size_t kGridThreshold = 64;  // rings at least this long get the reflex grid
 
 /// Twice the signed area of (a, b, c): positive for a left turn (counter-clockwise).
 inline double cross(double ax, double ay, double bx, double by, double cx, double cy) noexcept {
@@ -64,20 +66,15 @@ struct Node {
     std::uint32_t i;      // index of the input point
     std::uint32_t prev;
     std::uint32_t next;
-    std::uint32_t zprev;
-    std::uint32_t znext;
-    std::uint32_t z;
+    bool alive;
 };
 
-/// An ear candidate: a max-heap on `key` reversed, so the smallest ear (then lowest node) pops.
+/// An ear candidate; stale when its node's version moved on.
 struct Candidate {
-    double key;
     std::uint32_t node;
     std::uint32_t version;
-    bool operator<(const Candidate& o) const noexcept {
-        return key != o.key ? key > o.key : node > o.node;
-    }
 };
+constexpr std::uint32_t kBuckets = 128;
 
 }  // namespace
 
@@ -95,10 +92,15 @@ struct Triangulator::Impl {
     std::vector<std::uint32_t> cell_items;
     std::vector<Node> nodes;
     std::vector<std::uint32_t> holes;       // leftmost node of each hole ring
-    std::vector<std::uint32_t> order;       // scratch for z sorting
-    std::vector<Candidate> heap;            // ear candidates, smallest first
+    std::vector<std::uint32_t> grid_start;  // reflex vertices by grid cell (CSR)
+    std::vector<std::uint32_t> grid_items;
+    std::array<std::vector<Candidate>, kBuckets> buckets;  // ear candidates by size class
+    std::uint64_t nonempty = 0;             // bit k/2 set: bucket k or k+1 may hold candidates
+    double key_scale = 1.0;                 // 1 / region size^2
     std::vector<std::uint32_t> version;     // per node: bumped when its candidate goes stale
-    double zx0 = 0, zy0 = 0, zinv = 0;      // z-order frame of the current region
+    bool use_grid = false;                  // the current region has a reflex grid
+    double gx0 = 0, gy0 = 0, ginv = 0;      // its frame: origin and cells per metre
+    std::uint32_t gnx = 0, gny = 0;         // its size in cells
 
     std::uint32_t loops() const noexcept { return static_cast<std::uint32_t>(begin.size() - 1); }
     std::uint32_t loop_size(std::uint32_t l) const noexcept { return begin[l + 1] - begin[l]; }
@@ -125,14 +127,16 @@ struct Triangulator::Impl {
     bool locally_inside(std::uint32_t a, std::uint32_t b) const noexcept;
     bool sector_contains_sector(std::uint32_t m, std::uint32_t p) const noexcept;
     std::uint32_t split(std::uint32_t a, std::uint32_t b);
-    void index_z(std::uint32_t start);
-    std::uint32_t z_of(double x, double y) const noexcept;
+    void build_grid(std::uint32_t start);
+    std::uint32_t cell_x(double x) const noexcept;
+    std::uint32_t cell_y(double y) const noexcept;
     bool blocks(std::uint32_t p, std::uint32_t ear, bool strict) const noexcept;
     bool is_ear(std::uint32_t ear, bool strict) const noexcept;
-    bool is_ear_hashed(std::uint32_t ear, bool strict) const noexcept;
+    bool is_ear_gridded(std::uint32_t ear, bool strict) const noexcept;
     void clip(std::uint32_t start, std::vector<Triangle>& out, std::uint32_t& degenerate);
     void cut_ear(std::uint32_t ear, std::vector<Triangle>& out);
     void offer(std::uint32_t n);
+    bool pop(Candidate& out) noexcept;
     std::uint32_t relaxed_ear(std::uint32_t start, int pass) const noexcept;
 };
 
@@ -355,7 +359,7 @@ void Triangulator::Impl::fan(std::uint32_t l, std::vector<Triangle>& out) const 
 
 std::uint32_t Triangulator::Impl::add_node(std::uint32_t point) {
     const auto id = static_cast<std::uint32_t>(nodes.size());
-    nodes.push_back(Node{pts[point][0], pts[point][1], point, id, id, kNone, kNone, 0});
+    nodes.push_back(Node{pts[point][0], pts[point][1], point, id, id, true});
     return id;
 }
 
@@ -379,8 +383,7 @@ void Triangulator::Impl::unlink(std::uint32_t n) noexcept {
     Node& node = nodes[n];
     nodes[node.next].prev = node.prev;
     nodes[node.prev].next = node.next;
-    if (node.zprev != kNone) nodes[node.zprev].znext = node.znext;
-    if (node.znext != kNone) nodes[node.znext].zprev = node.zprev;
+    node.alive = false;
 }
 
 double Triangulator::Impl::turn(std::uint32_t n) const noexcept {
@@ -494,45 +497,53 @@ void Triangulator::Impl::eliminate_holes(std::uint32_t outer) {
     }
 }
 
-// ---- z-order index ---------------------------------------------------------------------------
+// ---- reflex grid ---------------------------------------------------------------------------
 
-namespace {
-std::uint32_t spread_bits(std::uint32_t v) noexcept {
-    v = (v | (v << 8)) & 0x00FF00FFu;
-    v = (v | (v << 4)) & 0x0F0F0F0Fu;
-    v = (v | (v << 2)) & 0x33333333u;
-    v = (v | (v << 1)) & 0x55555555u;
-    return v;
-}
-}  // namespace
-
-std::uint32_t Triangulator::Impl::z_of(double x, double y) const noexcept {
-    const auto ix = static_cast<std::uint32_t>(std::clamp((x - zx0) * zinv, 0.0, 65535.0));
-    const auto iy = static_cast<std::uint32_t>(std::clamp((y - zy0) * zinv, 0.0, 65535.0));
-    return spread_bits(ix) | (spread_bits(iy) << 1);
+std::uint32_t Triangulator::Impl::cell_x(double x) const noexcept {
+    return static_cast<std::uint32_t>(std::clamp((x - gx0) * ginv, 0.0, gnx - 1.0));
 }
 
-void Triangulator::Impl::index_z(std::uint32_t start) {
+std::uint32_t Triangulator::Impl::cell_y(double y) const noexcept {
+    return static_cast<std::uint32_t>(std::clamp((y - gy0) * ginv, 0.0, gny - 1.0));
+}
+
+/// Buckets the ring's reflex and straight vertices (the only ones that can lie inside an ear)
+/// into about one cell per vertex. Clipping never makes a vertex reflex, so the grid only loses
+/// members (dead or now convex ones are skipped when met).
+void Triangulator::Impl::build_grid(std::uint32_t start) {
     Box b;
-    order.clear();
+    std::uint32_t count = 0;
     std::uint32_t p = start;
     do {
         b.add(Point2(nodes[p].x, nodes[p].y));
-        order.push_back(p);
+        ++count;
         p = nodes[p].next;
     } while (p != start);
-    zx0 = b.x0;
-    zy0 = b.y0;
-    const double size = std::max(b.x1 - b.x0, b.y1 - b.y0);
-    zinv = size > 0 ? 65535.0 / size : 0.0;
-    for (const std::uint32_t q : order) nodes[q].z = z_of(nodes[q].x, nodes[q].y);
-    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t c) {
-        return nodes[a].z != nodes[c].z ? nodes[a].z < nodes[c].z : a < c;
-    });
-    for (std::size_t k = 0; k < order.size(); ++k) {
-        nodes[order[k]].zprev = k == 0 ? kNone : order[k - 1];
-        nodes[order[k]].znext = k + 1 == order.size() ? kNone : order[k + 1];
+    const double w = std::max(b.x1 - b.x0, 1e-300);
+    const double h = std::max(b.y1 - b.y0, 1e-300);
+    const double cell = std::max(std::sqrt(w * h / count), std::max(w, h) / 4096.0);
+    gx0 = b.x0;
+    gy0 = b.y0;
+    ginv = 1.0 / cell;
+    gnx = static_cast<std::uint32_t>(std::clamp(w / cell, 1.0, 4096.0));
+    gny = static_cast<std::uint32_t>(std::clamp(h / cell, 1.0, 4096.0));
+    grid_start.assign(std::size_t{gnx} * gny + 1, 0);
+    for (int pass = 0; pass < 2; ++pass) {
+        p = start;
+        do {
+            if (turn(p) <= 0) {
+                const std::size_t c = std::size_t{cell_y(nodes[p].y)} * gnx + cell_x(nodes[p].x);
+                if (pass == 0) ++grid_start[c + 1];
+                else grid_items[grid_start[c]++] = p;
+            }
+            p = nodes[p].next;
+        } while (p != start);
+        if (pass == 0) {
+            for (std::size_t c = 1; c < grid_start.size(); ++c) grid_start[c] += grid_start[c - 1];
+            grid_items.assign(grid_start.back(), 0);
+        }
     }
+    // After the fill grid_start[c] is the end of cell c; cell c begins at grid_start[c - 1].
 }
 
 // ---- ear clipping ----------------------------------------------------------------------------
@@ -564,18 +575,26 @@ bool Triangulator::Impl::is_ear(std::uint32_t ear, bool strict) const noexcept {
     return true;
 }
 
-bool Triangulator::Impl::is_ear_hashed(std::uint32_t ear, bool strict) const noexcept {
+bool Triangulator::Impl::is_ear_gridded(std::uint32_t ear, bool strict) const noexcept {
     if (!(turn(ear) > 0)) return false;
     const Node& a = nodes[nodes[ear].prev];
     const Node& b = nodes[ear];
     const Node& c = nodes[b.next];
-    const std::uint32_t zmin = z_of(std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}));
-    const std::uint32_t zmax = z_of(std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}));
-    for (std::uint32_t p = b.zprev; p != kNone && nodes[p].z >= zmin; p = nodes[p].zprev) {
-        if (blocks(p, ear, strict)) return false;
-    }
-    for (std::uint32_t p = b.znext; p != kNone && nodes[p].z <= zmax; p = nodes[p].znext) {
-        if (blocks(p, ear, strict)) return false;
+    const double x0 = std::min({a.x, b.x, c.x});
+    const double x1 = std::max({a.x, b.x, c.x});
+    const double y0 = std::min({a.y, b.y, c.y});
+    const double y1 = std::max({a.y, b.y, c.y});
+    const std::uint32_t cx0 = cell_x(x0);
+    const std::uint32_t cx1 = cell_x(x1);
+    for (std::uint32_t cy = cell_y(y0); cy <= cell_y(y1); ++cy) {
+        const std::size_t row = std::size_t{cy} * gnx;
+        const std::uint32_t lo = row + cx0 == 0 ? 0 : grid_start[row + cx0 - 1];
+        const std::uint32_t hi = grid_start[row + cx1];
+        for (std::uint32_t k = lo; k < hi; ++k) {
+            const Node& q = nodes[grid_items[k]];
+            if (!q.alive || q.x < x0 || q.x > x1 || q.y < y0 || q.y > y1) continue;
+            if (blocks(grid_items[k], ear, strict)) return false;
+        }
     }
     return true;
 }
@@ -587,7 +606,7 @@ std::uint32_t Triangulator::Impl::relaxed_ear(std::uint32_t start, int pass) con
     double best_turn = -std::numeric_limits<double>::infinity();
     std::uint32_t p = start;
     do {
-        if (pass == 1 && (zinv > 0 ? is_ear_hashed(p, true) : is_ear(p, true))) return p;
+        if (pass == 1 && (use_grid ? is_ear_gridded(p, true) : is_ear(p, true))) return p;
         if (pass == 2 && turn(p) == 0.0) return p;
         if (pass == 3 && turn(p) > best_turn) {
             best_turn = turn(p);
@@ -598,7 +617,8 @@ std::uint32_t Triangulator::Impl::relaxed_ear(std::uint32_t start, int pass) con
     return best;
 }
 
-/// Queues node n as an ear candidate if it is convex, keyed by its ear's longest edge.
+/// Queues node n as an ear candidate if it is convex, in the bucket of its ear's size (buckets
+/// by powers of two of the longest edge squared: smaller ears pop first, O(1) per operation).
 void Triangulator::Impl::offer(std::uint32_t n) {
     ++version[n];
     if (!(turn(n) > 0)) return;
@@ -608,8 +628,25 @@ void Triangulator::Impl::offer(std::uint32_t n) {
     auto sq = [](const Node& u, const Node& v) {
         return (u.x - v.x) * (u.x - v.x) + (u.y - v.y) * (u.y - v.y);
     };
-    heap.push_back(Candidate{std::max({sq(a, b), sq(b, c), sq(c, a)}), n, version[n]});
-    std::push_heap(heap.begin(), heap.end());
+    const double key = std::max({sq(a, b), sq(b, c), sq(c, a)}) * key_scale;
+    const int e = key > 0 ? std::ilogb(key) : -1000;
+    const auto k = static_cast<std::uint32_t>(std::clamp(e + 64, 0, int{kBuckets} - 1));
+    buckets[k].push_back(Candidate{n, version[n]});
+    nonempty |= std::uint64_t{1} << (k / 2);
+}
+
+bool Triangulator::Impl::pop(Candidate& out) noexcept {
+    while (nonempty != 0) {
+        const auto pair = static_cast<std::uint32_t>(std::countr_zero(nonempty));
+        for (std::uint32_t k = 2 * pair; k < 2 * pair + 2; ++k) {
+            if (buckets[k].empty()) continue;
+            out = buckets[k].back();
+            buckets[k].pop_back();
+            return true;
+        }
+        nonempty &= ~(std::uint64_t{1} << pair);
+    }
+    return false;
 }
 
 void Triangulator::Impl::cut_ear(std::uint32_t ear, std::vector<Triangle>& out) {
@@ -628,7 +665,12 @@ void Triangulator::Impl::cut_ear(std::uint32_t ear, std::vector<Triangle>& out) 
 void Triangulator::Impl::clip(std::uint32_t start, std::vector<Triangle>& out,
                               std::uint32_t& degenerate) {
     version.assign(nodes.size(), 0);
-    heap.clear();
+    for (auto& b : buckets) b.clear();
+    nonempty = 0;
+    Box frame;
+    for (const Node& n : nodes) frame.add(Point2(n.x, n.y));
+    const double size = std::max(frame.x1 - frame.x0, frame.y1 - frame.y0);
+    key_scale = size > 0 ? 1.0 / (size * size) : 1.0;
     std::uint32_t left = 0;
     std::uint32_t p = start;
     do {
@@ -638,12 +680,9 @@ void Triangulator::Impl::clip(std::uint32_t start, std::vector<Triangle>& out,
     } while (p != start);
     std::uint32_t any = start;  // a live node
     while (left > 2) {
-        if (!heap.empty()) {
-            std::pop_heap(heap.begin(), heap.end());
-            const Candidate c = heap.back();
-            heap.pop_back();
+        if (Candidate c{}; pop(c)) {
             if (c.version != version[c.node]) continue;
-            if (!(zinv > 0 ? is_ear_hashed(c.node, false) : is_ear(c.node, false))) continue;
+            if (!(use_grid ? is_ear_gridded(c.node, false) : is_ear(c.node, false))) continue;
             any = nodes[c.node].next;
             cut_ear(c.node, out);
             --left;
@@ -698,8 +737,8 @@ Status<TriangulateError> Triangulator::triangulate(std::span<const std::span<con
             continue;
         }
         m.eliminate_holes(outer);
-        m.zinv = 0;
-        if (m.nodes.size() >= kHashThreshold) m.index_z(outer);
+        m.use_grid = m.nodes.size() >= kGridThreshold;
+        if (m.use_grid) m.build_grid(outer);
         m.clip(outer, out, stats_.degenerate_ears);
     }
     return {};
