@@ -14,6 +14,12 @@ std::string fmt(int decimals, double v) {
     return buf;
 }
 
+std::string significant(double v) {  // 7 significant digits, any magnitude
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.7g", v);
+    return buf;
+}
+
 std::string json_number(double v) {
     if (!std::isfinite(v)) return "null";
     char buf[64];
@@ -37,7 +43,7 @@ std::string shell_line(std::size_t i, const ShellSummary& s, double scale, std::
                        " triangles, " + std::to_string(s.vertices) + " vertices, ";
     line += s.closed ? "closed, genus " + std::to_string((2 - s.euler_characteristic) / 2)
                      : "open (" + std::to_string(s.boundary_edges) + " boundary edges)";
-    line += ", volume " + fmt(1, s.volume_m3 / (scale * scale * scale)) + " " +
+    line += ", volume " + significant(s.volume_m3 / (scale * scale * scale)) + " " +
             std::string(u) + "^3\n";
     return line;
 }
@@ -71,8 +77,8 @@ std::string format_report_text(const ValidationReport& r, Units units) {
            point_text(r.bbox_max_m, s) + " " + u + "\n";
     out += "size:                  " + fmt(3, size[0] / s) + " x " + fmt(3, size[1] / s) +
            " x " + fmt(3, size[2] / s) + " " + u + "\n";
-    out += "surface area:          " + fmt(3, r.area_m2 / (s * s)) + " " + u + "^2\n";
-    out += "signed volume:         " + fmt(3, r.volume_m3 / (s * s * s)) + " " + u + "^3" +
+    out += "surface area:          " + significant(r.area_m2 / (s * s)) + " " + u + "^2\n";
+    out += "signed volume:         " + significant(r.volume_m3 / (s * s * s)) + " " + u + "^3" +
            (r.closed ? "" : " (mesh is open: not a true volume)") + "\n";
     for (std::size_t i = 0; i < r.shells.size() && i < 40; ++i) {
         out += shell_line(i, r.shells[i], s, u);
