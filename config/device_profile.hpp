@@ -80,7 +80,10 @@ struct DeviceLimits {
     double peak_force_n = 0;        ///< direction-preserving clamp on |F|
     double continuous_force_n = 0;  ///< sustained limit, <= peak_force_n
     double max_slew_n_per_s = 0;    ///< largest rate of change of |F|
-    std::uint32_t watchdog_ms = 0;  ///< device-side watchdog: forces off after this silence
+    /// Command watchdog. Kerf HID devices get it in their configuration report (forces off when
+    /// no valid command arrives within it); for devices without one (the Falcon) the host
+    /// applies it to the input side (zero force when no valid packet arrives within it).
+    std::uint32_t watchdog_ms = 0;
 };
 
 /// Axis-aligned box the end effector can reach, in the device frame (m).
