@@ -36,7 +36,8 @@ VertexHandle make_edge_vertex(TriMesh& m, const PlanPoint& p) {
 }
 
 VertexHandle duplicate_vertex(TriMesh& m, VertexHandle v) {
-    const VertexHandle d = m.add_vertex(m.point(v));
+    const TriMesh::Point p = m.point(v);  // copy: add_vertex may reallocate the point array
+    const VertexHandle d = m.add_vertex(p);
     m.set_normal(d, m.normal(v));
     m.set_texcoord2D(d, m.texcoord2D(v));
     m.set_color(d, m.color(v));
@@ -156,7 +157,7 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
         out.positive.cap_faces.push_back(fp);
         out.negative.cap_faces.push_back(fn);
     }
-    stats.faces_split += plan.faces_crossed;
+    for (const PlanLoop& l : plan.loops) stats.faces_split += l.selected ? l.faces : 0;
     stats.vertices_added += static_cast<std::uint32_t>(static_cast<int>(m.n_vertices()) - vertices_before);
     stats.triangles_added += static_cast<std::uint32_t>(static_cast<int>(m.n_faces()) - faces_before);
     stats.cap_triangles += static_cast<std::uint32_t>(2 * plan.cap_triangles.size());

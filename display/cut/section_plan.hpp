@@ -41,7 +41,8 @@ struct PlanLoop {
     std::uint32_t first = 0;
     std::uint32_t count = 0;
     double area_m2 = 0;     ///< signed, in the plane frame
-    bool selected = false;  ///< cut by this slice
+    std::uint32_t faces = 0;  ///< crossing faces the loop passes through (split if selected)
+    bool selected = false;    ///< cut by this slice
 };
 
 /// Everything the second (editing) phase needs.
@@ -50,7 +51,6 @@ struct SectionPlan {
     std::vector<PlanLoop> loops;
     std::vector<std::uint32_t> cap_points;  ///< selected loops' point indices, concatenated
     std::vector<Triangle> cap_triangles;    ///< counter-clockwise, indexing cap_points
-    std::uint32_t faces_crossed = 0;        ///< faces of the selected loops that get split
 
     void clear();
 };
@@ -65,8 +65,9 @@ CutStatus plan_localised(ContextState& s, const Plane& plane, const Seed& seed);
 CutStatus plan_from_faces(ContextState& s, const Plane& plane,
                           const std::vector<mesh::FaceHandle>& faces);
 
-/// Triangulates the selected loops into plan.cap_triangles (kCapTriangulationFailed if not).
-CutStatus plan_caps(ContextState& s);
+/// Triangulates the selected loops into plan.cap_triangles, counter-clockwise about `normal`
+/// (kCapTriangulationFailed if a loop cannot be capped without slivers or tilted triangles).
+CutStatus plan_caps(ContextState& s, const Vec3& normal);
 
 /// Closest distance from `p` to triangle `f`, m.
 double distance_to_face(const mesh::TriMesh& m, mesh::FaceHandle f, const Vec3& p);

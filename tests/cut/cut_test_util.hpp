@@ -34,6 +34,24 @@ inline FaceSnapshot snapshot(const kerf::mesh::TriMesh& m, int first = 0, int la
     return s;
 }
 
+/// A new mesh made of the faces of `m` for which `keep(face)` holds (positions only).
+template <class Keep>
+kerf::mesh::TriMesh extract_faces(const kerf::mesh::TriMesh& m, Keep&& keep) {
+    kerf::mesh::TriMesh out;
+    std::vector<kerf::mesh::VertexHandle> map(m.n_vertices());
+    for (auto f : m.faces()) {
+        if (!keep(f)) continue;
+        kerf::mesh::VertexHandle vs[3];
+        int k = 0;
+        for (auto v : m.fv_range(f)) {
+            if (!map[v.idx()].is_valid()) map[v.idx()] = out.add_vertex(m.point(v));
+            vs[k++] = map[v.idx()];
+        }
+        out.add_face(vs[0], vs[1], vs[2]);
+    }
+    return out;
+}
+
 /// Total area of some faces, m^2.
 inline double area_of(const kerf::mesh::TriMesh& m, const std::vector<kerf::mesh::FaceHandle>& faces) {
     double a = 0;
