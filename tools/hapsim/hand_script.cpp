@@ -1,0 +1,178 @@
+#include "tools/hapsim/hand_script.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+namespace kerf::hapsim {
+namespace {
+
+std::string_view trim(std::string_view s) {
+    while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
+    while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+    return s;
+}
+
+std::vector<std::string_view> split(std::string_view line) {
+    std::vector<std::string_view> out;
+    std::size_t start = 0;
+    for (std::size_t i = 0; i <= line.size(); ++i) {
+        if (i == line.size() || line[i] == ',') {
+            out.push_back(trim(line.substr(start, i - start)));
+            start = i + 1;
+        }
+    }
+    return out;
+}
+
+bool number(std::string_view s, double& out) {
+    std::string tmp(s);  // strtod: from_chars for double is fine on gcc 12, but be portable
+    char* end = nullptr;
+    out = std::strtod(tmp.c_str(), &end);
+    return !tmp.empty() && end == tmp.c_str() + tmp.size() && std::isfinite(out);
+}
+
+// Parses fields[1..] as numbers; the error says which action wanted what.
+bool numbers(const std::vector<std::string_view>& f, std::size_t count, const char* usage,
+             double* out, std::string& why) {
+    if (f.size() != count + 1) {
+        why = std::string(f[0]) + ": expected " + std::to_string(count) + " values (" + usage +
+              "), got " + std::to_string(f.size() - 1);
+        return false;
+    }
+    for (std::size_t i = 0; i < count; ++i) {
+        if (!number(f[i + 1], out[i])) {
+            why = std::string(f[0]) + ": value " + std::to_string(i + 1) + " '" + std::string(f[i + 1]) +
+                  "' is not a finite number (" + usage + ")";
+            return false;
+        }
+    }
+    return true;
+}
+
+bool parse_action(const std::vector<std::string_view>& f, ScriptAction& a, std::string& why) {
+    double v[6] = {};
+    const auto& name = f[0];
+    if (name == "move") {
+        if (!numbers(f, 4, "x_m,y_m,z_m,duration_s", v, why)) return false;
+        a.kind = ScriptAction::Kind::kMove;
+        a.vec = {v[0], v[1], v[2]};
+        a.duration_s = v[3];
+    } else if (name == "hold") {
+        if (!numbers(f, 1, "duration_s", v, why)) return false;
+        a.kind = ScriptAction::Kind::kHold;
+        a.duration_s = v[0];
+    } else if (name == "sweep") {
+        if (!numbers(f, 5, "ax_m,ay_m,az_m,frequency_hz,duration_s", v, why)) return false;
+        a.kind = ScriptAction::Kind::kSweep;
+        a.vec = {v[0], v[1], v[2]};
+        a.duration_s = v[4];
+        a.frequency_hz = v[3];
+        if (v[3] <= 0) return (why = "sweep: frequency_hz must be > 0", false);
+    } else if (name == "button") {
+        if (f.size() != 3 || !number(f[1], v[0]) || v[0] < 0 || v[0] > 15 || v[0] != std::floor(v[0]) ||
+            (f[2] != "down" && f[2] != "up")) {
+            return (why = "button: expected index 0..15 and down|up, e.g. button,0,down", false);
+        }
+        a.kind = ScriptAction::Kind::kButton;
+        a.button = static_cast<int>(v[0]);
+        a.pressed = f[2] == "down";
+    } else if (name == "fault") {
+        if (f.size() != 3 || f[1].empty() || f[2].empty()) {
+            return (why = "fault: expected a name and on|off|<number>, e.g. fault,drop,on", false);
+        }
+        a.kind = ScriptAction::Kind::kFault;
+        a.fault_name = f[1];
+        a.fault_value = f[2];
+    } else {
+        why = "unknown action '" + std::string(name) + "' (move, hold, button, sweep, fault)";
+        return false;
+    }
+    if (a.duration_s < 0) return (why = std::string(name) + ": duration_s must be >= 0", false);
+    return true;
+}
+
+}  // namespace
+
+Result<HandScript, ScriptError> parse_hand_script(std::string_view text, std::string_view source) {
+    HandScript script;
+    std::istringstream in{std::string(text)};
+    std::string raw;
+    int line_no = 0;
+    while (std::getline(in, raw)) {
+        ++line_no;
+        std::string_view line = raw;
+        if (auto hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+        line = trim(line);
+        if (line.empty()) continue;
+        ScriptAction a;
+        std::string why;
+        if (!parse_action(split(line), a, why)) return Err{ScriptError{std::string(source), line_no, why}};
+        a.line = line_no;
+        script.push_back(std::move(a));
+    }
+    return script;
+}
+
+Result<HandScript, ScriptError> load_hand_script(const std::filesystem::path& path) {
+    std::ifstream f(path, std::ios::binary);
+    std::error_code ec;
+    if (!f || std::filesystem::is_directory(path, ec)) {
+        return Err{ScriptError{path.string(), 0, "cannot read the script file"}};
+    }
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return parse_hand_script(ss.str(), path.string());
+}
+
+HandPlayer::HandPlayer(HandScript script, const Vec3& start_m)
+    : script_(std::move(script)), from_(start_m), pos_(start_m) {}
+
+void HandPlayer::start_action(double t_s) {
+    action_start_s_ = t_s;
+    started_ = true;
+    from_ = pos_;
+}
+
+void HandPlayer::advance(double t_s, std::vector<FaultEvent>& events) {
+    vel_ = {};
+    while (index_ < script_.size()) {
+        const auto& a = script_[index_];
+        if (!started_) start_action(t_s);
+        if (a.kind == ScriptAction::Kind::kButton || a.kind == ScriptAction::Kind::kFault) {
+            if (a.kind == ScriptAction::Kind::kButton) {
+                buttons_ = a.pressed ? (buttons_ | (1U << a.button)) : (buttons_ & ~(1U << a.button));
+            } else {
+                events.push_back({a.fault_name, a.fault_value});
+            }
+            ++index_;
+            started_ = false;
+            continue;
+        }
+        const double u = a.duration_s > 0 ? (t_s - action_start_s_) / a.duration_s : 1.0;
+        const double s = std::min(1.0, std::max(0.0, u));
+        const double tau = s * a.duration_s;
+        for (int k = 0; k < 3; ++k) {
+            if (a.kind == ScriptAction::Kind::kMove) {
+                pos_[k] = from_[k] + (a.vec[k] - from_[k]) * s;
+                vel_[k] = (u < 1.0 && a.duration_s > 0) ? (a.vec[k] - from_[k]) / a.duration_s : 0.0;
+            } else if (a.kind == ScriptAction::Kind::kSweep) {
+                const double w = 2 * std::numbers::pi * a.frequency_hz;
+                pos_[k] = from_[k] + a.vec[k] * std::sin(w * tau);
+                vel_[k] = u < 1.0 ? a.vec[k] * w * std::cos(w * tau) : 0.0;
+            }
+        }
+        if (u < 1.0) return;
+        if (a.kind == ScriptAction::Kind::kSweep) pos_ = from_;  // a sweep ends where it began
+        ++index_;
+        started_ = false;
+        // The next action starts exactly where this one ended in time.
+        if (index_ < script_.size()) {
+            start_action(action_start_s_ + a.duration_s);
+        }
+    }
+}
+
+}  // namespace kerf::hapsim

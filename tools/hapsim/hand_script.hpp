@@ -1,0 +1,72 @@
+// The scripted hand: a CSV script of actions run one after another, giving the hand's target
+// position and velocity, its buttons, and fault events at scripted times. Units: m, s.
+//
+//   # action,args...                 (blank lines and # comments allowed)
+//   move,0.01,0.0,0.11,0.5           # to x,y,z (m) in 0.5 s (straight line, constant speed)
+//   hold,0.2                         # stay 0.2 s
+//   button,0,down                    # press (or release: up) button 0..15
+//   sweep,0.02,0,0,2.0,1.5           # sinusoid of amplitude vector (m) at 2 Hz for 1.5 s
+//   fault,drop,on                    # inject a fault (see faults.hpp); off to clear
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "config/result.hpp"
+#include "tools/hapsim/device_model.hpp"
+
+namespace kerf::hapsim {
+
+struct ScriptError {
+    std::string source;  ///< file name
+    int line = 0;
+    std::string why;
+    std::string message() const { return source + ":" + std::to_string(line) + ": " + why; }
+};
+
+struct ScriptAction {
+    enum class Kind { kMove, kHold, kButton, kSweep, kFault } kind = Kind::kHold;
+    Vec3 vec{};                ///< move: target; sweep: amplitude
+    double duration_s = 0;
+    double frequency_hz = 0;   ///< sweep
+    int button = 0;
+    bool pressed = false;
+    std::string fault_name, fault_value;
+    int line = 0;
+};
+
+using HandScript = std::vector<ScriptAction>;
+
+Result<HandScript, ScriptError> parse_hand_script(std::string_view text, std::string_view source);
+Result<HandScript, ScriptError> load_hand_script(const std::filesystem::path& path);
+
+/// A fault event fired by the script.
+struct FaultEvent {
+    std::string name, value;
+};
+
+/// Plays a script against time.
+class HandPlayer {
+public:
+    HandPlayer(HandScript script, const Vec3& start_m);
+    /// Advances to `t_s` (monotonic); appends fault events fired on the way to `events`.
+    void advance(double t_s, std::vector<FaultEvent>& events);
+
+    const Vec3& position_m() const noexcept { return pos_; }
+    const Vec3& velocity_m_per_s() const noexcept { return vel_; }
+    unsigned buttons() const noexcept { return buttons_; }
+    bool finished() const noexcept { return index_ >= script_.size(); }
+
+private:
+    void start_action(double t_s);
+    HandScript script_;
+    std::size_t index_ = 0;
+    double action_start_s_ = 0;
+    bool started_ = false;
+    Vec3 from_{}, pos_{}, vel_{};
+    unsigned buttons_ = 0;
+};
+
+}  // namespace kerf::hapsim
