@@ -10,18 +10,19 @@ namespace {
 
 constexpr std::size_t words_for(std::size_t bytes) { return (bytes + 7) / 8; }
 
-// Word-wise relaxed atomic copies: the other side may be writing concurrently (the seqlock tells
-// afterwards whether the copy is usable), so plain memcpy would be a data race.
+// Word-wise atomic copies: the other side may be writing concurrently (the buffer's sequence tells
+// afterwards whether the copy is usable), so plain memcpy would be a data race. Release stores /
+// acquire loads order the words against the sequence without standalone fences (see seqlock.hpp).
 void load_words(void* dst, const void* src, std::size_t bytes) noexcept {
     auto* d = static_cast<std::uint64_t*>(dst);
     const auto* s = static_cast<const std::uint64_t*>(src);
-    for (std::size_t i = 0, n = words_for(bytes); i < n; ++i) d[i] = __atomic_load_n(&s[i], __ATOMIC_RELAXED);
+    for (std::size_t i = 0, n = words_for(bytes); i < n; ++i) d[i] = __atomic_load_n(&s[i], __ATOMIC_ACQUIRE);
 }
 
 void store_words(void* dst, const void* src, std::size_t bytes) noexcept {
     auto* d = static_cast<std::uint64_t*>(dst);
     const auto* s = static_cast<const std::uint64_t*>(src);
-    for (std::size_t i = 0, n = words_for(bytes); i < n; ++i) __atomic_store_n(&d[i], s[i], __ATOMIC_RELAXED);
+    for (std::size_t i = 0, n = words_for(bytes); i < n; ++i) __atomic_store_n(&d[i], s[i], __ATOMIC_RELEASE);
 }
 
 bool rigid(const float* m) {
@@ -126,7 +127,6 @@ Result<std::uint64_t, IpcError> MeshMailboxWriter::publish(const CollisionMesh& 
     MeshBuffer& buf = box.buffers[target];
     const auto odd = buf.sequence.value.load(std::memory_order_relaxed) | 1u;
     buf.sequence.value.store(odd, std::memory_order_relaxed);
-    std::atomic_thread_fence(std::memory_order_release);
     MeshBufferHeader header{};
     header.generation = generation;
     header.body_count = mesh.body_count;
@@ -167,7 +167,6 @@ MailboxRead MeshMailboxReader::try_take_newest(CollisionMesh& out) {
         load_words(out.vertices_m.data(), buf.vertices_m, 12u * header.vertex_count);
         load_words(out.indices.data(), buf.indices, 4u * header.index_count);
     }
-    std::atomic_thread_fence(std::memory_order_acquire);
     if (buf.sequence.value.load(std::memory_order_relaxed) != s1) return MailboxRead::kBusy;
     std::string where;
     MeshFault fault = validate_mesh(out, where);
@@ -183,8 +182,10 @@ MailboxRead MeshMailboxReader::try_take_newest(CollisionMesh& out) {
     ++rejected_;
     rejected_word_ = latest;
     last_rejection_ = std::string(to_string(fault)) + ": " + where;
-    spdlog::warn("kerf ipc: mesh mailbox generation {} rejected: {} ({} so far)", generation,
-                 last_rejection_, rejected_);
+    if ((rejected_ & (rejected_ - 1)) == 0) {  // rate-limited: 1st, 2nd, 4th, 8th, ...
+        spdlog::warn("kerf ipc: mesh mailbox generation {} rejected: {} ({} so far)", generation,
+                     last_rejection_, rejected_);
+    }
     return MailboxRead::kRejected;
 }
 

@@ -1,10 +1,12 @@
 // kerf::ipc::Seqlock — latest-value cell for one writer and any number of readers in other
 // processes. The writer never waits; a reader retries until it copies a value no write overlapped
-// and never returns a torn value. The payload is held as 64-bit atomic words (relaxed) fenced by
-// the sequence counter, so the protocol is data-race free (and ThreadSanitizer agrees).
+// and never returns a torn value. The payload is held as 64-bit atomic words, so the protocol is
+// data-race free (and ThreadSanitizer agrees); no standalone fences (TSan cannot model them):
 //
-//   writer: seq = s+1 (odd: writing) ─ release fence ─ words ─ seq = s+2 (release)
-//   reader: s1 = seq (acquire), odd → retry ─ words ─ acquire fence ─ s2 = seq; s1 != s2 → retry
+//   writer: seq = odd (relaxed) ─ each word stored with release ─ seq = odd + 1 (release)
+//   reader: s1 = seq (acquire), odd → retry ─ each word loaded with acquire ─ s2 = seq (relaxed)
+//           s1 != s2 → retry.  A word the reader saw new was released after `seq = odd`, so
+//           the acquire makes that odd (or later) value visible to the s2 load.
 #pragma once
 
 #include <atomic>
@@ -35,9 +37,8 @@ void seqlock_write(SeqlockCell<T>& cell, const T& value) noexcept {
     std::memcpy(words, &value, sizeof(T));
     const auto odd = cell.sequence.value.load(std::memory_order_relaxed) | 1u;
     cell.sequence.value.store(odd, std::memory_order_relaxed);
-    std::atomic_thread_fence(std::memory_order_release);
     for (std::size_t i = 0; i < SeqlockCell<T>::kWords; ++i) {
-        cell.words[i].store(words[i], std::memory_order_relaxed);
+        cell.words[i].store(words[i], std::memory_order_release);
     }
     cell.sequence.value.store(odd + 1u, std::memory_order_release);
 }
@@ -52,9 +53,8 @@ SeqlockRead try_seqlock_read(const SeqlockCell<T>& cell, T& out, int max_attempt
         if (s1 == 0) return SeqlockRead::kNeverWritten;
         if (s1 & 1u) continue;
         for (std::size_t i = 0; i < SeqlockCell<T>::kWords; ++i) {
-            words[i] = cell.words[i].load(std::memory_order_relaxed);
+            words[i] = cell.words[i].load(std::memory_order_acquire);
         }
-        std::atomic_thread_fence(std::memory_order_acquire);
         if (cell.sequence.value.load(std::memory_order_relaxed) == s1) {
             std::memcpy(&out, words, sizeof(T));
             return SeqlockRead::kOk;
