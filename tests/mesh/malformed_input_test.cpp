@@ -153,5 +153,29 @@ TEST(MalformedInputTruncation, EveryPrefixOfEveryFormatFailsCleanlyOrParses) {
     }
 }
 
+TEST(MalformedInputCorruption, RandomByteFlipsFailCleanlyOrKeepEveryTriangle) {
+    const TriMesh tube = make_hollow_tube(0.03, 0.006, 0.003, 8, 2);
+    std::uint64_t state = 12345;  // deterministic LCG
+    auto next = [&] { return (state = state * 6364136223846793005ull + 1442695040888963407ull) >> 33; };
+    const char kInteresting[] = {'0', '9', '-', '.', 'e', ' ', '\n', '/', '\0', '\xff', 'n', '#'};
+    for (Format f : {Format::kStl, Format::kObj, Format::kPly, Format::kOff}) {
+        for (Encoding enc : {Encoding::kAscii, Encoding::kBinaryLittleEndian, Encoding::kBinaryBigEndian}) {
+            const std::string clean = serialize_mesh(tube, f, Units::kMillimetres, enc);
+            for (int trial = 0; trial < 300; ++trial) {
+                std::string bytes = clean;
+                for (int k = 0; k < 3; ++k) {
+                    bytes[next() % bytes.size()] = kInteresting[next() % sizeof kInteresting];
+                }
+                auto r = parse_mesh(as_bytes(bytes), f, Units::kMillimetres, "corrupt");
+                if (r) {
+                    EXPECT_EQ(r->mesh.n_faces(), r->indexed.triangles.size());
+                } else {
+                    EXPECT_FALSE(r.error().detail.empty());
+                }
+            }
+        }
+    }
+}
+
 }  // namespace
 }  // namespace kerf::mesh

@@ -174,3 +174,29 @@ TEST(MeshIo, FileErrorsNameThePathAndTheReason) {
 
 }  // namespace
 }  // namespace kerf::mesh
+
+namespace kerf::mesh {
+namespace {
+
+TEST(MeshIo, EveryFuzzSeedIsAValidClosedTetrahedronOrQuad) {
+    const std::filesystem::path dir = std::filesystem::path(KERF_SOURCE_DIR) / "tests/mesh/corpus";
+    constexpr Format kFormats[] = {Format::kStl, Format::kObj, Format::kPly, Format::kOff};
+    std::size_t seen = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+        std::ifstream in(entry.path(), std::ios::binary);
+        const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        ASSERT_FALSE(bytes.empty());
+        const Format f = kFormats[static_cast<unsigned char>(bytes[0]) % 4];
+        auto m = parse_indexed(as_bytes(std::string_view(bytes).substr(1)), f, Units::kMillimetres,
+                               entry.path().filename().string());
+        ASSERT_TRUE(m) << m.error().to_string();
+        const ValidationReport r = validate(*m);
+        EXPECT_TRUE(r.oriented) << entry.path();
+        EXPECT_EQ(r.closed, r.triangles == 4) << entry.path();
+        ++seen;
+    }
+    EXPECT_GE(seen, 8u);
+}
+
+}  // namespace
+}  // namespace kerf::mesh
