@@ -1,0 +1,42 @@
+// Runs the real kerf-hapsim executable (fork/exec from KERF_BIN_DIR) for integration tests:
+// waits for its `ready` line, sends stdin commands and waits for their `ok`, stops it cleanly.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <sys/types.h>
+
+namespace kerf::firmware_host::test {
+
+class HapsimProcess {
+public:
+    /// Starts kerf-hapsim with `args` plus --socket <unique path> --commands.
+    explicit HapsimProcess(std::vector<std::string> args);
+    ~HapsimProcess();
+    HapsimProcess(const HapsimProcess&) = delete;
+    HapsimProcess& operator=(const HapsimProcess&) = delete;
+
+    bool ready() const { return ready_; }
+    const std::string& socket_path() const { return socket_; }
+    /// Sends one command line; true when kerf-hapsim answered `ok`.
+    bool command(const std::string& line);
+    /// Asks it to quit and waits (kills after a timeout); returns the exit status.
+    int stop();
+    /// Everything it wrote on stdout so far (for failure messages).
+    const std::string& output() const { return out_; }
+
+private:
+    bool read_line(std::string& line, int timeout_ms);
+    pid_t pid_ = -1;
+    int to_child_ = -1;
+    int from_child_ = -1;
+    bool ready_ = false;
+    std::string socket_;
+    std::string out_, pending_;
+};
+
+/// A unique path under /tmp for sockets, traces and dummy firmware images.
+std::string temp_path(const std::string& stem);
+
+}  // namespace kerf::firmware_host::test

@@ -1,0 +1,138 @@
+// Host <-> kerf-hapsim as real processes, Kerf HID protocol over the Unix socket.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "firmware_host/device/kerf_hid_device.hpp"
+#include "firmware_host/transport/socket_report_transport.hpp"
+#include "tests/firmware_host/device_loop.hpp"
+#include "tests/firmware_host/hapsim_process.hpp"
+
+namespace kerf::firmware_host {
+namespace {
+
+using test::DeviceLoop;
+using test::HapsimProcess;
+
+std::unique_ptr<KerfHidDevice> open_kerf(const HapsimProcess& sim) {
+    auto socket = SeqpacketSocket::connect(sim.socket_path());
+    if (!socket) {
+        ADD_FAILURE() << socket.error().message();
+        return nullptr;
+    }
+    KerfHidOptions options;
+    options.expected_vendor_id = 0x1209;
+    options.expected_product_id = 0x0001;
+    auto dev = KerfHidDevice::open(std::make_unique<SocketReportTransport>(std::move(*socket)), options);
+    if (!dev) {
+        ADD_FAILURE() << dev.error().message();
+        return nullptr;
+    }
+    return std::move(*dev);
+}
+
+// Runs until homed and the force loop is engaged and delivering `force_n` upward.
+void home_and_engage(DeviceLoop& loop, double force_n = 2.0) {
+    loop.desired = {0, 0, 0};
+    for (int i = 0; i < 200 && !(loop.status == DeviceStatus::kOk && loop.safety.engaged()); ++i) loop.tick();
+    ASSERT_TRUE(loop.sample.flags.homed);
+    ASSERT_TRUE(loop.safety.engaged());
+    loop.desired = {0, 0, force_n};
+    for (int i = 0; i < 60; ++i) loop.tick();
+    ASSERT_NEAR(loop.force(), force_n, 1e-6) << to_string(loop.status);
+}
+
+TEST(KerfHidIntegration, OpensReadsIdentityHomesAndEngages) {
+    HapsimProcess sim({"--protocol", "kerf", "--serial", "KRF-TEST-7"});
+    ASSERT_TRUE(sim.ready()) << sim.output();
+    auto dev = open_kerf(sim);
+    ASSERT_NE(dev, nullptr);
+    EXPECT_EQ(std::string(dev->identity().serial.data()), "KRF-TEST-7");
+    EXPECT_EQ(dev->mechanics().peak_force_centi_n, 1000);
+    DeviceLoop loop(*dev);
+    loop.tick();
+    EXPECT_FALSE(loop.sample.flags.homed);  // no force before homing
+    EXPECT_EQ(loop.force(), 0.0);
+    home_and_engage(loop);
+    EXPECT_TRUE(loop.sample.flags.amplifiers_on);
+    EXPECT_EQ(dev->shutdown(1000), LinkStatus::kOk);
+}
+
+TEST(KerfHidIntegration, OpenFailsClearlyWhenTheProfileIdsDoNotMatch) {
+    HapsimProcess sim({"--protocol", "kerf"});
+    ASSERT_TRUE(sim.ready());
+    auto socket = SeqpacketSocket::connect(sim.socket_path());
+    ASSERT_TRUE(socket);
+    KerfHidOptions options;
+    options.expected_vendor_id = 0x0403;
+    auto dev = KerfHidDevice::open(std::make_unique<SocketReportTransport>(std::move(*socket)), options);
+    ASSERT_FALSE(dev);
+    EXPECT_NE(dev.error().message().find("1209:0001"), std::string::npos) << dev.error().message();
+}
+
+TEST(KerfHidIntegration, ConnectingToAMissingEmulatorIsAClearError) {
+    auto socket = SeqpacketSocket::connect(test::temp_path("nobody-listens.sock"));
+    ASSERT_FALSE(socket);
+    EXPECT_NE(socket.error().message().find("No such file"), std::string::npos) << socket.error().message();
+}
+
+struct TraceRow {
+    double x, y, z;
+};
+
+std::vector<TraceRow> read_trace(const std::string& path) {
+    std::vector<TraceRow> rows;
+    std::ifstream f(path);
+    std::string line;
+    std::getline(f, line);  // header
+    while (std::getline(f, line)) {
+        std::replace(line.begin(), line.end(), ',', ' ');
+        std::istringstream in(line);
+        unsigned long long step;
+        TraceRow r{};
+        in >> step >> r.x >> r.y >> r.z;
+        rows.push_back(r);
+    }
+    return rows;
+}
+
+// 10,000 lockstep ticks of scripted motion: every position the host decodes equals the
+// emulator's true position within the encoder resolution (10 um quantum: half of it).
+TEST(KerfHidIntegration, TenThousandTicksOfScriptedMotionMatchTheTruthWithinResolution) {
+    const std::string script = test::temp_path("motion.csv");
+    const std::string trace = test::temp_path("trace.csv");
+    std::ofstream(script) << "move,0.02,0.0,0.01,2.0\nhold,0.5\nsweep,0.0,0.03,0.0,1.0,3.0\n"
+                             "button,0,down\nmove,-0.03,-0.02,0.02,2.0\nbutton,0,up\nhold,0.5\n"
+                             "sweep,0.01,0.01,0.01,2.0,2.5\n";
+    HapsimProcess sim({"--protocol", "kerf", "--script", script, "--trace", trace});
+    ASSERT_TRUE(sim.ready()) << sim.output();
+    auto dev = open_kerf(sim);
+    ASSERT_NE(dev, nullptr);
+    DeviceLoop loop(*dev);
+    std::vector<std::pair<std::uint32_t, Vec3d>> seen;
+    seen.reserve(10000);
+    bool pressed = false;
+    for (int i = 0; i < 10000; ++i) {
+        loop.tick();
+        ASSERT_EQ(loop.status, DeviceStatus::kOk) << "tick " << i;
+        seen.emplace_back(loop.sample.device_sequence, loop.sample.position_m);
+        pressed = pressed || (loop.sample.buttons & 1U) != 0;
+    }
+    EXPECT_TRUE(pressed);
+    ASSERT_EQ(sim.stop(), 0);
+    const auto truth = read_trace(trace);
+    ASSERT_GE(truth.size(), 10000U);
+    double worst = 0, travelled = 0;
+    for (std::size_t i = 0; i < seen.size(); ++i) {
+        const auto& t = truth[i];  // the reply to host packet i is the state after step i + 1
+        const Vec3d& p = seen[i].second;
+        worst = std::max({worst, std::abs(p[0] - t.x), std::abs(p[1] - t.y), std::abs(p[2] - t.z)});
+        if (i > 0) travelled += std::abs(t.x - truth[i - 1].x) + std::abs(t.y - truth[i - 1].y);
+    }
+    EXPECT_LE(worst, 0.5e-5 + 1e-9);
+    EXPECT_GT(travelled, 0.1);  // the hand really moved the device (metres of path)
+}
+
+}  // namespace
+}  // namespace kerf::firmware_host
