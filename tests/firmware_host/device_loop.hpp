@@ -27,14 +27,20 @@ struct DeviceLoop {
 
     /// One tick; `timeout_us` bounds the read (lockstep: the emulator answers our last write).
     void tick(std::uint32_t timeout_us = 20000) noexcept {
+        read_and_decide(timeout_us);
+        write();
+    }
+    /// First half of a tick: read the device and run the safety layer.
+    void read_and_decide(std::uint32_t timeout_us = 20000) noexcept {
         status = device->try_read(sample, timeout_us);
         SafetyInput in;
         in.desired_force_n = desired;
         in.read_status = status;
         in.flags = sample.flags;
         out = safety.step(in);
-        write_status = device->try_write(DeviceCommand{out, safety.engaged(), 0});
     }
+    /// Second half: send the command.
+    void write() noexcept { write_status = device->try_write(DeviceCommand{out, safety.engaged(), 0}); }
     double force() const { return std::sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2]); }
 
     Device* device;

@@ -7,6 +7,7 @@
 #include "firmware_host/device/kerf_hid_device.hpp"
 #include "firmware_host/transport/socket_report_transport.hpp"
 #include "tests/firmware_host/device_loop.hpp"
+#include "tests/firmware_host/fault_check.hpp"
 #include "tests/firmware_host/hapsim_process.hpp"
 
 namespace kerf::firmware_host {
@@ -133,6 +134,45 @@ TEST(KerfHidIntegration, TenThousandTicksOfScriptedMotionMatchTheTruthWithinReso
     EXPECT_LE(worst, 0.5e-5 + 1e-9);
     EXPECT_GT(travelled, 0.1);  // the hand really moved the device (metres of path)
 }
+
+struct FaultCase {
+    const char* name;
+    const char* on;
+    const char* off;
+    bool reconnect;
+};
+
+class KerfHidFault : public ::testing::TestWithParam<FaultCase> {};
+
+// Every injected fault takes the host to zero force within 2 ticks; it recovers when cleared.
+TEST_P(KerfHidFault, ZeroesForceWithinTwoTicksAndRecovers) {
+    const auto& c = GetParam();
+    HapsimProcess sim({"--protocol", "kerf"});
+    ASSERT_TRUE(sim.ready()) << sim.output();
+    auto dev = open_kerf(sim);
+    ASSERT_NE(dev, nullptr);
+    DeviceLoop loop(*dev);
+    std::unique_ptr<KerfHidDevice> dev2;
+    std::unique_ptr<DeviceLoop> loop2;
+    auto reopen = [&]() -> DeviceLoop* {
+        dev2 = open_kerf(sim);
+        if (!dev2) return nullptr;
+        loop2 = std::make_unique<DeviceLoop>(*dev2);
+        return loop2.get();
+    };
+    test::check_fault(sim, loop, c.name, c.on, c.off,
+                      c.reconnect ? std::function<DeviceLoop*()>(reopen) : nullptr);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    AllFaults, KerfHidFault,
+    ::testing::Values(FaultCase{"drop", "on", "off", false}, FaultCase{"delay", "50", "off", false},
+                      FaultCase{"corrupt", "on", "off", false}, FaultCase{"short", "on", "off", false},
+                      FaultCase{"unplug", "on", "off", true},
+                      FaultCase{"stuck_encoder", "on", "off", false},
+                      FaultCase{"estop", "on", "off", false},
+                      FaultCase{"watchdog_trip", "on", "off", false}),
+    [](const auto& test_info) { return std::string(test_info.param.name); });
 
 }  // namespace
 }  // namespace kerf::firmware_host
