@@ -61,7 +61,7 @@ struct RealtimeSettings {
 
 /// The shared-memory session (rt_core/ipc).
 struct ShmSettings {
-    std::string session_name = "kerf";  ///< segment is /dev/shm/<session_name>; [A-Za-z0-9_-]
+    std::string session_name = "kerf";  ///< names the segment (shm_open("/" + name)); [A-Za-z0-9_-]
     std::string group;                  ///< empty: owner-only (0600); else 0660 with this group
     std::uint32_t event_ring_capacity = 4096;      ///< records per consumer; power of two
     std::uint32_t telemetry_ring_capacity = 8192;  ///< samples per consumer; power of two
