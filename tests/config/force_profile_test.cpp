@@ -159,6 +159,23 @@ TEST(ForceProfileParse, EmptyAndBinaryInputAreErrorsNotCrashes) {
     EXPECT_EQ(parse_error("name = 3\n").kind, ConfigErrorKind::kWrongType);
 }
 
+TEST(ForceProfileParse, DuplicateKeyIsASyntaxErrorAtTheSecondDefinition) {
+    auto text = edit(kDefault, "ramp_in_s = 0.5", "ramp_in_s = 0.5\nramp_in_s = 0.7");
+    auto e = parse_error(text);
+    EXPECT_EQ(e.kind, ConfigErrorKind::kSyntax);
+    EXPECT_EQ(e.line, line_of(text, "ramp_in_s = 0.7"));
+}
+
+TEST(ForceProfileParse, HugeOrControlCharacterValuesAreQuotedAndTruncated) {
+    std::string huge(5000, 'x');
+    auto e = parse_error(edit(kDefault, "speed_rpm = 12000.0", "speed_rpm = \"" + huge + "\""));
+    EXPECT_EQ(e.kind, ConfigErrorKind::kWrongType);
+    EXPECT_LE(e.value.size(), 60u);
+    EXPECT_LT(e.message().size(), 400u);
+    auto c = parse_error(edit(kDefault, "speed_rpm = 12000.0", "speed_rpm = \"a\\u0007b\""));
+    EXPECT_EQ(c.value, "\"a\\x07b\"");
+}
+
 TEST(ForceProfileLoad, MissingFileIsAnIoErrorNamingThePath) {
     auto e = error_of(load_force_profile("/nonexistent/kerf/force.toml"));
     EXPECT_EQ(e.kind, ConfigErrorKind::kIo);

@@ -57,6 +57,13 @@ TEST(KerfConfigParse, FifoWithPriorityZeroIsOutOfRange) {
     EXPECT_NE(e.expected.find("1..99"), std::string::npos);
 }
 
+TEST(KerfConfigParse, PolicyOtherWithARealtimePriorityIsOutOfRange) {
+    auto e = parse_error(edit(kMain, "policy = \"fifo\"", "policy = \"other\""));
+    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.key, "realtime.priority");
+    EXPECT_NE(e.expected.find("0 for policy \"other\""), std::string::npos);
+}
+
 TEST(KerfConfigParse, PeriodBelowAHundredMicrosecondsIsOutOfRange) {
     auto e = parse_error(edit(kMain, "period_ns = 1_000_000", "period_ns = 1_000"));
     EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
