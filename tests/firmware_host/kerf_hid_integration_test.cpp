@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "firmware_host/device/kerf_hid_device.hpp"
+#include "firmware_host/device/open_device.hpp"
 #include "firmware_host/transport/socket_report_transport.hpp"
 #include "tests/firmware_host/device_loop.hpp"
 #include "tests/firmware_host/fault_check.hpp"
@@ -133,6 +134,17 @@ TEST(KerfHidIntegration, TenThousandTicksOfScriptedMotionMatchTheTruthWithinReso
     }
     EXPECT_LE(worst, 0.5e-5 + 1e-9);
     EXPECT_GT(travelled, 0.1);  // the hand really moved the device (metres of path)
+}
+
+TEST(KerfHidIntegration, OpenDeviceOpensTheSimulatedProfileThroughTheEmulator) {
+    HapsimProcess sim({"--protocol", "kerf"});
+    ASSERT_TRUE(sim.ready());
+    auto profile = config::load_device_profile(std::string(KERF_SOURCE_DIR) + "/config/devices/simulated.toml");
+    ASSERT_TRUE(profile) << profile.error().message();
+    auto dev = open_device(*profile, {"", sim.socket_path(), ""});
+    ASSERT_TRUE(dev) << dev.error().message();
+    DeviceLoop loop(**dev);
+    test::engage(loop);
 }
 
 struct FaultCase {
