@@ -65,7 +65,8 @@ double end_envelope(double s, double cap) {
 
 double outer_radius(const BoneShape& b, double s) {
     const double g0 = std::exp(-12.0 * s * s), g1 = std::exp(-12.0 * (1.0 - s) * (1.0 - s));
-    const double r = b.info.shaft_radius_m * (1.0 + (b.base_flare - 1.0) * g0 + (b.head_flare - 1.0) * g1);
+    const double r =
+        b.info.shaft_radius_m * (1.0 + (b.base_flare - 1.0) * g0 + (b.head_flare - 1.0) * g1);
     const double cap = std::min(0.2, 0.8 * b.info.max_radius_m / b.info.length_m);
     return r * end_envelope(s, cap);
 }
@@ -85,8 +86,10 @@ std::vector<detail::ProfileSample> profile(double a0, double a1, int rings, Radi
 struct Resolution {
     int outer_segments, outer_rings, canal_segments, canal_rings;
     std::size_t triangles() const {
-        return 2u * static_cast<std::size_t>(outer_segments) * static_cast<std::size_t>(outer_rings - 1) +
-               2u * static_cast<std::size_t>(canal_segments) * static_cast<std::size_t>(canal_rings - 1);
+        return 2u * static_cast<std::size_t>(outer_segments) *
+                   static_cast<std::size_t>(outer_rings - 1) +
+               2u * static_cast<std::size_t>(canal_segments) *
+                   static_cast<std::size_t>(canal_rings - 1);
     }
 };
 
@@ -94,8 +97,9 @@ struct Resolution {
 Resolution resolution(const BoneInfo& b, double h_m) {
     auto count = [](double v, int min) { return std::max(min, static_cast<int>(std::ceil(v))); };
     const double canal_length = b.canal_end_m - b.canal_start_m;
-    return {count(2.0 * kPi * 1.15 * b.shaft_radius_m / h_m, 8), count(0.5 * kPi * b.length_m / h_m, 6),
-            count(2.0 * kPi * b.canal_radius_m / h_m, 6), count(0.5 * kPi * canal_length / h_m, 4)};
+    return {count(2.0 * kPi * 1.15 * b.shaft_radius_m / h_m, 8),
+            count(0.5 * kPi * b.length_m / h_m, 6), count(2.0 * kPi * b.canal_radius_m / h_m, 6),
+            count(0.5 * kPi * canal_length / h_m, 4)};
 }
 
 std::size_t total_triangles(const std::vector<BoneShape>& bones, double h_m) {
@@ -132,7 +136,8 @@ std::vector<BoneShape> lay_out_bones(std::uint64_t seed) {
     std::vector<BoneShape> bones;
     for (int r = 0; r < 5; ++r) {
         const RayTemplate& t = kRays[r];
-        const Point origin{t.x + 0.0003 * v.symmetric(), 0.0003 * v.symmetric(), t.z0 + 0.001 * v.symmetric()};
+        const Point origin{t.x + 0.0003 * v.symmetric(), 0.0003 * v.symmetric(),
+                           t.z0 + 0.001 * v.symmetric()};
         detail::AxisFrame frame = ray_frame(origin, 0.005 * v.symmetric(), 0.005 * v.symmetric());
         for (int k = 0; k < 4; ++k) {
             if (t.length[k] == 0.0) continue;
@@ -165,19 +170,22 @@ void add_bone(IndexedMesh& out, BoneShape& b, const Resolution& res) {
     const auto outer = profile(0.0, b.info.length_m, res.outer_rings,
                                [&](double s) { return outer_radius(b, s); });
     detail::add_closed_revolved(out, b.frame, outer, res.outer_segments, true, Material::kCortical);
-    const auto canal = profile(b.info.canal_start_m, b.info.canal_end_m, res.canal_rings, [&](double s) {
-        return b.info.canal_radius_m * end_envelope(s, 0.2);
-    });
-    detail::add_closed_revolved(out, b.frame, canal, res.canal_segments, false, Material::kCancellous);
+    const auto canal =
+        profile(b.info.canal_start_m, b.info.canal_end_m, res.canal_rings,
+                [&](double s) { return b.info.canal_radius_m * end_envelope(s, 0.2); });
+    detail::add_closed_revolved(out, b.frame, canal, res.canal_segments, false,
+                                Material::kCancellous);
     b.info.triangle_count = out.triangles.size() - b.info.first_triangle;
 }
 
 void paint(TriMesh& mesh) {
     for (const VertexHandle v : mesh.vertices()) {
         const bool cortical = mesh.data(v).material() == Material::kCortical;
-        mesh.set_color(v, cortical ? TriMesh::Color{0.89f, 0.86f, 0.79f} : TriMesh::Color{0.78f, 0.50f, 0.42f});
+        mesh.set_color(v, cortical ? TriMesh::Color{0.89f, 0.86f, 0.79f}
+                                   : TriMesh::Color{0.78f, 0.50f, 0.42f});
         const Point p = mesh.point(v);  // planar (x, z) texture coordinates, 1 unit = 0.1 m
-        mesh.set_texcoord2D(v, TriMesh::TexCoord2D{static_cast<float>(p[0] * 10.0), static_cast<float>(p[2] * 10.0)});
+        mesh.set_texcoord2D(v, TriMesh::TexCoord2D{static_cast<float>(p[0] * 10.0),
+                                                   static_cast<float>(p[2] * 10.0)});
     }
 }
 
@@ -185,18 +193,24 @@ void paint(TriMesh& mesh) {
 
 std::string_view to_string(BoneKind kind) noexcept {
     switch (kind) {
-        case BoneKind::kMetatarsal: return "metatarsal";
-        case BoneKind::kProximalPhalanx: return "proximal_phalanx";
-        case BoneKind::kMiddlePhalanx: return "middle_phalanx";
-        case BoneKind::kDistalPhalanx: return "distal_phalanx";
+        case BoneKind::kMetatarsal:
+            return "metatarsal";
+        case BoneKind::kProximalPhalanx:
+            return "proximal_phalanx";
+        case BoneKind::kMiddlePhalanx:
+            return "middle_phalanx";
+        case BoneKind::kDistalPhalanx:
+            return "distal_phalanx";
     }
     return "unknown";
 }
 
 Result<Foot, std::string> generate_foot(const FootParams& params) {
-    if (params.target_triangles < kFootMinTriangles || params.target_triangles > kFootMaxTriangles) {
+    if (params.target_triangles < kFootMinTriangles ||
+        params.target_triangles > kFootMaxTriangles) {
         return Err{"target_triangles " + std::to_string(params.target_triangles) + " is outside [" +
-                   std::to_string(kFootMinTriangles) + ", " + std::to_string(kFootMaxTriangles) + "]"};
+                   std::to_string(kFootMinTriangles) + ", " + std::to_string(kFootMaxTriangles) +
+                   "]"};
     }
     std::vector<BoneShape> bones = lay_out_bones(params.seed);
     const double h = edge_length_for(bones, params.target_triangles);

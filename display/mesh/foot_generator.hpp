@@ -30,7 +30,8 @@ inline constexpr std::size_t kFootMinTriangles = 10'000;
 inline constexpr std::size_t kFootMaxTriangles = 4'000'000;
 
 struct FootParams {
-    std::size_t target_triangles = 200'000;  ///< met within 2 %; [kFootMinTriangles, kFootMaxTriangles]
+    std::size_t target_triangles =
+        200'000;  ///< met within 2 %; [kFootMinTriangles, kFootMaxTriangles]
     std::uint64_t seed = 1;
 };
 
@@ -44,17 +45,17 @@ std::string_view to_string(BoneKind kind) noexcept;
 
 /// Where one bone is, for placing cuts: its axis runs from `base_m` (proximal) to `head_m`.
 struct BoneInfo {
-    int ray = 1;                        ///< 1 = hallux ... 5 = little toe
+    int ray = 1;  ///< 1 = hallux ... 5 = little toe
     BoneKind kind = BoneKind::kMetatarsal;
-    Point base_m{0, 0, 0};              ///< proximal end of the axis (the bone's pole)
-    Point head_m{0, 0, 0};              ///< distal end of the axis
-    double length_m = 0;                ///< |head − base|
-    double shaft_radius_m = 0;          ///< outer radius at mid-shaft (mean of the ellipse axes)
-    double max_radius_m = 0;            ///< largest outer radius (at the flared ends)
-    double canal_radius_m = 0;          ///< medullary canal radius (mean of the ellipse axes)
-    double canal_start_m = 0;           ///< canal extent along the axis, from base_m
+    Point base_m{0, 0, 0};      ///< proximal end of the axis (the bone's pole)
+    Point head_m{0, 0, 0};      ///< distal end of the axis
+    double length_m = 0;        ///< |head − base|
+    double shaft_radius_m = 0;  ///< outer radius at mid-shaft (mean of the ellipse axes)
+    double max_radius_m = 0;    ///< largest outer radius (at the flared ends)
+    double canal_radius_m = 0;  ///< medullary canal radius (mean of the ellipse axes)
+    double canal_start_m = 0;   ///< canal extent along the axis, from base_m
     double canal_end_m = 0;
-    std::size_t first_triangle = 0;     ///< the bone's triangles: outer shell, then canal
+    std::size_t first_triangle = 0;  ///< the bone's triangles: outer shell, then canal
     std::size_t triangle_count = 0;
 };
 

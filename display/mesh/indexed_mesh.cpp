@@ -1,8 +1,7 @@
 #include "display/mesh/indexed_mesh.hpp"
 
-#include <bit>
-
 #include <OpenMesh/Core/System/omstream.hh>
+#include <bit>
 
 namespace kerf::mesh {
 namespace {
@@ -78,7 +77,8 @@ IndexedMesh to_indexed(const TriMesh& mesh) {
     out.positions_m.reserve(mesh.n_vertices());
     out.materials.reserve(mesh.n_vertices());
     for (const VertexHandle v : mesh.vertices()) {  // skips deleted vertices
-        remap[static_cast<std::size_t>(v.idx())] = static_cast<std::uint32_t>(out.positions_m.size());
+        remap[static_cast<std::size_t>(v.idx())] =
+            static_cast<std::uint32_t>(out.positions_m.size());
         out.positions_m.push_back(mesh.point(v));
         out.materials.push_back(mesh.data(v).material());
     }

@@ -4,16 +4,26 @@ namespace kerf::mesh {
 
 std::string_view to_string(MeshErrorKind kind) noexcept {
     switch (kind) {
-        case MeshErrorKind::kIo: return "io";
-        case MeshErrorKind::kEmpty: return "empty";
-        case MeshErrorKind::kUnknownFormat: return "unknown_format";
-        case MeshErrorKind::kTruncated: return "truncated";
-        case MeshErrorKind::kSyntax: return "syntax";
-        case MeshErrorKind::kNonFinite: return "non_finite";
-        case MeshErrorKind::kIndexOutOfRange: return "index_out_of_range";
-        case MeshErrorKind::kBadCount: return "bad_count";
-        case MeshErrorKind::kUnsupported: return "unsupported";
-        case MeshErrorKind::kTooLarge: return "too_large";
+        case MeshErrorKind::kIo:
+            return "io";
+        case MeshErrorKind::kEmpty:
+            return "empty";
+        case MeshErrorKind::kUnknownFormat:
+            return "unknown_format";
+        case MeshErrorKind::kTruncated:
+            return "truncated";
+        case MeshErrorKind::kSyntax:
+            return "syntax";
+        case MeshErrorKind::kNonFinite:
+            return "non_finite";
+        case MeshErrorKind::kIndexOutOfRange:
+            return "index_out_of_range";
+        case MeshErrorKind::kBadCount:
+            return "bad_count";
+        case MeshErrorKind::kUnsupported:
+            return "unsupported";
+        case MeshErrorKind::kTooLarge:
+            return "too_large";
     }
     return "unknown";
 }

@@ -37,19 +37,26 @@ Result<std::vector<std::byte>, MeshError> read_file(const std::filesystem::path&
 
 std::string_view to_string(Format f) noexcept {
     switch (f) {
-        case Format::kStl: return "stl";
-        case Format::kObj: return "obj";
-        case Format::kPly: return "ply";
-        case Format::kOff: return "off";
+        case Format::kStl:
+            return "stl";
+        case Format::kObj:
+            return "obj";
+        case Format::kPly:
+            return "ply";
+        case Format::kOff:
+            return "off";
     }
     return "unknown";
 }
 
 std::string_view to_string(Encoding e) noexcept {
     switch (e) {
-        case Encoding::kAscii: return "ascii";
-        case Encoding::kBinaryLittleEndian: return "binary_little_endian";
-        case Encoding::kBinaryBigEndian: return "binary_big_endian";
+        case Encoding::kAscii:
+            return "ascii";
+        case Encoding::kBinaryLittleEndian:
+            return "binary_little_endian";
+        case Encoding::kBinaryBigEndian:
+            return "binary_big_endian";
     }
     return "unknown";
 }
@@ -68,10 +75,14 @@ Result<IndexedMesh, MeshError> parse_indexed(std::span<const std::byte> bytes, F
     const detail::ParseContext ctx{name, metres_per_unit(units)};
     if (bytes.empty()) return Err{ctx.error(MeshErrorKind::kEmpty, 0, 0, "the file is empty")};
     switch (format) {
-        case Format::kStl: return detail::parse_stl(bytes, ctx);
-        case Format::kObj: return detail::parse_obj(bytes, ctx);
-        case Format::kPly: return detail::parse_ply(bytes, ctx);
-        case Format::kOff: return detail::parse_off(bytes, ctx);
+        case Format::kStl:
+            return detail::parse_stl(bytes, ctx);
+        case Format::kObj:
+            return detail::parse_obj(bytes, ctx);
+        case Format::kPly:
+            return detail::parse_ply(bytes, ctx);
+        case Format::kOff:
+            return detail::parse_off(bytes, ctx);
     }
     return Err{ctx.error(MeshErrorKind::kUnknownFormat, 0, 0, "unknown format")};
 }
@@ -87,9 +98,9 @@ Result<LoadedMesh, MeshError> parse_mesh(std::span<const std::byte> bytes, Forma
 Result<LoadedMesh, MeshError> load_mesh_file(const std::filesystem::path& path, Units units) {
     const auto format = format_from_path(path);
     if (!format) {
-        return Err{MeshError{MeshErrorKind::kUnknownFormat, path.string(), 0, 0,
-                             "extension '" + path.extension().string() +
-                                 "' is not one of .stl .obj .ply .off"}};
+        return Err{MeshError{
+            MeshErrorKind::kUnknownFormat, path.string(), 0, 0,
+            "extension '" + path.extension().string() + "' is not one of .stl .obj .ply .off"}};
     }
     auto bytes = read_file(path);
     if (!bytes) return Err{std::move(bytes).error()};
@@ -107,10 +118,14 @@ std::string serialize_mesh(const TriMesh& mesh, Format format, Units units, Enco
     const double scale = metres_per_unit(units);
     const bool binary = encoding != Encoding::kAscii;
     switch (format) {
-        case Format::kStl: return detail::write_stl(m, scale, binary);
-        case Format::kObj: return detail::write_obj(m, scale);
-        case Format::kPly: return detail::write_ply(m, scale, binary, encoding == Encoding::kBinaryBigEndian);
-        case Format::kOff: return detail::write_off(m, scale);
+        case Format::kStl:
+            return detail::write_stl(m, scale, binary);
+        case Format::kObj:
+            return detail::write_obj(m, scale);
+        case Format::kPly:
+            return detail::write_ply(m, scale, binary, encoding == Encoding::kBinaryBigEndian);
+        case Format::kOff:
+            return detail::write_off(m, scale);
     }
     return {};
 }
@@ -118,9 +133,9 @@ std::string serialize_mesh(const TriMesh& mesh, Format format, Units units, Enco
 Status<MeshError> save_mesh(const TriMesh& mesh, const std::filesystem::path& path, Units units) {
     const auto format = format_from_path(path);
     if (!format) {
-        return Err{MeshError{MeshErrorKind::kUnknownFormat, path.string(), 0, 0,
-                             "extension '" + path.extension().string() +
-                                 "' is not one of .stl .obj .ply .off"}};
+        return Err{MeshError{
+            MeshErrorKind::kUnknownFormat, path.string(), 0, 0,
+            "extension '" + path.extension().string() + "' is not one of .stl .obj .ply .off"}};
     }
     const std::string data = serialize_mesh(mesh, *format, units);
     std::ofstream out(path, std::ios::binary | std::ios::trunc);

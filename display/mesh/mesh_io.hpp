@@ -41,9 +41,9 @@ std::optional<Format> format_from_path(const std::filesystem::path& path);
 
 /// A loaded file: the exact indexed contents (for validation) and the half-edge mesh.
 struct LoadedMesh {
-    IndexedMesh indexed;                  ///< what the file holds, welded, in metres
-    TriMesh mesh;                         ///< the same, with normals, ready for cutting
-    std::size_t detached_triangles = 0;   ///< triangles OpenMesh could not connect (see above)
+    IndexedMesh indexed;                 ///< what the file holds, welded, in metres
+    TriMesh mesh;                        ///< the same, with normals, ready for cutting
+    std::size_t detached_triangles = 0;  ///< triangles OpenMesh could not connect (see above)
 };
 
 /// Parses bytes already in memory; `name` only labels errors. The fuzz target's entry point.

@@ -28,8 +28,8 @@ std::string json_number(double v) {
 }
 
 std::string point_text(const Point& p, double scale) {
-    return "(" + fmt(4, p[0] / scale) + ", " + fmt(4, p[1] / scale) + ", " +
-           fmt(4, p[2] / scale) + ")";
+    return "(" + fmt(4, p[0] / scale) + ", " + fmt(4, p[1] / scale) + ", " + fmt(4, p[2] / scale) +
+           ")";
 }
 
 std::string point_json(const Point& p) {
@@ -60,8 +60,8 @@ std::string format_report_text(const ValidationReport& r, Units units) {
     }
     out += "\ntriangles:             " + std::to_string(r.triangles) + "\n";
     out += "edges:                 " + std::to_string(r.edges) + "\n";
-    out += "closed:                " + yes_no(r.closed) + " (" +
-           std::to_string(r.boundary_edges) + " boundary edges)\n";
+    out += "closed:                " + yes_no(r.closed) + " (" + std::to_string(r.boundary_edges) +
+           " boundary edges)\n";
     out += "non-manifold edges:    " + std::to_string(r.non_manifold_edges) + "\n";
     out += "non-manifold vertices: " + std::to_string(r.non_manifold_vertices) + "\n";
     out += "oriented:              " + yes_no(r.oriented) + " (" +
@@ -75,8 +75,8 @@ std::string format_report_text(const ValidationReport& r, Units units) {
     const Point size = r.bbox_max_m - r.bbox_min_m;
     out += "bounding box:          " + point_text(r.bbox_min_m, s) + " to " +
            point_text(r.bbox_max_m, s) + " " + u + "\n";
-    out += "size:                  " + fmt(3, size[0] / s) + " x " + fmt(3, size[1] / s) +
-           " x " + fmt(3, size[2] / s) + " " + u + "\n";
+    out += "size:                  " + fmt(3, size[0] / s) + " x " + fmt(3, size[1] / s) + " x " +
+           fmt(3, size[2] / s) + " " + u + "\n";
     out += "surface area:          " + significant(r.area_m2 / (s * s)) + " " + u + "^2\n";
     out += "signed volume:         " + significant(r.volume_m3 / (s * s * s)) + " " + u + "^3" +
            (r.closed ? "" : " (mesh is open: not a true volume)") + "\n";
@@ -85,14 +85,16 @@ std::string format_report_text(const ValidationReport& r, Units units) {
     }
     if (r.shells.size() > 40) out += "  ... " + std::to_string(r.shells.size() - 40) + " more\n";
     for (const auto& e : r.boundary_samples_m) {
-        out += "  boundary edge " + point_text(e[0], s) + " - " + point_text(e[1], s) + " " + u +
-               "\n";
+        out +=
+            "  boundary edge " + point_text(e[0], s) + " - " + point_text(e[1], s) + " " + u + "\n";
     }
     return out;
 }
 
 std::string format_report_json(const ValidationReport& r) {
-    auto field = [](const char* k, const std::string& v) { return "\"" + std::string(k) + "\": " + v; };
+    auto field = [](const char* k, const std::string& v) {
+        return "\"" + std::string(k) + "\": " + v;
+    };
     auto num = [](std::size_t v) { return std::to_string(v); };
     std::string out = "{";
     out += field("vertices", num(r.vertices)) + ", ";

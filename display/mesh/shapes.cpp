@@ -103,8 +103,8 @@ TriMesh make_torus(double major_radius_m, double minor_radius_m, int major_segme
         for (std::uint32_t j = 0; j < n; ++j) {
             const double phi = 2.0 * kPi * j / n;
             const double rho = major_radius_m + minor_radius_m * std::cos(phi);
-            out.positions_m.push_back(
-                Point{rho * std::cos(theta), rho * std::sin(theta), minor_radius_m * std::sin(phi)});
+            out.positions_m.push_back(Point{rho * std::cos(theta), rho * std::sin(theta),
+                                            minor_radius_m * std::sin(phi)});
         }
     }
     auto at = [&](std::uint32_t i, std::uint32_t j) { return (i % m) * n + (j % n); };
@@ -123,10 +123,10 @@ TriMesh make_hollow_tube(double length_m, double outer_radius_m, double inner_ra
     std::vector<std::uint32_t> outer, inner;
     for (int k = 0; k <= rings; ++k) {
         const double z = k == rings ? length_m : length_m * k / rings;
-        outer.push_back(detail::add_ring(out, kZFrame, {z, outer_radius_m}, segments,
-                                         Material::kCortical));
-        inner.push_back(detail::add_ring(out, kZFrame, {z, inner_radius_m}, segments,
-                                         Material::kCancellous));
+        outer.push_back(
+            detail::add_ring(out, kZFrame, {z, outer_radius_m}, segments, Material::kCortical));
+        inner.push_back(
+            detail::add_ring(out, kZFrame, {z, inner_radius_m}, segments, Material::kCancellous));
     }
     for (std::size_t k = 0; k + 1 < outer.size(); ++k) {
         detail::join_rings(out, outer[k], false, outer[k + 1], false, segments, true);

@@ -4,22 +4,32 @@ namespace kerf::mesh {
 
 double metres_per_unit(Units u) noexcept {
     switch (u) {
-        case Units::kMetres: return 1.0;
-        case Units::kMillimetres: return 0.001;
-        case Units::kCentimetres: return 0.01;
-        case Units::kInches: return 0.0254;
-        case Units::kMicrometres: return 1e-6;
+        case Units::kMetres:
+            return 1.0;
+        case Units::kMillimetres:
+            return 0.001;
+        case Units::kCentimetres:
+            return 0.01;
+        case Units::kInches:
+            return 0.0254;
+        case Units::kMicrometres:
+            return 1e-6;
     }
     return 1.0;
 }
 
 std::string_view to_string(Units u) noexcept {
     switch (u) {
-        case Units::kMetres: return "m";
-        case Units::kMillimetres: return "mm";
-        case Units::kCentimetres: return "cm";
-        case Units::kInches: return "in";
-        case Units::kMicrometres: return "um";
+        case Units::kMetres:
+            return "m";
+        case Units::kMillimetres:
+            return "mm";
+        case Units::kCentimetres:
+            return "cm";
+        case Units::kInches:
+            return "in";
+        case Units::kMicrometres:
+            return "um";
     }
     return "unknown";
 }

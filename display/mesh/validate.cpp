@@ -9,7 +9,9 @@ namespace {
 
 class UnionFind {
 public:
-    explicit UnionFind(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0u); }
+    explicit UnionFind(std::size_t n) : parent_(n) {
+        std::iota(parent_.begin(), parent_.end(), 0u);
+    }
     std::uint32_t find(std::uint32_t x) {
         while (parent_[x] != x) {
             parent_[x] = parent_[parent_[x]];
@@ -29,10 +31,10 @@ private:
 
 // One use of an undirected edge by a triangle corner.
 struct EdgeUse {
-    std::uint64_t key;      // (min << 32) | max
+    std::uint64_t key;  // (min << 32) | max
     std::uint32_t face;
-    std::uint8_t corner;    // the edge runs from corner to corner + 1
-    bool forward;           // min -> max
+    std::uint8_t corner;  // the edge runs from corner to corner + 1
+    bool forward;         // min -> max
     bool operator<(const EdgeUse& o) const { return key != o.key ? key < o.key : face < o.face; }
 };
 

@@ -42,20 +42,20 @@ struct ValidationReport {
     std::size_t vertices = 0;               ///< vertices after welding
     std::size_t unreferenced_vertices = 0;  ///< vertices no triangle uses
     std::size_t triangles = 0;
-    std::size_t edges = 0;                  ///< distinct undirected edges
+    std::size_t edges = 0;  ///< distinct undirected edges
     std::size_t boundary_edges = 0;
     std::size_t non_manifold_edges = 0;
     std::size_t non_manifold_vertices = 0;
-    std::size_t misoriented_edges = 0;      ///< manifold edges traversed twice the same way
+    std::size_t misoriented_edges = 0;  ///< manifold edges traversed twice the same way
     std::size_t degenerate_triangles = 0;
-    std::size_t detached_triangles = 0;     ///< set by loaders: triangles OpenMesh refused
+    std::size_t detached_triangles = 0;  ///< set by loaders: triangles OpenMesh refused
     bool closed = false;
     bool oriented = false;
     Point bbox_min_m{0.0, 0.0, 0.0};
     Point bbox_max_m{0.0, 0.0, 0.0};
     double area_m2 = 0.0;
     double volume_m3 = 0.0;
-    std::vector<ShellSummary> shells;       ///< largest first (triangles, then first triangle)
+    std::vector<ShellSummary> shells;  ///< largest first (triangles, then first triangle)
     /// Endpoints of the first boundary edges (at most 16), to say where a hole is.
     std::vector<std::array<Point, 2>> boundary_samples_m;
 };

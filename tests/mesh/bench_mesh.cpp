@@ -4,7 +4,6 @@
 #include <benchmark/benchmark.h>
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
-
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -36,8 +35,8 @@ void BM_OpenMeshReadMeshCalcaneus(benchmark::State& state) {
         if (!ok) state.SkipWithError("OpenMesh could not read the file");
         benchmark::DoNotOptimize(mesh.n_faces());
     }
-    state.counters["triangles_per_s"] = benchmark::Counter(58334.0 * static_cast<double>(state.iterations()),
-                                                           benchmark::Counter::kIsRate);
+    state.counters["triangles_per_s"] = benchmark::Counter(
+        58334.0 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_OpenMeshReadMeshCalcaneus)->Unit(benchmark::kMillisecond);
 
@@ -49,8 +48,8 @@ void BM_KerfLoadMeshCalcaneus(benchmark::State& state) {
         if (!loaded) state.SkipWithError("kerf could not read the file");
         benchmark::DoNotOptimize(loaded->mesh.n_faces());
     }
-    state.counters["triangles_per_s"] = benchmark::Counter(58334.0 * static_cast<double>(state.iterations()),
-                                                           benchmark::Counter::kIsRate);
+    state.counters["triangles_per_s"] = benchmark::Counter(
+        58334.0 * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_KerfLoadMeshCalcaneus)->Unit(benchmark::kMillisecond);
 
@@ -58,8 +57,10 @@ BENCHMARK(BM_KerfLoadMeshCalcaneus)->Unit(benchmark::kMillisecond);
 void BM_KerfParseIndexedCalcaneus(benchmark::State& state) {
     if (!have_file(state)) return;
     std::ifstream in(kCalcaneus, std::ios::binary);
-    const std::vector<char> data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    const std::span<const std::byte> bytes(reinterpret_cast<const std::byte*>(data.data()), data.size());
+    const std::vector<char> data((std::istreambuf_iterator<char>(in)),
+                                 std::istreambuf_iterator<char>());
+    const std::span<const std::byte> bytes(reinterpret_cast<const std::byte*>(data.data()),
+                                           data.size());
     for (auto _ : state) {
         auto m = parse_indexed(bytes, Format::kStl, Units::kMillimetres);
         benchmark::DoNotOptimize(m->triangles.data());

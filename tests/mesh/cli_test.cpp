@@ -1,7 +1,6 @@
 // `kerf mesh info`, `kerf gen foot` and `kerf demo` run as real processes (fork/exec).
-#include <gtest/gtest.h>
-
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -69,7 +68,8 @@ TEST_F(KerfCli, MeshInfoSaysTheOpensimFootIsOpenWithThreeBoundaryEdges) {
     const ProcessRun r = kerf({"mesh", "info", file.string(), "--units", "m"});
     EXPECT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("triangles:             1955\n"), std::string::npos) << r.out;
-    EXPECT_NE(r.out.find("closed:                no (3 boundary edges)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("closed:                no (3 boundary edges)"), std::string::npos)
+        << r.out;
     EXPECT_NE(r.out.find("shells:                11\n"), std::string::npos) << r.out;
 }
 
@@ -114,22 +114,27 @@ TEST_F(KerfCli, HelpSaysTheDefaultUnitIsMillimetres) {
 
 TEST_F(KerfCli, GenFootWritesAClosedFootThatMeshInfoReadsBack) {
     const fs::path out = dir_ / "foot.ply";
-    const ProcessRun gen = kerf({"gen", "foot", "--triangles", "20000", "--seed", "3", "-o", out.string()});
+    const ProcessRun gen =
+        kerf({"gen", "foot", "--triangles", "20000", "--seed", "3", "-o", out.string()});
     ASSERT_EQ(gen.exit_code, 0) << gen.err;
     EXPECT_NE(gen.out.find("first metatarsal axis"), std::string::npos);
     const ProcessRun info = kerf({"mesh", "info", out.string(), "--json"});
     ASSERT_EQ(info.exit_code, 0) << info.err;
     EXPECT_NE(info.out.find("\"closed\": true"), std::string::npos) << info.out;
     EXPECT_NE(info.out.find("\"oriented\": true"), std::string::npos) << info.out;
-    EXPECT_EQ(std::count(info.out.begin(), info.out.end(), '{'), 1 + 1 + 38);  // top, report, shells
+    EXPECT_EQ(std::count(info.out.begin(), info.out.end(), '{'),
+              1 + 1 + 38);  // top, report, shells
 }
 
 TEST_F(KerfCli, GenFootRefusesAnOutOfRangeTargetAndAnUnwritablePath) {
-    const ProcessRun small = kerf({"gen", "foot", "--triangles", "10", "-o", (dir_ / "f.stl").string()});
+    const ProcessRun small =
+        kerf({"gen", "foot", "--triangles", "10", "-o", (dir_ / "f.stl").string()});
     EXPECT_EQ(small.exit_code, 1);
-    EXPECT_NE(small.err.find("kerf gen foot: --triangles: target_triangles 10 is outside"), std::string::npos)
+    EXPECT_NE(small.err.find("kerf gen foot: --triangles: target_triangles 10 is outside"),
+              std::string::npos)
         << small.err;
-    const ProcessRun unwritable = kerf({"gen", "foot", "--triangles", "10000", "-o", "/no/such/dir/f.stl"});
+    const ProcessRun unwritable =
+        kerf({"gen", "foot", "--triangles", "10000", "-o", "/no/such/dir/f.stl"});
     EXPECT_EQ(unwritable.exit_code, 1);
     EXPECT_NE(unwritable.err.find("/no/such/dir/f.stl"), std::string::npos) << unwritable.err;
 }
@@ -137,7 +142,8 @@ TEST_F(KerfCli, GenFootRefusesAnOutOfRangeTargetAndAnUnwritablePath) {
 TEST_F(KerfCli, DemoBuildsTheForefootAndPrintsItsValidationReport) {
     const ProcessRun r = kerf({"demo", "--triangles", "30000"});
     EXPECT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_NE(r.out.find("closed:                yes (0 boundary edges)"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("closed:                yes (0 boundary edges)"), std::string::npos)
+        << r.out;
     EXPECT_NE(r.out.find("shells:                38\n"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("first metatarsal:"), std::string::npos) << r.out;
 }

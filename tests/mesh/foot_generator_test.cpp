@@ -1,9 +1,10 @@
+#include "display/mesh/foot_generator.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include "display/mesh/foot_generator.hpp"
 #include "display/mesh/indexed_mesh.hpp"
 #include "display/mesh/validate.hpp"
 
@@ -98,7 +99,8 @@ TEST(FootGenerator, MidShaftCrossSectionIsAnAnnulusInEveryBone) {
                 if (std::abs(d | axis) > 0.1 * b.length_m) continue;
                 const double radial = (d - axis * (d | axis)).norm();
                 if (m.materials[v] == Material::kCortical) outer_min = std::min(outer_min, radial);
-                if (m.materials[v] == Material::kCancellous) canal_max = std::max(canal_max, radial);
+                if (m.materials[v] == Material::kCancellous)
+                    canal_max = std::max(canal_max, radial);
             }
         }
         EXPECT_GT(canal_max, 0.0) << "no canal at mid-shaft";

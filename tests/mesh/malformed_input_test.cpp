@@ -15,7 +15,7 @@ namespace kerf::mesh {
 namespace {
 
 struct Bad {
-    const char* name;      // test label
+    const char* name;  // test label
     Format format;
     std::string bytes;
     MeshErrorKind kind;
@@ -38,17 +38,21 @@ std::string binary_stl_with_nan() {
 }
 
 const std::string kAsciiFacet = "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n";
-const std::string kPlyHead = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                             "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+const std::string kPlyHead =
+    "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+    "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
 
 std::string ply_binary_lying_count() {
     return "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\n"
-           "property float y\nproperty float z\nend_header\n" + std::string(24, '\0');
+           "property float y\nproperty float z\nend_header\n" +
+           std::string(24, '\0');
 }
 
 std::string ply_binary_long_face_list() {
-    std::string s = "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                    "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    std::string s =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float "
+        "y\n"
+        "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
     s += std::string(36, '\0');
     s.push_back(static_cast<char>(255));  // 255 indices claimed, 4 bytes follow
     s += std::string(4, '\0');
@@ -56,8 +60,10 @@ std::string ply_binary_long_face_list() {
 }
 
 std::string ply_binary_nan() {
-    std::string s = "ply\nformat binary_big_endian 1.0\nelement vertex 1\nproperty double x\nproperty double y\n"
-                    "property double z\nend_header\n";
+    std::string s =
+        "ply\nformat binary_big_endian 1.0\nelement vertex 1\nproperty double x\nproperty double "
+        "y\n"
+        "property double z\nend_header\n";
     const unsigned char nan_be[8] = {0x7F, 0xF8, 0, 0, 0, 0, 0, 0};
     s += std::string(16, '\0');
     s.append(reinterpret_cast<const char*>(nan_be), 8);
@@ -66,56 +72,97 @@ std::string ply_binary_nan() {
 
 const Bad kBad[] = {
     {"StlEmpty", Format::kStl, "", MeshErrorKind::kEmpty, 0, "empty"},
-    {"StlTooShortForAHeader", Format::kStl, std::string(50, 'x'), MeshErrorKind::kTruncated, 0, "84-byte"},
-    {"StlBinaryTruncated", Format::kStl, binary_stl(1000, 1), MeshErrorKind::kTruncated, 0, "1000 triangles"},
-    {"StlBinaryTrailingBytes", Format::kStl, binary_stl(1, 2), MeshErrorKind::kBadCount, 0, "claims 1 triangles"},
-    {"StlBinaryNoTriangles", Format::kStl, binary_stl(0, 0), MeshErrorKind::kEmpty, 0, "0 triangles"},
-    {"StlBinaryNaNVertex", Format::kStl, binary_stl_with_nan(), MeshErrorKind::kNonFinite, 0, "triangle 0"},
-    {"StlAsciiEndsInsideFacet", Format::kStl, kAsciiFacet + "vertex 1 0 0\n", MeshErrorKind::kTruncated, 6, "inside a facet"},
-    {"StlAsciiNaN", Format::kStl, kAsciiFacet + "vertex nan 0 0\n", MeshErrorKind::kNonFinite, 5, "'nan'"},
-    {"StlAsciiOverflow", Format::kStl, kAsciiFacet + "vertex 1e999 0 0\n", MeshErrorKind::kNonFinite, 5, "1e999"},
-    {"StlAsciiNotANumber", Format::kStl, kAsciiFacet + "vertex 1 zero 0\n", MeshErrorKind::kSyntax, 5, "'zero'"},
-    {"StlAsciiQuad", Format::kStl, kAsciiFacet + "vertex 1 0 0\nvertex 1 1 0\nvertex 0 1 0\nendloop\n",
+    {"StlTooShortForAHeader", Format::kStl, std::string(50, 'x'), MeshErrorKind::kTruncated, 0,
+     "84-byte"},
+    {"StlBinaryTruncated", Format::kStl, binary_stl(1000, 1), MeshErrorKind::kTruncated, 0,
+     "1000 triangles"},
+    {"StlBinaryTrailingBytes", Format::kStl, binary_stl(1, 2), MeshErrorKind::kBadCount, 0,
+     "claims 1 triangles"},
+    {"StlBinaryNoTriangles", Format::kStl, binary_stl(0, 0), MeshErrorKind::kEmpty, 0,
+     "0 triangles"},
+    {"StlBinaryNaNVertex", Format::kStl, binary_stl_with_nan(), MeshErrorKind::kNonFinite, 0,
+     "triangle 0"},
+    {"StlAsciiEndsInsideFacet", Format::kStl, kAsciiFacet + "vertex 1 0 0\n",
+     MeshErrorKind::kTruncated, 6, "inside a facet"},
+    {"StlAsciiNaN", Format::kStl, kAsciiFacet + "vertex nan 0 0\n", MeshErrorKind::kNonFinite, 5,
+     "'nan'"},
+    {"StlAsciiOverflow", Format::kStl, kAsciiFacet + "vertex 1e999 0 0\n",
+     MeshErrorKind::kNonFinite, 5, "1e999"},
+    {"StlAsciiNotANumber", Format::kStl, kAsciiFacet + "vertex 1 zero 0\n", MeshErrorKind::kSyntax,
+     5, "'zero'"},
+    {"StlAsciiQuad", Format::kStl,
+     kAsciiFacet + "vertex 1 0 0\nvertex 1 1 0\nvertex 0 1 0\nendloop\n",
      MeshErrorKind::kUnsupported, 7, "more than 3"},
-    {"StlAsciiTwoVertices", Format::kStl, kAsciiFacet + "vertex 1 0 0\nendloop\n", MeshErrorKind::kSyntax, 6, "2 vertices"},
-    {"StlAsciiBadKeyword", Format::kStl, "solid t\nfacett normal 0 0 1\n", MeshErrorKind::kSyntax, 2, "'facett'"},
-    {"StlAsciiNoFacets", Format::kStl, "solid t\nendsolid t\n", MeshErrorKind::kEmpty, 0, "without facets"},
-    {"ObjIndexPastTheEnd", Format::kObj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 5\n", MeshErrorKind::kIndexOutOfRange, 4, "vertex 5"},
-    {"ObjIndexZero", Format::kObj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", MeshErrorKind::kIndexOutOfRange, 4, "'0'"},
-    {"ObjRelativeIndexTooFarBack", Format::kObj, "v 0 0 0\nv 1 0 0\nf -1 -2 -3\n", MeshErrorKind::kIndexOutOfRange, 3, "'-3'"},
-    {"ObjFaceWithTwoVertices", Format::kObj, "v 0 0 0\nv 1 0 0\nf 1 2\n", MeshErrorKind::kSyntax, 3, "2 vertices"},
-    {"ObjVertexWithTwoCoordinates", Format::kObj, "v 0 0\n", MeshErrorKind::kSyntax, 1, "3 coordinates"},
+    {"StlAsciiTwoVertices", Format::kStl, kAsciiFacet + "vertex 1 0 0\nendloop\n",
+     MeshErrorKind::kSyntax, 6, "2 vertices"},
+    {"StlAsciiBadKeyword", Format::kStl, "solid t\nfacett normal 0 0 1\n", MeshErrorKind::kSyntax,
+     2, "'facett'"},
+    {"StlAsciiNoFacets", Format::kStl, "solid t\nendsolid t\n", MeshErrorKind::kEmpty, 0,
+     "without facets"},
+    {"ObjIndexPastTheEnd", Format::kObj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 5\n",
+     MeshErrorKind::kIndexOutOfRange, 4, "vertex 5"},
+    {"ObjIndexZero", Format::kObj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n",
+     MeshErrorKind::kIndexOutOfRange, 4, "'0'"},
+    {"ObjRelativeIndexTooFarBack", Format::kObj, "v 0 0 0\nv 1 0 0\nf -1 -2 -3\n",
+     MeshErrorKind::kIndexOutOfRange, 3, "'-3'"},
+    {"ObjFaceWithTwoVertices", Format::kObj, "v 0 0 0\nv 1 0 0\nf 1 2\n", MeshErrorKind::kSyntax, 3,
+     "2 vertices"},
+    {"ObjVertexWithTwoCoordinates", Format::kObj, "v 0 0\n", MeshErrorKind::kSyntax, 1,
+     "3 coordinates"},
     {"ObjInfiniteCoordinate", Format::kObj, "v 0 inf 0\n", MeshErrorKind::kNonFinite, 1, "'inf'"},
     {"ObjBadReference", Format::kObj, "v 0 0 0\nf 1 x/2 1\n", MeshErrorKind::kSyntax, 2, "'x/2'"},
-    {"ObjUnknownStatement", Format::kObj, "# ok\nv 0 0 0\nbogus 1 2\n", MeshErrorKind::kSyntax, 3, "'bogus'"},
-    {"ObjBinaryGarbage", Format::kObj, std::string("\x7f\x45\x4c\x46\x02\x01", 6), MeshErrorKind::kSyntax, 1, "unknown statement"},
+    {"ObjUnknownStatement", Format::kObj, "# ok\nv 0 0 0\nbogus 1 2\n", MeshErrorKind::kSyntax, 3,
+     "'bogus'"},
+    {"ObjBinaryGarbage", Format::kObj, std::string("\x7f\x45\x4c\x46\x02\x01", 6),
+     MeshErrorKind::kSyntax, 1, "unknown statement"},
     {"ObjNoFaces", Format::kObj, "v 0 0 0\n", MeshErrorKind::kEmpty, 0, "without faces"},
     {"PlyNoMagic", Format::kPly, "plx\n", MeshErrorKind::kSyntax, 1, "'ply'"},
-    {"PlyHeaderNeverEnds", Format::kPly, "ply\nformat ascii 1.0\nelement vertex 3\n", MeshErrorKind::kTruncated, 0, "header"},
-    {"PlyUnknownEncoding", Format::kPly, "ply\nformat binary_middle_endian 1.0\nend_header\n", MeshErrorKind::kSyntax, 2, "binary_middle_endian"},
-    {"PlyVersionTwo", Format::kPly, "ply\nformat ascii 2.0\nend_header\n", MeshErrorKind::kUnsupported, 2, "2.0"},
-    {"PlyUnknownType", Format::kPly, "ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n", MeshErrorKind::kSyntax, 4, "'quad'"},
-    {"PlyFloatListCount", Format::kPly, "ply\nformat ascii 1.0\nelement face 1\nproperty list float int vertex_indices\nend_header\n",
+    {"PlyHeaderNeverEnds", Format::kPly, "ply\nformat ascii 1.0\nelement vertex 3\n",
+     MeshErrorKind::kTruncated, 0, "header"},
+    {"PlyUnknownEncoding", Format::kPly, "ply\nformat binary_middle_endian 1.0\nend_header\n",
+     MeshErrorKind::kSyntax, 2, "binary_middle_endian"},
+    {"PlyVersionTwo", Format::kPly, "ply\nformat ascii 2.0\nend_header\n",
+     MeshErrorKind::kUnsupported, 2, "2.0"},
+    {"PlyUnknownType", Format::kPly,
+     "ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n",
+     MeshErrorKind::kSyntax, 4, "'quad'"},
+    {"PlyFloatListCount", Format::kPly,
+     "ply\nformat ascii 1.0\nelement face 1\nproperty list float int vertex_indices\nend_header\n",
      MeshErrorKind::kSyntax, 4, "list count type"},
-    {"PlyNegativeCount", Format::kPly, "ply\nformat ascii 1.0\nelement vertex -3\nend_header\n", MeshErrorKind::kBadCount, 3, "'-3'"},
-    {"PlyLyingVertexCount", Format::kPly, ply_binary_lying_count(), MeshErrorKind::kBadCount, 3, "4000000000 items"},
-    {"PlyFaceListRunsPastEnd", Format::kPly, ply_binary_long_face_list(), MeshErrorKind::kTruncated, 0, "255 entries"},
+    {"PlyNegativeCount", Format::kPly, "ply\nformat ascii 1.0\nelement vertex -3\nend_header\n",
+     MeshErrorKind::kBadCount, 3, "'-3'"},
+    {"PlyLyingVertexCount", Format::kPly, ply_binary_lying_count(), MeshErrorKind::kBadCount, 3,
+     "4000000000 items"},
+    {"PlyFaceListRunsPastEnd", Format::kPly, ply_binary_long_face_list(), MeshErrorKind::kTruncated,
+     0, "255 entries"},
     {"PlyBinaryNaN", Format::kPly, ply_binary_nan(), MeshErrorKind::kNonFinite, 0, "vertex 0"},
-    {"PlyMissingZ", Format::kPly, "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 0\n",
+    {"PlyMissingZ", Format::kPly,
+     "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 "
+     "0\n",
      MeshErrorKind::kSyntax, 3, "x, y or z"},
-    {"PlyIndexOutOfRange", Format::kPly, kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n", MeshErrorKind::kIndexOutOfRange, 0, "vertex 3"},
-    {"PlyNegativeIndex", Format::kPly, kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n", MeshErrorKind::kIndexOutOfRange, 13, "-1"},
-    {"PlyFractionalIndex", Format::kPly, kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 1.5 2\n", MeshErrorKind::kSyntax, 13, "'1.5'"},
-    {"PlyAsciiTruncated", Format::kPly, kPlyHead + "0 0 0\n1 0 0\n", MeshErrorKind::kBadCount, 3, "element 'vertex'"},
-    {"PlyAsciiEndsInFace", Format::kPly, kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 1", MeshErrorKind::kTruncated, 13, "3 entries"},
+    {"PlyIndexOutOfRange", Format::kPly, kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n",
+     MeshErrorKind::kIndexOutOfRange, 0, "vertex 3"},
+    {"PlyNegativeIndex", Format::kPly, kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n",
+     MeshErrorKind::kIndexOutOfRange, 13, "-1"},
+    {"PlyFractionalIndex", Format::kPly, kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 1.5 2\n",
+     MeshErrorKind::kSyntax, 13, "'1.5'"},
+    {"PlyAsciiTruncated", Format::kPly, kPlyHead + "0 0 0\n1 0 0\n", MeshErrorKind::kBadCount, 3,
+     "element 'vertex'"},
+    {"PlyAsciiEndsInFace", Format::kPly, kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 1",
+     MeshErrorKind::kTruncated, 13, "3 entries"},
     {"OffBadMagic", Format::kOff, "PFF\n3 1 0\n", MeshErrorKind::kSyntax, 1, "'PFF'"},
     {"OffBinary", Format::kOff, "OFF BINARY\n", MeshErrorKind::kUnsupported, 1, "binary"},
-    {"OffLyingCounts", Format::kOff, "OFF\n99999999 99999999 0\n0 0 0\n", MeshErrorKind::kBadCount, 2, "cannot fit"},
-    {"OffTruncatedVertices", Format::kOff, "OFF\n3 1 0\n0 0 0\n1 0 0\n# padding padding padding padding\n",
-     MeshErrorKind::kTruncated, 0, "2 of 3 vertices"},
-    {"OffIndexOutOfRange", Format::kOff, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", MeshErrorKind::kIndexOutOfRange, 6, "index 7"},
-    {"OffFaceWithTwoVertices", Format::kOff, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n", MeshErrorKind::kSyntax, 6, "2 vertices"},
-    {"OffNaN", Format::kOff, "OFF\n3 1 0\n0 0 0\n1 NaN 0\n0 1 0\n3 0 1 2\n", MeshErrorKind::kNonFinite, 4, "'NaN'"},
+    {"OffLyingCounts", Format::kOff, "OFF\n99999999 99999999 0\n0 0 0\n", MeshErrorKind::kBadCount,
+     2, "cannot fit"},
+    {"OffTruncatedVertices", Format::kOff,
+     "OFF\n3 1 0\n0 0 0\n1 0 0\n# padding padding padding padding\n", MeshErrorKind::kTruncated, 0,
+     "2 of 3 vertices"},
+    {"OffIndexOutOfRange", Format::kOff, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n",
+     MeshErrorKind::kIndexOutOfRange, 6, "index 7"},
+    {"OffFaceWithTwoVertices", Format::kOff, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n",
+     MeshErrorKind::kSyntax, 6, "2 vertices"},
+    {"OffNaN", Format::kOff, "OFF\n3 1 0\n0 0 0\n1 NaN 0\n0 1 0\n3 0 1 2\n",
+     MeshErrorKind::kNonFinite, 4, "'NaN'"},
 };
 
 class MalformedInput : public ::testing::TestWithParam<Bad> {};
@@ -134,17 +181,21 @@ TEST_P(MalformedInput, GivesTheExpectedErrorNamingWhereAndWhat) {
     EXPECT_EQ(e.to_string().rfind("bad.mesh", 0), 0u) << e.to_string();
 }
 
-std::string bad_name(const ::testing::TestParamInfo<Bad>& param_info) { return param_info.param.name; }
+std::string bad_name(const ::testing::TestParamInfo<Bad>& param_info) {
+    return param_info.param.name;
+}
 
 INSTANTIATE_TEST_SUITE_P(EveryKind, MalformedInput, ::testing::ValuesIn(kBad), bad_name);
 
 TEST(MalformedInputTruncation, EveryPrefixOfEveryFormatFailsCleanlyOrParses) {
     const TriMesh box = make_box({0, 0, 0}, {1, 2, 3});
     for (Format f : {Format::kStl, Format::kObj, Format::kPly, Format::kOff}) {
-        for (Encoding enc : {Encoding::kAscii, Encoding::kBinaryLittleEndian, Encoding::kBinaryBigEndian}) {
+        for (Encoding enc :
+             {Encoding::kAscii, Encoding::kBinaryLittleEndian, Encoding::kBinaryBigEndian}) {
             const std::string full = serialize_mesh(box, f, Units::kMetres, enc);
             for (std::size_t n = 0; n < full.size(); ++n) {
-                auto r = parse_indexed(as_bytes(std::string_view(full).substr(0, n)), f, Units::kMetres);
+                auto r =
+                    parse_indexed(as_bytes(std::string_view(full).substr(0, n)), f, Units::kMetres);
                 if (r) {
                     EXPECT_LE(r->triangles.size(), 12u);  // text cut at a line end may parse
                 }
@@ -156,10 +207,13 @@ TEST(MalformedInputTruncation, EveryPrefixOfEveryFormatFailsCleanlyOrParses) {
 TEST(MalformedInputCorruption, RandomByteFlipsFailCleanlyOrKeepEveryTriangle) {
     const TriMesh tube = make_hollow_tube(0.03, 0.006, 0.003, 8, 2);
     std::uint64_t state = 12345;  // deterministic LCG
-    auto next = [&] { return (state = state * 6364136223846793005ull + 1442695040888963407ull) >> 33; };
+    auto next = [&] {
+        return (state = state * 6364136223846793005ull + 1442695040888963407ull) >> 33;
+    };
     const char kInteresting[] = {'0', '9', '-', '.', 'e', ' ', '\n', '/', '\0', '\xff', 'n', '#'};
     for (Format f : {Format::kStl, Format::kObj, Format::kPly, Format::kOff}) {
-        for (Encoding enc : {Encoding::kAscii, Encoding::kBinaryLittleEndian, Encoding::kBinaryBigEndian}) {
+        for (Encoding enc :
+             {Encoding::kAscii, Encoding::kBinaryLittleEndian, Encoding::kBinaryBigEndian}) {
             const std::string clean = serialize_mesh(tube, f, Units::kMillimetres, enc);
             for (int trial = 0; trial < 300; ++trial) {
                 std::string bytes = clean;

@@ -1,12 +1,13 @@
 // Loaders and writers: round trips through every format and encoding, unit conversion,
 // welding, STL binary/ASCII detection, and what becomes of non-manifold input.
+#include "display/mesh/mesh_io.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 
-#include "display/mesh/mesh_io.hpp"
 #include "display/mesh/shapes.hpp"
 #include "display/mesh/validate.hpp"
 #include "tests/mesh/mesh_test_support.hpp"
@@ -47,15 +48,14 @@ TEST_P(RoundTrip, TorusSurvivesWithSameTopologyVolumeAndPositions) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    EveryFormat, RoundTrip,
-    ::testing::Values(Case{Format::kStl, Encoding::kBinaryLittleEndian, false},
-                      Case{Format::kStl, Encoding::kAscii, false},
-                      Case{Format::kObj, Encoding::kAscii, true},
-                      Case{Format::kPly, Encoding::kAscii, true},
-                      Case{Format::kPly, Encoding::kBinaryLittleEndian, true},
-                      Case{Format::kPly, Encoding::kBinaryBigEndian, true},
-                      Case{Format::kOff, Encoding::kAscii, true}));
+INSTANTIATE_TEST_SUITE_P(EveryFormat, RoundTrip,
+                         ::testing::Values(Case{Format::kStl, Encoding::kBinaryLittleEndian, false},
+                                           Case{Format::kStl, Encoding::kAscii, false},
+                                           Case{Format::kObj, Encoding::kAscii, true},
+                                           Case{Format::kPly, Encoding::kAscii, true},
+                                           Case{Format::kPly, Encoding::kBinaryLittleEndian, true},
+                                           Case{Format::kPly, Encoding::kBinaryBigEndian, true},
+                                           Case{Format::kOff, Encoding::kAscii, true}));
 
 TEST(MeshIo, PlyCarriesVertexMaterialsThroughARoundTrip) {
     const TriMesh tube = make_hollow_tube(0.04, 0.006, 0.003, 16, 4);
@@ -71,10 +71,9 @@ TEST(MeshIo, PlyCarriesVertexMaterialsThroughARoundTrip) {
 
 TEST(MeshIo, UnitsScaleEveryCoordinateToMetres) {
     const std::string obj = "v 0 0 0\nv 10 0 0\nv 0 20 0\nf 1 2 3\n";
-    for (const auto& [units, metres] : {std::pair{Units::kMillimetres, 0.01},
-                                        std::pair{Units::kCentimetres, 0.1},
-                                        std::pair{Units::kInches, 0.254},
-                                        std::pair{Units::kMetres, 10.0}}) {
+    for (const auto& [units, metres] :
+         {std::pair{Units::kMillimetres, 0.01}, std::pair{Units::kCentimetres, 0.1},
+          std::pair{Units::kInches, 0.254}, std::pair{Units::kMetres, 10.0}}) {
         auto m = parse_indexed(as_bytes(obj), Format::kObj, units);
         ASSERT_TRUE(m) << m.error().to_string();
         EXPECT_DOUBLE_EQ(m->positions_m[1][0], metres) << to_string(units);
@@ -101,8 +100,9 @@ TEST(MeshIo, StoredStlNormalsAreIgnoredEvenWhenGarbage) {
 }
 
 TEST(MeshIo, VerticesWeldOnlyWhenBitIdenticalWithNegativeZeroAsZero) {
-    const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv -0 0 0\nv 1.0000001 0 0\nv 0 1 0\n"
-                            "f 1 2 3\nf 4 5 6\n";
+    const std::string obj =
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv -0 0 0\nv 1.0000001 0 0\nv 0 1 0\n"
+        "f 1 2 3\nf 4 5 6\n";
     auto m = parse_indexed(as_bytes(obj), Format::kObj, Units::kMetres);
     ASSERT_TRUE(m) << m.error().to_string();
     EXPECT_EQ(m->positions_m.size(), 4u);  // v4 = v1, v6 = v3, v5 is new
@@ -119,8 +119,9 @@ TEST(MeshIo, PolygonsBecomeTriangleFans) {
 
 TEST(MeshIo, NonManifoldEdgeIsKeptDetachedAndCountedNotDropped) {
     // Three triangles on one edge (a "book" of three pages).
-    const std::string obj = "v 0 0 0\nv 0 0 1\nv 1 0 0\nv 0 1 0\nv -1 0 0\n"
-                            "f 1 2 3\nf 2 1 4\nf 1 2 5\n";
+    const std::string obj =
+        "v 0 0 0\nv 0 0 1\nv 1 0 0\nv 0 1 0\nv -1 0 0\n"
+        "f 1 2 3\nf 2 1 4\nf 1 2 5\n";
     auto m = parse_mesh(as_bytes(obj), Format::kObj, Units::kMetres);
     ASSERT_TRUE(m) << m.error().to_string();
     EXPECT_EQ(m->mesh.n_faces(), 3u);
@@ -142,7 +143,8 @@ TEST(MeshIo, RepeatedIndexTriangleIsDegenerateAndDetached) {
 }
 
 TEST(MeshIo, SaveAndLoadThroughTheFileSystem) {
-    const auto dir = std::filesystem::temp_directory_path() / ("kerf_mesh_io_" + std::to_string(::getpid()));
+    const auto dir =
+        std::filesystem::temp_directory_path() / ("kerf_mesh_io_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
     const TriMesh sphere = make_uv_sphere(0.01, 800);
     for (const char* name : {"s.stl", "s.obj", "s.ply", "s.off", "S.STL"}) {
@@ -166,7 +168,8 @@ TEST(MeshIo, FileErrorsNameThePathAndTheReason) {
     auto unknown = load_mesh("bone.vtk", Units::kMillimetres);
     ASSERT_FALSE(unknown);
     EXPECT_EQ(unknown.error().kind, MeshErrorKind::kUnknownFormat);
-    auto unwritable = save_mesh(make_box({0, 0, 0}, {1, 1, 1}), "/nonexistent/dir/x.stl", Units::kMetres);
+    auto unwritable =
+        save_mesh(make_box({0, 0, 0}, {1, 1, 1}), "/nonexistent/dir/x.stl", Units::kMetres);
     ASSERT_FALSE(unwritable);
     EXPECT_EQ(unwritable.error().kind, MeshErrorKind::kIo);
     EXPECT_NE(unwritable.error().to_string().find("/nonexistent/dir/x.stl"), std::string::npos);
@@ -184,7 +187,8 @@ TEST(MeshIo, EveryFuzzSeedIsAValidClosedTetrahedronOrQuad) {
     std::size_t seen = 0;
     for (const auto& entry : std::filesystem::directory_iterator(dir)) {
         std::ifstream in(entry.path(), std::ios::binary);
-        const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        const std::string bytes((std::istreambuf_iterator<char>(in)),
+                                std::istreambuf_iterator<char>());
         ASSERT_FALSE(bytes.empty());
         const Format f = kFormats[static_cast<unsigned char>(bytes[0]) % 4];
         auto m = parse_indexed(as_bytes(std::string_view(bytes).substr(1)), f, Units::kMillimetres,

@@ -75,7 +75,8 @@ TEST(RealMeshes, OpenFileNamesItsThreeBoundaryEdgesWhereTheReadmeSaysTheHoleIs) 
     ASSERT_TRUE(loaded) << loaded.error().to_string();
     const ValidationReport r = validate(loaded->indexed);
     ASSERT_EQ(r.boundary_samples_m.size(), 3u);
-    const Point hole[3] = {{0.0627, 0.0333, 0.0089}, {0.0631, 0.0361, 0.0023}, {0.0644, 0.0339, -0.0016}};
+    const Point hole[3] = {
+        {0.0627, 0.0333, 0.0089}, {0.0631, 0.0361, 0.0023}, {0.0644, 0.0339, -0.0016}};
     for (const auto& edge : r.boundary_samples_m) {
         for (const Point& end : edge) {
             double nearest = 1.0;

@@ -1,9 +1,10 @@
+#include "display/mesh/shapes.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "display/mesh/shapes.hpp"
 #include "display/mesh/validate.hpp"
 
 namespace kerf::mesh {

@@ -29,7 +29,8 @@ struct DemoScene {
 };
 
 double ms_since(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+        .count();
 }
 
 std::string mm(const mesh::Point& p) {
@@ -47,9 +48,8 @@ Result<DemoScene, std::string> build_scene(const DemoOptions& o) {
 
 void print_first_metatarsal(const mesh::BoneInfo& m1) {
     std::cout << "first metatarsal:      axis " << mm(m1.base_m) << " to " << mm(m1.head_m)
-              << ", length " << m1.length_m * 1e3 << " mm, shaft radius "
-              << m1.shaft_radius_m * 1e3 << " mm, canal radius " << m1.canal_radius_m * 1e3
-              << " mm\n";
+              << ", length " << m1.length_m * 1e3 << " mm, shaft radius " << m1.shaft_radius_m * 1e3
+              << " mm, canal radius " << m1.canal_radius_m * 1e3 << " mm\n";
 }
 
 void report_scene(const DemoScene& scene, const DemoOptions& o) {
@@ -58,7 +58,8 @@ void report_scene(const DemoScene& scene, const DemoOptions& o) {
     const double validate_ms = ms_since(start);
     if (o.json) {
         std::cout << "{\"scene\": \"builtin_foot\", \"seed\": " << o.seed
-                  << ", \"generate_ms\": " << scene.generate_ms << ", \"validate_ms\": " << validate_ms
+                  << ", \"generate_ms\": " << scene.generate_ms
+                  << ", \"validate_ms\": " << validate_ms
                   << ", \"report\": " << mesh::format_report_json(report) << "}\n";
         return;
     }
@@ -85,7 +86,8 @@ void add_demo_command(CLI::App& app) {
     auto opts = std::make_shared<DemoOptions>();
     CLI::App* demo = app.add_subcommand(
         "demo", "The main job: build the built-in forefoot and print its validation report");
-    demo->add_option("--triangles", opts->triangles, "approximate triangle count (10000 .. 4000000)")
+    demo->add_option("--triangles", opts->triangles,
+                     "approximate triangle count (10000 .. 4000000)")
         ->capture_default_str();
     demo->add_option("--seed", opts->seed, "generator seed")->capture_default_str();
     demo->add_flag("--json", opts->json, "print one JSON object instead of text");

@@ -54,7 +54,8 @@ std::string json_string(std::string_view s) {
 
 const CLI::Validator kUnitsValidator(
     [](std::string& value) {
-        return mesh::parse_units(value) ? std::string{} : "'" + value + "' is not one of mm, m, cm, in, um";
+        return mesh::parse_units(value) ? std::string{}
+                                        : "'" + value + "' is not one of mm, m, cm, in, um";
     },
     "UNIT", "units");
 
@@ -98,10 +99,13 @@ void add_mesh_commands(CLI::App& app) {
     mesh_cmd->require_subcommand(1);
     auto info_opts = std::make_shared<MeshInfoOptions>();
     CLI::App* info = mesh_cmd->add_subcommand(
-        "info", "Validation report of a mesh file (.stl .obj .ply .off): counts, closedness, "
-                "manifoldness, orientation, shells, bounding box, area, volume");
+        "info",
+        "Validation report of a mesh file (.stl .obj .ply .off): counts, closedness, "
+        "manifoldness, orientation, shells, bounding box, area, volume");
     info->add_option("FILE", info_opts->file, "mesh file")->required();
-    info->add_option("--units", info_opts->units, kUnitsHelp)->check(kUnitsValidator)->capture_default_str();
+    info->add_option("--units", info_opts->units, kUnitsHelp)
+        ->check(kUnitsValidator)
+        ->capture_default_str();
     info->add_flag("--json", info_opts->json, "print one JSON object (SI units) instead of text");
     info->callback([info_opts] { run_mesh_info(*info_opts); });
 
@@ -109,13 +113,17 @@ void add_mesh_commands(CLI::App& app) {
     gen->require_subcommand(1);
     auto foot_opts = std::make_shared<GenFootOptions>();
     CLI::App* foot = gen->add_subcommand(
-        "foot", "Write the built-in synthetic forefoot (19 bones, cortical shell + medullary canal)");
-    foot->add_option("--triangles", foot_opts->triangles, "approximate triangle count (10000 .. 4000000)")
+        "foot",
+        "Write the built-in synthetic forefoot (19 bones, cortical shell + medullary canal)");
+    foot->add_option("--triangles", foot_opts->triangles,
+                     "approximate triangle count (10000 .. 4000000)")
         ->capture_default_str();
     foot->add_option("--seed", foot_opts->seed, "seed of the small per-bone shape variation")
         ->capture_default_str();
-    foot->add_option("-o,--output", foot_opts->output, "output file (.stl .obj .ply .off)")->required();
-    foot->add_option("--units", foot_opts->units, "length unit to write: mm (default), m, cm, in, um")
+    foot->add_option("-o,--output", foot_opts->output, "output file (.stl .obj .ply .off)")
+        ->required();
+    foot->add_option("--units", foot_opts->units,
+                     "length unit to write: mm (default), m, cm, in, um")
         ->check(kUnitsValidator)
         ->capture_default_str();
     foot->callback([foot_opts] { run_gen_foot(*foot_opts); });

@@ -11,10 +11,11 @@ namespace {
 
 // Statements that are legal OBJ but carry nothing Kerf uses.
 constexpr std::string_view kIgnored[] = {
-    "vt", "vn", "vp", "l", "p", "g", "o", "s", "mg", "usemtl", "mtllib", "cstype",
-    "deg", "bmat", "step", "curv", "curv2", "surf", "parm", "trim", "hole", "scrv",
-    "sp", "end", "con", "bevel", "c_interp", "d_interp", "lod", "shadow_obj", "trace_obj",
-    "ctech", "stech", "maplib", "usemap", "call"};
+    "vt",    "vn",     "vp",       "l",        "p",    "g",          "o",         "s",
+    "mg",    "usemtl", "mtllib",   "cstype",   "deg",  "bmat",       "step",      "curv",
+    "curv2", "surf",   "parm",     "trim",     "hole", "scrv",       "sp",        "end",
+    "con",   "bevel",  "c_interp", "d_interp", "lod",  "shadow_obj", "trace_obj", "ctech",
+    "stech", "maplib", "usemap",   "call"};
 
 bool ignored(std::string_view keyword) {
     for (std::string_view k : kIgnored) {
@@ -60,7 +61,8 @@ std::optional<MeshError> ObjParser::vertex() {
     s_.rest_of_line();  // optional w or r g b
     const auto p = to_metres(c[0], c[1], c[2], ctx_.metres_per_unit);
     if (!p) return fail(MeshErrorKind::kNonFinite, "coordinate overflows after unit scaling");
-    if (raw_.size() >= 0xFFFFFFFEu) return fail(MeshErrorKind::kTooLarge, "more than 2^32 - 2 vertices");
+    if (raw_.size() >= 0xFFFFFFFEu)
+        return fail(MeshErrorKind::kTooLarge, "more than 2^32 - 2 vertices");
     raw_.push_back(*p);
     return std::nullopt;
 }
@@ -75,7 +77,8 @@ std::optional<MeshError> ObjParser::face() {
         if (index < 0) index += static_cast<long long>(raw_.size()) + 1;  // relative
         if (*ref == 0 || index <= 0 || index > 0xFFFFFFFFll) {
             return fail(MeshErrorKind::kIndexOutOfRange, "vertex reference " + quote(t) + " with " +
-                                                           std::to_string(raw_.size()) + " vertices defined");
+                                                             std::to_string(raw_.size()) +
+                                                             " vertices defined");
         }
         const auto v = static_cast<std::uint32_t>(index - 1);
         if (n < 2) {
@@ -112,18 +115,21 @@ Result<IndexedMesh, MeshError> ObjParser::parse() {
         for (std::uint32_t v : triangles_[i]) {
             if (v >= raw_.size()) {
                 return Err{ctx_.error(MeshErrorKind::kIndexOutOfRange, face_lines_[i], 0,
-                                      "face refers to vertex " + std::to_string(v + 1) + " but only " +
-                                          std::to_string(raw_.size()) + " vertices are defined")};
+                                      "face refers to vertex " + std::to_string(v + 1) +
+                                          " but only " + std::to_string(raw_.size()) +
+                                          " vertices are defined")};
             }
         }
     }
-    if (triangles_.empty()) return Err{ctx_.error(MeshErrorKind::kEmpty, 0, 0, "OBJ without faces")};
+    if (triangles_.empty())
+        return Err{ctx_.error(MeshErrorKind::kEmpty, 0, 0, "OBJ without faces")};
     return weld_indexed(raw_, std::move(triangles_));
 }
 
 }  // namespace
 
-Result<IndexedMesh, MeshError> parse_obj(std::span<const std::byte> bytes, const ParseContext& ctx) {
+Result<IndexedMesh, MeshError> parse_obj(std::span<const std::byte> bytes,
+                                         const ParseContext& ctx) {
     return ObjParser(as_text(bytes), ctx).parse();
 }
 
@@ -131,7 +137,8 @@ std::string write_obj(const IndexedMesh& m, double metres_per_unit) {
     std::string out = "# kerf\n";
     for (const Point& p : m.positions_m) {
         const Point q = p / metres_per_unit;
-        out += "v " + exact_number(q[0]) + " " + exact_number(q[1]) + " " + exact_number(q[2]) + "\n";
+        out +=
+            "v " + exact_number(q[0]) + " " + exact_number(q[1]) + " " + exact_number(q[2]) + "\n";
     }
     for (const Triangle& t : m.triangles) {
         out += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " +
@@ -155,7 +162,8 @@ IndexedMesh weld_indexed(const std::vector<Point>& raw, std::vector<Triangle> tr
     for (std::size_t i = 0; i < raw.size(); ++i) {
         const std::size_t before = out.positions_m.size();
         remap[i] = welder.weld(raw[i], out);
-        if (with_materials && out.positions_m.size() > before) out.materials.push_back(raw_materials[i]);
+        if (with_materials && out.positions_m.size() > before)
+            out.materials.push_back(raw_materials[i]);
     }
     for (Triangle& t : triangles) {
         for (std::uint32_t& v : t) v = remap[v];

@@ -53,9 +53,13 @@ std::string_view OffParser::token() {
 
 std::optional<MeshError> OffParser::integer(long long& v, std::string_view what) {
     const std::string_view t = token();
-    if (t.empty()) return fail(MeshErrorKind::kTruncated, "file ends where " + std::string(what) + " was expected");
+    if (t.empty())
+        return fail(MeshErrorKind::kTruncated,
+                    "file ends where " + std::string(what) + " was expected");
     const auto n = parse_integer(t);
-    if (!n) return fail(MeshErrorKind::kSyntax, "expected " + std::string(what) + ", found " + quote(t));
+    if (!n)
+        return fail(MeshErrorKind::kSyntax,
+                    "expected " + std::string(what) + ", found " + quote(t));
     v = *n;
     return std::nullopt;
 }
@@ -73,7 +77,8 @@ std::optional<MeshError> OffParser::counts() {
     const std::string_view first = token();
     if (first == "BINARY") return fail(MeshErrorKind::kUnsupported, "binary OFF");
     const auto nv = parse_integer(first);
-    if (!nv) return fail(MeshErrorKind::kSyntax, "expected the vertex count, found " + quote(first));
+    if (!nv)
+        return fail(MeshErrorKind::kSyntax, "expected the vertex count, found " + quote(first));
     vertex_count_ = *nv;
     if (auto e = integer(face_count_, "the face count")) return e;
     if (auto e = integer(edges, "the edge count")) return e;
@@ -81,9 +86,9 @@ std::optional<MeshError> OffParser::counts() {
     const auto left = static_cast<long long>(s_.remaining());
     if (vertex_count_ < 0 || face_count_ < 0 || vertex_count_ > left / 6 ||
         face_count_ > left / 8 || vertex_count_ * 6 + face_count_ * 8 > left + 1) {
-        return fail(MeshErrorKind::kBadCount, std::to_string(vertex_count_) + " vertices and " +
-                                                  std::to_string(face_count_) + " faces cannot fit in the " +
-                                                  std::to_string(left) + " bytes left");
+        return fail(MeshErrorKind::kBadCount,
+                    std::to_string(vertex_count_) + " vertices and " + std::to_string(face_count_) +
+                        " faces cannot fit in the " + std::to_string(left) + " bytes left");
     }
     finish_line();
     return std::nullopt;
@@ -93,7 +98,10 @@ std::optional<MeshError> OffParser::vertex() {
     double c[3] = {0, 0, 0};
     for (double& v : c) {
         const std::string_view t = token();
-        if (t.empty()) return fail(MeshErrorKind::kTruncated, "file ends after " + std::to_string(raw_.size()) + " of " + std::to_string(vertex_count_) + " vertices");
+        if (t.empty())
+            return fail(MeshErrorKind::kTruncated, "file ends after " +
+                                                       std::to_string(raw_.size()) + " of " +
+                                                       std::to_string(vertex_count_) + " vertices");
         const auto d = parse_double(t);
         if (!d) return fail(MeshErrorKind::kSyntax, "expected a coordinate, found " + quote(t));
         if (!std::isfinite(*d)) return fail(MeshErrorKind::kNonFinite, "coordinate " + quote(t));
@@ -110,13 +118,17 @@ std::optional<MeshError> OffParser::face() {
     long long n = 0;
     if (auto e = integer(n, "a face's vertex count")) return e;
     if (n < 3) return fail(MeshErrorKind::kSyntax, "face with " + std::to_string(n) + " vertices");
-    if (n > static_cast<long long>(s_.remaining() / 2 + 1)) return fail(MeshErrorKind::kTruncated, "face of " + std::to_string(n) + " vertices runs past the end of the file");
+    if (n > static_cast<long long>(s_.remaining() / 2 + 1))
+        return fail(MeshErrorKind::kTruncated,
+                    "face of " + std::to_string(n) + " vertices runs past the end of the file");
     std::uint32_t first = 0, previous = 0;
     for (long long k = 0; k < n; ++k) {
         long long v = 0;
         if (auto e = integer(v, "a vertex index")) return e;
         if (v < 0 || v >= vertex_count_) {
-            return fail(MeshErrorKind::kIndexOutOfRange, "vertex index " + std::to_string(v) + " but the file has " + std::to_string(vertex_count_) + " vertices");
+            return fail(MeshErrorKind::kIndexOutOfRange,
+                        "vertex index " + std::to_string(v) + " but the file has " +
+                            std::to_string(vertex_count_) + " vertices");
         }
         const auto i = static_cast<std::uint32_t>(v);
         if (k == 0) first = i;
@@ -129,7 +141,8 @@ std::optional<MeshError> OffParser::face() {
 
 Result<IndexedMesh, MeshError> OffParser::parse() {
     if (auto e = counts()) return Err{*e};
-    if (vertex_count_ > 0xFFFFFFFEll) return Err{fail(MeshErrorKind::kTooLarge, "more than 2^32 - 2 vertices")};
+    if (vertex_count_ > 0xFFFFFFFEll)
+        return Err{fail(MeshErrorKind::kTooLarge, "more than 2^32 - 2 vertices")};
     raw_.reserve(static_cast<std::size_t>(vertex_count_));
     triangles_.reserve(static_cast<std::size_t>(face_count_));
     for (long long i = 0; i < vertex_count_; ++i) {
@@ -144,18 +157,21 @@ Result<IndexedMesh, MeshError> OffParser::parse() {
 
 }  // namespace
 
-Result<IndexedMesh, MeshError> parse_off(std::span<const std::byte> bytes, const ParseContext& ctx) {
+Result<IndexedMesh, MeshError> parse_off(std::span<const std::byte> bytes,
+                                         const ParseContext& ctx) {
     return OffParser(as_text(bytes), ctx).parse();
 }
 
 std::string write_off(const IndexedMesh& m, double metres_per_unit) {
-    std::string out = "OFF\n" + std::to_string(m.positions_m.size()) + " " + std::to_string(m.triangles.size()) + " 0\n";
+    std::string out = "OFF\n" + std::to_string(m.positions_m.size()) + " " +
+                      std::to_string(m.triangles.size()) + " 0\n";
     for (const Point& p : m.positions_m) {
         const Point q = p / metres_per_unit;
         out += exact_number(q[0]) + " " + exact_number(q[1]) + " " + exact_number(q[2]) + "\n";
     }
     for (const Triangle& t : m.triangles) {
-        out += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + "\n";
+        out += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " +
+               std::to_string(t[2]) + "\n";
     }
     return out;
 }

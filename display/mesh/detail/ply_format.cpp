@@ -30,11 +30,11 @@ struct PlyElement {
 
 std::optional<PlyType> parse_type(std::string_view t) {
     static constexpr std::pair<std::string_view, PlyType> kNames[] = {
-        {"char", PlyType::kI8},     {"int8", PlyType::kI8},     {"uchar", PlyType::kU8},
-        {"uint8", PlyType::kU8},    {"short", PlyType::kI16},   {"int16", PlyType::kI16},
-        {"ushort", PlyType::kU16},  {"uint16", PlyType::kU16},  {"int", PlyType::kI32},
-        {"int32", PlyType::kI32},   {"uint", PlyType::kU32},    {"uint32", PlyType::kU32},
-        {"float", PlyType::kF32},   {"float32", PlyType::kF32}, {"double", PlyType::kF64},
+        {"char", PlyType::kI8},    {"int8", PlyType::kI8},     {"uchar", PlyType::kU8},
+        {"uint8", PlyType::kU8},   {"short", PlyType::kI16},   {"int16", PlyType::kI16},
+        {"ushort", PlyType::kU16}, {"uint16", PlyType::kU16},  {"int", PlyType::kI32},
+        {"int32", PlyType::kI32},  {"uint", PlyType::kU32},    {"uint32", PlyType::kU32},
+        {"float", PlyType::kF32},  {"float32", PlyType::kF32}, {"double", PlyType::kF64},
         {"float64", PlyType::kF64}};
     for (const auto& [name, type] : kNames) {
         if (name == t) return type;
@@ -44,10 +44,18 @@ std::optional<PlyType> parse_type(std::string_view t) {
 
 std::size_t size_of(PlyType t) {
     switch (t) {
-        case PlyType::kI8: case PlyType::kU8: return 1;
-        case PlyType::kI16: case PlyType::kU16: return 2;
-        case PlyType::kI32: case PlyType::kU32: case PlyType::kF32: return 4;
-        case PlyType::kF64: return 8;
+        case PlyType::kI8:
+        case PlyType::kU8:
+            return 1;
+        case PlyType::kI16:
+        case PlyType::kU16:
+            return 2;
+        case PlyType::kI32:
+        case PlyType::kU32:
+        case PlyType::kF32:
+            return 4;
+        case PlyType::kF64:
+            return 8;
     }
     return 1;
 }
@@ -93,18 +101,24 @@ std::optional<MeshError> PlyParser::header_line(std::string_view keyword) {
     if (keyword == "format") {
         const std::string_view f = s_.next_token_on_line();
         const std::string_view version = s_.next_token_on_line();
-        if (f == "ascii") encoding_ = PlyEncoding::kAscii;
-        else if (f == "binary_little_endian") encoding_ = PlyEncoding::kLittle;
-        else if (f == "binary_big_endian") encoding_ = PlyEncoding::kBig;
-        else return fail(MeshErrorKind::kSyntax, "unknown PLY format " + quote(f));
-        if (version != "1.0") return fail(MeshErrorKind::kUnsupported, "PLY version " + quote(version));
+        if (f == "ascii")
+            encoding_ = PlyEncoding::kAscii;
+        else if (f == "binary_little_endian")
+            encoding_ = PlyEncoding::kLittle;
+        else if (f == "binary_big_endian")
+            encoding_ = PlyEncoding::kBig;
+        else
+            return fail(MeshErrorKind::kSyntax, "unknown PLY format " + quote(f));
+        if (version != "1.0")
+            return fail(MeshErrorKind::kUnsupported, "PLY version " + quote(version));
     } else if (keyword == "element") {
         PlyElement e;
         e.name = std::string(s_.next_token_on_line());
         const std::string_view count = s_.next_token_on_line();
         const auto n = parse_integer(count);
         e.line = s_.line();
-        if (e.name.empty() || !n || *n < 0) return fail(MeshErrorKind::kBadCount, "bad element count " + quote(count));
+        if (e.name.empty() || !n || *n < 0)
+            return fail(MeshErrorKind::kBadCount, "bad element count " + quote(count));
         e.count = static_cast<std::uint64_t>(*n);
         elements_.push_back(std::move(e));
     } else if (keyword == "property") {
@@ -114,7 +128,8 @@ std::optional<MeshError> PlyParser::header_line(std::string_view keyword) {
         if (t == "list") {
             p.is_list = true;
             const auto ct = parse_type(t = s_.next_token_on_line());
-            if (!ct || !is_integer(*ct)) return fail(MeshErrorKind::kSyntax, "bad list count type " + quote(t));
+            if (!ct || !is_integer(*ct))
+                return fail(MeshErrorKind::kSyntax, "bad list count type " + quote(t));
             p.count_type = *ct;
             t = s_.next_token_on_line();
         }
@@ -127,13 +142,15 @@ std::optional<MeshError> PlyParser::header_line(std::string_view keyword) {
     } else {
         return fail(MeshErrorKind::kSyntax, "unknown PLY header line " + quote(keyword));
     }
-    if (!s_.next_token_on_line().empty()) return fail(MeshErrorKind::kSyntax, "extra words on header line");
+    if (!s_.next_token_on_line().empty())
+        return fail(MeshErrorKind::kSyntax, "extra words on header line");
     s_.rest_of_line();
     return std::nullopt;
 }
 
 std::optional<MeshError> PlyParser::header() {
-    if (s_.rest_of_line() != "ply") return fail(MeshErrorKind::kSyntax, "a PLY file starts with the line 'ply'");
+    if (s_.rest_of_line() != "ply")
+        return fail(MeshErrorKind::kSyntax, "a PLY file starts with the line 'ply'");
     bool has_format = false;
     while (true) {
         if (s_.at_end()) return fail(MeshErrorKind::kTruncated, "file ends inside the PLY header");
@@ -162,7 +179,8 @@ std::optional<MeshError> PlyParser::value(PlyType type, double& v) {
         return std::nullopt;
     }
     const std::size_t n = size_of(type);
-    if (bytes_.size() - pos_ < n) return fail(MeshErrorKind::kTruncated, "file ends inside the PLY data");
+    if (bytes_.size() - pos_ < n)
+        return fail(MeshErrorKind::kTruncated, "file ends inside the PLY data");
     std::uint64_t bits = 0;
     for (std::size_t i = 0; i < n; ++i) {
         const std::size_t k = encoding_ == PlyEncoding::kBig ? i : n - 1 - i;
@@ -170,12 +188,24 @@ std::optional<MeshError> PlyParser::value(PlyType type, double& v) {
     }
     pos_ += n;
     switch (type) {
-        case PlyType::kI8: v = static_cast<std::int8_t>(bits); break;
-        case PlyType::kU8: v = static_cast<double>(bits); break;
-        case PlyType::kI16: v = static_cast<std::int16_t>(bits); break;
-        case PlyType::kU16: v = static_cast<double>(bits); break;
-        case PlyType::kI32: v = static_cast<std::int32_t>(bits); break;
-        case PlyType::kU32: v = static_cast<double>(bits); break;
+        case PlyType::kI8:
+            v = static_cast<std::int8_t>(bits);
+            break;
+        case PlyType::kU8:
+            v = static_cast<double>(bits);
+            break;
+        case PlyType::kI16:
+            v = static_cast<std::int16_t>(bits);
+            break;
+        case PlyType::kU16:
+            v = static_cast<double>(bits);
+            break;
+        case PlyType::kI32:
+            v = static_cast<std::int32_t>(bits);
+            break;
+        case PlyType::kU32:
+            v = static_cast<double>(bits);
+            break;
         case PlyType::kF32: {
             float f = 0.0f;
             const auto b32 = static_cast<std::uint32_t>(bits);
@@ -183,7 +213,9 @@ std::optional<MeshError> PlyParser::value(PlyType type, double& v) {
             v = f;
             break;
         }
-        case PlyType::kF64: std::memcpy(&v, &bits, sizeof v); break;
+        case PlyType::kF64:
+            std::memcpy(&v, &bits, sizeof v);
+            break;
     }
     return std::nullopt;
 }
@@ -191,9 +223,11 @@ std::optional<MeshError> PlyParser::value(PlyType type, double& v) {
 std::optional<MeshError> PlyParser::check_room(const PlyElement& e) {
     std::size_t min_bytes = 0;  // per item; an ASCII value takes at least 2 bytes
     for (const PlyProperty& p : e.props) {
-        min_bytes += encoding_ == PlyEncoding::kAscii ? 2 : size_of(p.is_list ? p.count_type : p.type);
+        min_bytes +=
+            encoding_ == PlyEncoding::kAscii ? 2 : size_of(p.is_list ? p.count_type : p.type);
     }
-    const std::size_t left = encoding_ == PlyEncoding::kAscii ? s_.remaining() + 1 : bytes_.size() - pos_;
+    const std::size_t left =
+        encoding_ == PlyEncoding::kAscii ? s_.remaining() + 1 : bytes_.size() - pos_;
     if (min_bytes > 0 && e.count > left / min_bytes) {
         return ctx_.error(MeshErrorKind::kBadCount, e.line, 0,
                           "element '" + e.name + "' claims " + std::to_string(e.count) +
@@ -207,12 +241,16 @@ std::optional<MeshError> PlyParser::check_room(const PlyElement& e) {
 std::optional<MeshError> PlyParser::face(const PlyProperty& p) {
     double count = 0;
     if (auto e = value(p.count_type, count)) return e;
-    if (count < 3) return fail(MeshErrorKind::kSyntax, "face with " + std::to_string(static_cast<long long>(count)) + " vertices");
+    if (count < 3)
+        return fail(MeshErrorKind::kSyntax,
+                    "face with " + std::to_string(static_cast<long long>(count)) + " vertices");
     const std::size_t per = encoding_ == PlyEncoding::kAscii ? 2 : size_of(p.type);
-    const std::size_t left = encoding_ == PlyEncoding::kAscii ? s_.remaining() + 1 : bytes_.size() - pos_;
+    const std::size_t left =
+        encoding_ == PlyEncoding::kAscii ? s_.remaining() + 1 : bytes_.size() - pos_;
     if (count > static_cast<double>(left / per)) {
-        return fail(MeshErrorKind::kTruncated, "face list of " + std::to_string(static_cast<long long>(count)) +
-                                                   " entries but only " + std::to_string(left) + " bytes left");
+        return fail(MeshErrorKind::kTruncated,
+                    "face list of " + std::to_string(static_cast<long long>(count)) +
+                        " entries but only " + std::to_string(left) + " bytes left");
     }
     const auto n = static_cast<std::size_t>(count);
     std::uint32_t first = 0, previous = 0;
@@ -220,7 +258,8 @@ std::optional<MeshError> PlyParser::face(const PlyProperty& p) {
         double raw = 0;
         if (auto e = value(p.type, raw)) return e;
         if (raw < 0 || raw > 4294967294.0 || raw != std::floor(raw)) {
-            return fail(MeshErrorKind::kIndexOutOfRange, "vertex index " + std::to_string(static_cast<long long>(raw)));
+            return fail(MeshErrorKind::kIndexOutOfRange,
+                        "vertex index " + std::to_string(static_cast<long long>(raw)));
         }
         const auto v = static_cast<std::uint32_t>(raw);
         if (k == 0) first = v;
@@ -235,24 +274,32 @@ std::optional<MeshError> PlyParser::element(const PlyElement& e) {
     if (e.props.empty()) return std::nullopt;
     const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
     int slot_of[64];  // property -> 0,1,2 (x,y,z), 3 (material), 4 (face list), -1 (skip)
-    if (e.props.size() > 64) return ctx_.error(MeshErrorKind::kUnsupported, e.line, 0, "more than 64 properties");
+    if (e.props.size() > 64)
+        return ctx_.error(MeshErrorKind::kUnsupported, e.line, 0, "more than 64 properties");
     bool found[5] = {false, false, false, false, false};
     for (std::size_t i = 0; i < e.props.size(); ++i) {
         const PlyProperty& p = e.props[i];
         int slot = -1;
         if (is_vertex && !p.is_list) {
-            slot = p.name == "x" ? 0 : p.name == "y" ? 1 : p.name == "z" ? 2 : p.name == "material" ? 3 : -1;
-        } else if (is_face && p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index")) {
+            slot = p.name == "x"          ? 0
+                   : p.name == "y"        ? 1
+                   : p.name == "z"        ? 2
+                   : p.name == "material" ? 3
+                                          : -1;
+        } else if (is_face && p.is_list &&
+                   (p.name == "vertex_indices" || p.name == "vertex_index")) {
             slot = found[4] ? -1 : 4;
         }
         if (slot >= 0) found[slot] = true;
         slot_of[i] = slot;
     }
     if (is_vertex && !(found[0] && found[1] && found[2])) {
-        return ctx_.error(MeshErrorKind::kSyntax, e.line, 0, "element 'vertex' lacks an x, y or z property");
+        return ctx_.error(MeshErrorKind::kSyntax, e.line, 0,
+                          "element 'vertex' lacks an x, y or z property");
     }
     if (is_face && !found[4]) {
-        return ctx_.error(MeshErrorKind::kSyntax, e.line, 0, "element 'face' lacks a 'vertex_indices' list");
+        return ctx_.error(MeshErrorKind::kSyntax, e.line, 0,
+                          "element 'face' lacks a 'vertex_indices' list");
     }
     if (is_vertex) raw_.reserve(raw_.size() + e.count);
     if (is_face) triangles_.reserve(triangles_.size() + e.count);
@@ -266,8 +313,10 @@ std::optional<MeshError> PlyParser::element(const PlyElement& e) {
                 double n = 0, ignored = 0;
                 if (auto err = value(p.count_type, n)) return err;
                 const std::size_t per = encoding_ == PlyEncoding::kAscii ? 2 : size_of(p.type);
-                const std::size_t left = encoding_ == PlyEncoding::kAscii ? s_.remaining() + 1 : bytes_.size() - pos_;
-                if (n < 0 || n > static_cast<double>(left / per)) return fail(MeshErrorKind::kTruncated, "list longer than the data left");
+                const std::size_t left =
+                    encoding_ == PlyEncoding::kAscii ? s_.remaining() + 1 : bytes_.size() - pos_;
+                if (n < 0 || n > static_cast<double>(left / per))
+                    return fail(MeshErrorKind::kTruncated, "list longer than the data left");
                 for (auto k = static_cast<std::size_t>(n); k > 0; --k) {
                     if (auto err = value(p.type, ignored)) return err;
                 }
@@ -279,9 +328,13 @@ std::optional<MeshError> PlyParser::element(const PlyElement& e) {
         }
         if (is_vertex) {
             const auto pt = to_metres(c[0], c[1], c[2], ctx_.metres_per_unit);
-            if (!pt) return fail(MeshErrorKind::kNonFinite, "vertex " + std::to_string(item) + " has a NaN or infinite coordinate");
-            if (c[3] < 0 || c[3] > 2) return fail(MeshErrorKind::kSyntax, "material must be 0, 1 or 2");
-            if (raw_.size() >= 0xFFFFFFFEu) return fail(MeshErrorKind::kTooLarge, "more than 2^32 - 2 vertices");
+            if (!pt)
+                return fail(MeshErrorKind::kNonFinite,
+                            "vertex " + std::to_string(item) + " has a NaN or infinite coordinate");
+            if (c[3] < 0 || c[3] > 2)
+                return fail(MeshErrorKind::kSyntax, "material must be 0, 1 or 2");
+            if (raw_.size() >= 0xFFFFFFFEu)
+                return fail(MeshErrorKind::kTooLarge, "more than 2^32 - 2 vertices");
             raw_.push_back(*pt);
             materials_.push_back(static_cast<Material>(static_cast<int>(c[3])));
         }
@@ -298,23 +351,27 @@ Result<IndexedMesh, MeshError> PlyParser::parse() {
         for (std::uint32_t v : t) {
             if (v >= raw_.size()) {
                 return Err{ctx_.error(MeshErrorKind::kIndexOutOfRange, 0, 0,
-                                      "a face refers to vertex " + std::to_string(v) + " but only " +
-                                          std::to_string(raw_.size()) + " vertices exist")};
+                                      "a face refers to vertex " + std::to_string(v) +
+                                          " but only " + std::to_string(raw_.size()) +
+                                          " vertices exist")};
             }
         }
     }
-    if (triangles_.empty()) return Err{ctx_.error(MeshErrorKind::kEmpty, 0, 0, "PLY without faces")};
+    if (triangles_.empty())
+        return Err{ctx_.error(MeshErrorKind::kEmpty, 0, 0, "PLY without faces")};
     return weld_indexed(raw_, std::move(triangles_), materials_);
 }
 
 void put_binary(std::string& out, const void* value, std::size_t n, bool big_endian) {
     const auto* b = static_cast<const unsigned char*>(value);
-    for (std::size_t i = 0; i < n; ++i) out.push_back(static_cast<char>(b[big_endian ? n - 1 - i : i]));
+    for (std::size_t i = 0; i < n; ++i)
+        out.push_back(static_cast<char>(b[big_endian ? n - 1 - i : i]));
 }
 
 }  // namespace
 
-Result<IndexedMesh, MeshError> parse_ply(std::span<const std::byte> bytes, const ParseContext& ctx) {
+Result<IndexedMesh, MeshError> parse_ply(std::span<const std::byte> bytes,
+                                         const ParseContext& ctx) {
     return PlyParser(bytes, ctx).parse();
 }
 
@@ -340,7 +397,8 @@ std::string write_ply(const IndexedMesh& m, double metres_per_unit, bool binary,
     }
     for (const Triangle& t : m.triangles) {
         if (!binary) {
-            out += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + "\n";
+            out += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " +
+                   std::to_string(t[2]) + "\n";
             continue;
         }
         out.push_back(3);

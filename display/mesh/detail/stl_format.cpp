@@ -38,7 +38,8 @@ bool has_nul(std::string_view text) {
 Result<IndexedMesh, MeshError> parse_binary(std::span<const std::byte> bytes,
                                             const ParseContext& ctx) {
     const std::uint32_t count = read_u32_le(bytes.data() + 80);
-    if (count == 0) return Err{ctx.error(MeshErrorKind::kEmpty, 0, 80, "binary STL with 0 triangles")};
+    if (count == 0)
+        return Err{ctx.error(MeshErrorKind::kEmpty, 0, 80, "binary STL with 0 triangles")};
     IndexedMesh out;
     out.triangles.reserve(count);
     VertexWelder welder;
@@ -50,8 +51,9 @@ Result<IndexedMesh, MeshError> parse_binary(std::span<const std::byte> bytes,
             const auto p = to_metres(read_f32_le(v), read_f32_le(v + 4), read_f32_le(v + 8),
                                      ctx.metres_per_unit);
             if (!p) {
-                return Err{ctx.error(MeshErrorKind::kNonFinite, 0, base + 12 + 12 * k,
-                                     "triangle " + std::to_string(f) + " has a NaN or infinite coordinate")};
+                return Err{ctx.error(
+                    MeshErrorKind::kNonFinite, 0, base + 12 + 12 * k,
+                    "triangle " + std::to_string(f) + " has a NaN or infinite coordinate")};
             }
             t[k] = welder.weld(*p, out);
         }
@@ -83,7 +85,9 @@ private:
 std::optional<MeshError> AsciiStl::expect(std::string_view word) {
     const std::string_view t = s_.next_token();
     if (t == word) return std::nullopt;
-    if (t.empty()) return fail(MeshErrorKind::kTruncated, "file ends where '" + std::string(word) + "' was expected");
+    if (t.empty())
+        return fail(MeshErrorKind::kTruncated,
+                    "file ends where '" + std::string(word) + "' was expected");
     return fail(MeshErrorKind::kSyntax, "expected '" + std::string(word) + "', found " + quote(t));
 }
 
@@ -92,7 +96,8 @@ std::optional<MeshError> AsciiStl::number(double& v, bool finite) {
     if (t.empty()) return fail(MeshErrorKind::kTruncated, "file ends where a number was expected");
     const auto d = parse_double(t);
     if (!d) return fail(MeshErrorKind::kSyntax, "expected a number, found " + quote(t));
-    if (finite && !std::isfinite(*d)) return fail(MeshErrorKind::kNonFinite, "coordinate " + quote(t));
+    if (finite && !std::isfinite(*d))
+        return fail(MeshErrorKind::kNonFinite, "coordinate " + quote(t));
     v = *d;
     return std::nullopt;
 }
@@ -109,14 +114,17 @@ std::optional<MeshError> AsciiStl::facet() {
     int corners = 0;
     for (std::string_view w = s_.next_token(); w != "endloop"; w = s_.next_token()) {
         if (w.empty()) return fail(MeshErrorKind::kTruncated, "file ends inside a facet");
-        if (w != "vertex") return fail(MeshErrorKind::kSyntax, "expected 'vertex' or 'endloop', found " + quote(w));
+        if (w != "vertex")
+            return fail(MeshErrorKind::kSyntax,
+                        "expected 'vertex' or 'endloop', found " + quote(w));
         double x = 0, y = 0, z = 0;
         if (auto e = number(x, true)) return e;
         if (auto e = number(y, true)) return e;
         if (auto e = number(z, true)) return e;
         const auto p = to_metres(x, y, z, ctx_.metres_per_unit);
         if (!p) return fail(MeshErrorKind::kNonFinite, "coordinate overflows after unit scaling");
-        if (corners == 3) return fail(MeshErrorKind::kUnsupported, "facet with more than 3 vertices");
+        if (corners == 3)
+            return fail(MeshErrorKind::kUnsupported, "facet with more than 3 vertices");
         t[static_cast<std::size_t>(corners++)] = welder_.weld(*p, out_);
     }
     if (corners != 3) {
@@ -136,10 +144,13 @@ Result<IndexedMesh, MeshError> AsciiStl::parse() {
             s_.rest_of_line();
             const std::string_view next = s_.next_token();
             if (next.empty()) break;
-            if (next != "solid") return Err{fail(MeshErrorKind::kSyntax, "expected 'solid' or end of file, found " + quote(next))};
+            if (next != "solid")
+                return Err{fail(MeshErrorKind::kSyntax,
+                                "expected 'solid' or end of file, found " + quote(next))};
             s_.rest_of_line();
         } else {
-            return Err{fail(MeshErrorKind::kSyntax, "expected 'facet' or 'endsolid', found " + quote(w))};
+            return Err{
+                fail(MeshErrorKind::kSyntax, "expected 'facet' or 'endsolid', found " + quote(w))};
         }
     }
     if (out_.triangles.empty()) return Err{fail(MeshErrorKind::kEmpty, "ASCII STL without facets")};
@@ -153,14 +164,16 @@ void put_f32(std::string& out, float f) {
 }
 
 Point facet_normal(const IndexedMesh& m, const Triangle& t) {
-    const Point n = (m.positions_m[t[1]] - m.positions_m[t[0]]) % (m.positions_m[t[2]] - m.positions_m[t[0]]);
+    const Point n =
+        (m.positions_m[t[1]] - m.positions_m[t[0]]) % (m.positions_m[t[2]] - m.positions_m[t[0]]);
     const double len = n.norm();
     return len > 0.0 ? n / len : Point{0.0, 0.0, 0.0};
 }
 
 }  // namespace
 
-Result<IndexedMesh, MeshError> parse_stl(std::span<const std::byte> bytes, const ParseContext& ctx) {
+Result<IndexedMesh, MeshError> parse_stl(std::span<const std::byte> bytes,
+                                         const ParseContext& ctx) {
     const std::string_view text = as_text(bytes);
     if (bytes.size() >= kHeaderBytes) {
         const std::uint64_t count = read_u32_le(bytes.data() + 80);
@@ -168,15 +181,17 @@ Result<IndexedMesh, MeshError> parse_stl(std::span<const std::byte> bytes, const
         if (expected == bytes.size()) return parse_binary(bytes, ctx);
         if (!starts_with_solid(text) || has_nul(text)) {
             const bool short_file = bytes.size() < expected;
-            return Err{ctx.error(short_file ? MeshErrorKind::kTruncated : MeshErrorKind::kBadCount, 0, 80,
-                                 "binary STL header claims " + std::to_string(count) + " triangles (" +
-                                     std::to_string(expected) + " bytes) but the file has " +
-                                     std::to_string(bytes.size()) + " bytes")};
+            return Err{
+                ctx.error(short_file ? MeshErrorKind::kTruncated : MeshErrorKind::kBadCount, 0, 80,
+                          "binary STL header claims " + std::to_string(count) + " triangles (" +
+                              std::to_string(expected) + " bytes) but the file has " +
+                              std::to_string(bytes.size()) + " bytes")};
         }
     } else if (!starts_with_solid(text)) {
-        return Err{ctx.error(MeshErrorKind::kTruncated, 0, bytes.size(),
-                             "only " + std::to_string(bytes.size()) +
-                                 " bytes: neither a binary STL (84-byte header) nor ASCII ('solid')")};
+        return Err{
+            ctx.error(MeshErrorKind::kTruncated, 0, bytes.size(),
+                      "only " + std::to_string(bytes.size()) +
+                          " bytes: neither a binary STL (84-byte header) nor ASCII ('solid')")};
     }
     return AsciiStl(text, ctx).parse();
 }
@@ -194,7 +209,8 @@ std::string write_stl(const IndexedMesh& m, double metres_per_unit, bool binary)
             const Point nrm = facet_normal(m, t);
             for (int i = 0; i < 3; ++i) put_f32(out, static_cast<float>(nrm[i]));
             for (std::uint32_t v : t) {
-                for (int i = 0; i < 3; ++i) put_f32(out, static_cast<float>(m.positions_m[v][i] / metres_per_unit));
+                for (int i = 0; i < 3; ++i)
+                    put_f32(out, static_cast<float>(m.positions_m[v][i] / metres_per_unit));
             }
             out += std::string(2, '\0');
         }
@@ -203,10 +219,12 @@ std::string write_stl(const IndexedMesh& m, double metres_per_unit, bool binary)
     out = "solid kerf\n";
     for (const Triangle& t : m.triangles) {
         const Point nrm = facet_normal(m, t);
-        out += "  facet normal " + exact_number(nrm[0]) + " " + exact_number(nrm[1]) + " " + exact_number(nrm[2]) + "\n    outer loop\n";
+        out += "  facet normal " + exact_number(nrm[0]) + " " + exact_number(nrm[1]) + " " +
+               exact_number(nrm[2]) + "\n    outer loop\n";
         for (std::uint32_t v : t) {
             const Point p = m.positions_m[v] / metres_per_unit;
-            out += "      vertex " + exact_number(p[0]) + " " + exact_number(p[1]) + " " + exact_number(p[2]) + "\n";
+            out += "      vertex " + exact_number(p[0]) + " " + exact_number(p[1]) + " " +
+                   exact_number(p[2]) + "\n";
         }
         out += "    endloop\n  endfacet\n";
     }
