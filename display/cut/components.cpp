@@ -1,0 +1,198 @@
+#include "display/cut/components.hpp"
+
+#include <algorithm>
+#include <numeric>
+
+namespace kerf::cut {
+namespace {
+
+bool live(const mesh::TriMesh& m, mesh::FaceHandle f) {
+    return f.is_valid() && static_cast<std::size_t>(f.idx()) < m.n_faces() &&
+           !(m.has_face_status() && m.status(f).deleted());
+}
+
+/// Calls `visit(g)` for every live face sharing an edge with f.
+template <class Visit>
+void for_each_neighbour(const mesh::TriMesh& m, mesh::FaceHandle f, Visit&& visit) {
+    for (const auto h : m.fh_range(f)) {
+        const auto g = m.opposite_face_handle(h);
+        if (live(m, g)) visit(g);
+    }
+}
+
+std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t i) {
+    while (parent[i] != i) {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    return i;
+}
+
+}  // namespace
+
+Body make_body(const mesh::TriMesh& m, std::vector<mesh::FaceHandle> faces,
+               std::vector<std::uint32_t>& vertex_seen, std::uint32_t stamp) {
+    Body b;
+    std::sort(faces.begin(), faces.end());
+    b.faces = std::move(faces);
+    b.bbox_min_m = mesh::Point(1e300, 1e300, 1e300);
+    b.bbox_max_m = mesh::Point(-1e300, -1e300, -1e300);
+    for (const auto f : b.faces) {
+        mesh::Point p[3];
+        int k = 0;
+        for (const auto v : m.fv_range(f)) {
+            if (k < 3) p[k++] = m.point(v);
+            auto& seen = vertex_seen[static_cast<std::size_t>(v.idx())];
+            if (seen == stamp) continue;
+            seen = stamp;
+            b.vertices.push_back(v);
+            b.bbox_min_m.minimize(m.point(v));
+            b.bbox_max_m.maximize(m.point(v));
+        }
+        b.volume_m3 += OpenMesh::dot(p[0], OpenMesh::cross(p[1], p[2])) / 6.0;
+    }
+    std::sort(b.vertices.begin(), b.vertices.end());
+    return b;
+}
+
+std::vector<Body> find_components(const mesh::TriMesh& m) {
+    std::vector<std::uint8_t> seen(m.n_faces(), 0);
+    std::vector<std::uint32_t> vertex_seen(m.n_vertices(), 0);
+    std::vector<Body> bodies;
+    std::vector<mesh::FaceHandle> queue;
+    for (std::size_t i = 0; i < m.n_faces(); ++i) {
+        const mesh::FaceHandle start(static_cast<int>(i));
+        if (seen[i] != 0 || !live(m, start)) continue;
+        queue.assign(1, start);
+        seen[i] = 1;
+        for (std::size_t head = 0; head < queue.size(); ++head) {
+            for_each_neighbour(m, queue[head], [&](mesh::FaceHandle g) {
+                auto& s = seen[static_cast<std::size_t>(g.idx())];
+                if (s == 0) {
+                    s = 1;
+                    queue.push_back(g);
+                }
+            });
+        }
+        const auto stamp = static_cast<std::uint32_t>(bodies.size() + 1);
+        bodies.push_back(make_body(m, queue, vertex_seen, stamp));
+    }
+    return bodies;
+}
+
+PieceFinder::PieceFinder(const mesh::TriMesh& mesh) : mesh_(mesh) { grow_to_mesh(); }
+
+void PieceFinder::grow_to_mesh() {
+    // Growing only appends zeros for new elements: O(growth), no pass over the mesh.
+    face_stamp_.resize(mesh_.n_faces(), 0);
+    face_owner_.resize(mesh_.n_faces(), 0);
+    vertex_stamp_.resize(mesh_.n_vertices(), 0);
+}
+
+bool PieceFinder::claimed(mesh::FaceHandle f) const noexcept {
+    return face_stamp_[static_cast<std::size_t>(f.idx())] == stamp_;
+}
+
+namespace {
+
+/// One breadth-first search of the lockstep.
+struct Search {
+    std::vector<mesh::FaceHandle> faces;  // claimed, in claim order; [head, end) is the frontier
+    std::size_t head = 0;
+    bool growing() const noexcept { return head < faces.size(); }
+};
+
+}  // namespace
+
+SeverReport PieceFinder::find_pieces(std::span<const mesh::FaceHandle> seeds) {
+    grow_to_mesh();
+    if (++stamp_ == 0) {  // wrapped: forget every old stamp once in 2^32 calls
+        std::fill(face_stamp_.begin(), face_stamp_.end(), 0);
+        std::fill(vertex_stamp_.begin(), vertex_stamp_.end(), 0);
+        stamp_ = 1;
+    }
+    const auto n = static_cast<std::uint32_t>(seeds.size());
+    std::vector<Search> search(n);
+    std::vector<std::uint32_t> group(n);
+    std::iota(group.begin(), group.end(), 0u);
+    SeverReport report;
+    report.piece_of_seed.assign(n, SeverReport::kRemainder);
+    std::vector<std::uint8_t> closed(n, 0);  // per group root: already reported
+    for (std::uint32_t s = 0; s < n; ++s) {
+        const auto f = seeds[s];
+        if (!live(mesh_, f)) {
+            closed[s] = 1;  // an invalid seed takes no part
+            continue;
+        }
+        if (claimed(f)) {
+            const auto a = find_root(group, s);
+            const auto b = find_root(group, face_owner_[static_cast<std::size_t>(f.idx())]);
+            group[std::max(a, b)] = std::min(a, b);
+            continue;
+        }
+        face_stamp_[static_cast<std::size_t>(f.idx())] = stamp_;
+        face_owner_[static_cast<std::size_t>(f.idx())] = s;
+        search[s].faces.push_back(f);
+    }
+    auto step = [&](std::uint32_t s) {
+        const auto f = search[s].faces[search[s].head++];
+        ++report.faces_visited;
+        for_each_neighbour(mesh_, f, [&](mesh::FaceHandle g) {
+            const auto gi = static_cast<std::size_t>(g.idx());
+            if (face_stamp_[gi] != stamp_) {
+                face_stamp_[gi] = stamp_;
+                face_owner_[gi] = s;
+                search[s].faces.push_back(g);
+                return;
+            }
+            const auto a = find_root(group, s);
+            const auto b = find_root(group, face_owner_[gi]);
+            if (a != b) group[std::max(a, b)] = std::min(a, b);
+        });
+    };
+    std::vector<std::uint8_t> open(n, 0);
+    for (;;) {
+        // Groups: a root with any growing member is open; an open group with none is closed now.
+        std::fill(open.begin(), open.end(), 0);
+        for (std::uint32_t s = 0; s < n; ++s) {
+            if (search[s].growing()) open[find_root(group, s)] = 1;
+        }
+        std::uint32_t open_groups = 0;
+        for (std::uint32_t r = 0; r < n; ++r) {
+            if (find_root(group, r) != r || closed[r] != 0) continue;
+            if (open[r] != 0) {
+                ++open_groups;
+                continue;
+            }
+            closed[r] = 1;  // walked whole: a piece of its own
+            std::vector<mesh::FaceHandle> faces;
+            for (std::uint32_t s = 0; s < n; ++s) {
+                if (find_root(group, s) != r) continue;
+                faces.insert(faces.end(), search[s].faces.begin(), search[s].faces.end());
+                report.piece_of_seed[s] = static_cast<std::uint32_t>(report.severed.size());
+            }
+            report.severed.push_back(make_body(mesh_, std::move(faces), vertex_stamp_, stamp_));
+        }
+        if (open_groups <= 1) break;
+        for (std::uint32_t s = 0; s < n; ++s) {
+            if (search[s].growing()) step(s);
+        }
+    }
+    return report;
+}
+
+SeverReport PieceFinder::find_pieces(const CrossSection& cut) {
+    std::vector<mesh::FaceHandle> seeds;
+    for (const CrossSectionSide* side : {&cut.positive, &cut.negative}) {
+        for (const auto& loop : side->loops) {
+            if (loop.empty() || !loop.front().is_valid()) continue;
+            for (const auto f : mesh_.vf_range(loop.front())) {
+                seeds.push_back(f);
+                break;
+            }
+        }
+    }
+    return find_pieces(seeds);
+}
+
+}  // namespace kerf::cut
