@@ -1,7 +1,11 @@
 #include "display/cut/apply_plan.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <utility>
+#include <vector>
 
 #include "display/cut/context_state.hpp"
 
@@ -61,7 +65,15 @@ HalfedgeHandle detach(TriMesh& m, HalfedgeHandle o, VertexHandle from_dup, Verte
 }
 
 // Cuts one loop apart: rim vertices r (positive side keeps them) and their duplicates d.
-bool separate_loop(TriMesh& m, const std::vector<VertexHandle>& r, const std::vector<VertexHandle>& d) {
+using RimEdges = std::vector<std::pair<std::uint64_t, HalfedgeHandle>>;
+
+std::uint64_t edge_key(VertexHandle a, VertexHandle b) {
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a.idx())) << 32) |
+           static_cast<std::uint32_t>(b.idx());
+}
+
+bool separate_loop(TriMesh& m, const std::vector<VertexHandle>& r, const std::vector<VertexHandle>& d,
+                   RimEdges& pos_rim, RimEdges& neg_rim) {
     const std::size_t n = r.size();
     std::vector<HalfedgeHandle> h(n), x(n);
     for (std::size_t i = 0; i < n; ++i) {
@@ -93,6 +105,57 @@ bool separate_loop(TriMesh& m, const std::vector<VertexHandle>& r, const std::ve
         m.set_next_halfedge_handle(y, m.opposite_halfedge_handle(x[(i + 1) % n]));
         m.set_halfedge_handle(r[(i + 1) % n], o);
         m.set_halfedge_handle(d[i], y);
+        pos_rim.emplace_back(edge_key(r[(i + 1) % n], r[i]), o);
+        neg_rim.emplace_back(edge_key(d[i], d[(i + 1) % n]), y);
+    }
+    return true;
+}
+
+// Closes the rim loops of one side with the cap triangles `tris` (vertex triples, wound to face
+// out of that side). Built directly on the halfedge arrays: every triangle edge is either a rim
+// boundary halfedge or an inner edge shared by two cap triangles, so no search around vertices
+// (OpenMesh's add_face would scan a fan vertex's whole one-ring for every triangle).
+bool add_cap(TriMesh& m, const std::vector<std::array<VertexHandle, 3>>& tris, RimEdges& rim,
+             std::vector<FaceHandle>& faces) {
+    std::sort(rim.begin(), rim.end());
+    const std::size_t n = tris.size();
+    std::vector<HalfedgeHandle> he(3 * n);
+    struct Inner {
+        std::uint64_t undirected;
+        std::uint32_t slot;
+        bool operator<(const Inner& o) const { return undirected < o.undirected || (undirected == o.undirected && slot < o.slot); }
+    };
+    std::vector<Inner> inner;
+    for (std::size_t t = 0; t < n; ++t)
+        for (int k = 0; k < 3; ++k) {
+            const VertexHandle u = tris[t][k], v = tris[t][(k + 1) % 3];
+            const auto it = std::lower_bound(rim.begin(), rim.end(), std::make_pair(edge_key(u, v), HalfedgeHandle()));
+            if (it != rim.end() && it->first == edge_key(u, v)) {
+                if (!m.is_boundary(it->second)) return false;  // used twice
+                he[3 * t + k] = it->second;
+                continue;
+            }
+            inner.push_back(Inner{u.idx() < v.idx() ? edge_key(u, v) : edge_key(v, u), static_cast<std::uint32_t>(3 * t + k)});
+        }
+    std::sort(inner.begin(), inner.end());
+    if (inner.size() % 2 != 0) return false;
+    for (std::size_t i = 0; i < inner.size(); i += 2) {
+        if (inner[i].undirected != inner[i + 1].undirected) return false;
+        const std::uint32_t a = inner[i].slot, b = inner[i + 1].slot;
+        const VertexHandle u = tris[a / 3][a % 3], v = tris[a / 3][(a % 3 + 1) % 3];
+        if (tris[b / 3][b % 3] != v) return false;  // the two uses must run opposite ways
+        he[a] = m.new_edge(u, v);
+        he[b] = m.opposite_halfedge_handle(he[a]);
+    }
+    for (std::size_t t = 0; t < n; ++t) {
+        const FaceHandle f = m.new_face();
+        m.set_halfedge_handle(f, he[3 * t]);
+        for (int k = 0; k < 3; ++k) {
+            m.set_face_handle(he[3 * t + k], f);
+            m.set_next_halfedge_handle(he[3 * t + k], he[3 * t + (k + 1) % 3]);
+            m.set_halfedge_handle(tris[t][k], he[3 * t + k]);
+        }
+        faces.push_back(f);
     }
     return true;
 }
@@ -104,6 +167,10 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
     SectionPlan& plan = s.plan;
     const int faces_before = static_cast<int>(m.n_faces());
     const int vertices_before = static_cast<int>(m.n_vertices());
+    // Room for everything this edit adds (splits: 1 vertex, 3 edges, 2 faces each; duplicates:
+    // 1 vertex, 1 edge each; caps: 2 faces and 3 edges per triangle).
+    const std::size_t n_points = plan.points.size(), n_caps = plan.cap_triangles.size();
+    s.ensure_capacity(2 * n_points, 4 * n_points + 3 * n_caps, 2 * n_points + 2 * n_caps);
     std::vector<VertexHandle> rim(plan.points.size());
     std::uint32_t splits = 0;
     for (const PlanLoop& l : plan.loops) {
@@ -122,12 +189,13 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
     out.clear();
     out.plane = plane;
     std::vector<VertexHandle> dup(plan.points.size());
+    RimEdges pos_rim, neg_rim;
     for (const PlanLoop& l : plan.loops) {
         if (!l.selected) continue;
         std::vector<VertexHandle> r(rim.begin() + l.first, rim.begin() + l.first + l.count);
         std::vector<VertexHandle> d(l.count);
         for (std::uint32_t i = 0; i < l.count; ++i) d[i] = dup[l.first + i] = duplicate_vertex(m, r[i]);
-        if (!separate_loop(m, r, d)) return CutStatus::kInternalError;
+        if (!separate_loop(m, r, d, pos_rim, neg_rim)) return CutStatus::kInternalError;
         std::vector<Vec2> uv(l.count);
         for (std::uint32_t i = 0; i < l.count; ++i) uv[i] = plan.points[l.first + i].uv;
         out.loops_2d.push_back(std::move(uv));
@@ -143,19 +211,26 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
         else s.grid.insert(m, f);
     }
     // Caps: positive side faces -normal (reversed triangles), negative side +normal.
+    std::vector<std::array<VertexHandle, 3>> pos_tris, neg_tris;
+    pos_tris.reserve(plan.cap_triangles.size());
+    neg_tris.reserve(plan.cap_triangles.size());
     for (const Triangle& t : plan.cap_triangles) {
         const std::uint32_t a = plan.cap_points[t.a], b = plan.cap_points[t.b], c = plan.cap_points[t.c];
-        const FaceHandle fp = m.add_face(rim[a], rim[c], rim[b]);
-        const FaceHandle fn = m.add_face(dup[a], dup[b], dup[c]);
-        if (!fp.is_valid() || !fn.is_valid()) return CutStatus::kInternalError;
-        m.set_normal(fp, -plane.normal());
-        m.set_normal(fn, plane.normal());
-        m.property(s.cap, fp) = kCapPositive;
-        m.property(s.cap, fn) = kCapNegative;
-        s.cap_faces.push_back(fp);
-        s.cap_faces.push_back(fn);
-        out.positive.cap_faces.push_back(fp);
-        out.negative.cap_faces.push_back(fn);
+        pos_tris.push_back({rim[a], rim[c], rim[b]});
+        neg_tris.push_back({dup[a], dup[b], dup[c]});
+    }
+    if (!add_cap(m, pos_tris, pos_rim, out.positive.cap_faces) ||
+        !add_cap(m, neg_tris, neg_rim, out.negative.cap_faces))
+        return CutStatus::kInternalError;
+    for (FaceHandle f : out.positive.cap_faces) {
+        m.set_normal(f, -plane.normal());
+        m.property(s.cap, f) = kCapPositive;
+        s.cap_faces.push_back(f);
+    }
+    for (FaceHandle f : out.negative.cap_faces) {
+        m.set_normal(f, plane.normal());
+        m.property(s.cap, f) = kCapNegative;
+        s.cap_faces.push_back(f);
     }
     for (const PlanLoop& l : plan.loops) stats.faces_split += l.selected ? l.faces : 0;
     stats.vertices_added += static_cast<std::uint32_t>(static_cast<int>(m.n_vertices()) - vertices_before);

@@ -22,6 +22,9 @@ struct ContextState {
     void rebuild();
     /// Starts a new stamp generation (resets every stamp on wrap-around).
     void next_generation();
+    /// Makes room for `vertices`, `edges`, `faces` more elements without reallocating during the
+    /// edit (capacity doubles when it runs out, so growth is amortised and cuts stay cheap).
+    void ensure_capacity(std::size_t vertices, std::size_t edges, std::size_t faces);
 
     bool vertex_marked(mesh::VertexHandle v) const { return mesh.property(v_stamp, v) == generation; }
     bool edge_marked(mesh::EdgeHandle e) const { return mesh.property(e_stamp, e) == generation; }
@@ -41,6 +44,7 @@ struct ContextState {
     OpenMesh::FPropHandleT<std::uint32_t> f_stamp;
     OpenMesh::FPropHandleT<std::uint8_t> cap;  ///< named kCapFaceProperty
     std::uint32_t generation = 1;
+    std::size_t reserved_vertices = 0, reserved_edges = 0, reserved_faces = 0;
 
     SectionPlan plan;
     Triangulator triangulator;

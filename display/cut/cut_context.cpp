@@ -43,6 +43,20 @@ void ContextState::rebuild() {
     for (auto e : mesh.all_edges()) mesh.property(e_stamp, e) = 0;
     for (auto f : mesh.all_faces()) mesh.property(f_stamp, f) = 0;
     generation = 1;
+    // Headroom for the cuts to come: a quarter more of everything, reserved once here.
+    reserved_vertices = mesh.n_vertices() + mesh.n_vertices() / 4 + 1024;
+    reserved_edges = mesh.n_edges() + mesh.n_edges() / 4 + 3072;
+    reserved_faces = mesh.n_faces() + mesh.n_faces() / 4 + 2048;
+    mesh.reserve(reserved_vertices, reserved_edges, reserved_faces);
+}
+
+void ContextState::ensure_capacity(std::size_t vertices, std::size_t edges, std::size_t faces) {
+    const std::size_t nv = mesh.n_vertices() + vertices, ne = mesh.n_edges() + edges, nf = mesh.n_faces() + faces;
+    if (nv <= reserved_vertices && ne <= reserved_edges && nf <= reserved_faces) return;
+    reserved_vertices = std::max(nv, 2 * reserved_vertices);
+    reserved_edges = std::max(ne, 2 * reserved_edges);
+    reserved_faces = std::max(nf, 2 * reserved_faces);
+    mesh.reserve(reserved_vertices, reserved_edges, reserved_faces);
 }
 
 void ContextState::next_generation() {
