@@ -2,6 +2,9 @@
 // opening a missing device give clean results, never a crash.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <string>
+
 #include "firmware_host/falcon/ftdi.hpp"
 #include "firmware_host/transport/hidapi_transport.hpp"
 #include "firmware_host/transport/libusb_link.hpp"
@@ -41,6 +44,42 @@ TEST(RealLibusb, OpeningAMissingFalconIsAClearError) {
     ASSERT_FALSE(link);
     const auto m = link.error().message();
     EXPECT_NE(m.find("usb 0403:cb48"), std::string::npos) << m;
+}
+
+}  // namespace
+}  // namespace kerf::firmware_host
+
+namespace kerf::firmware_host {
+namespace {
+
+std::string run(const std::string& command, int& status) {
+    std::string out;
+    FILE* p = ::popen(command.c_str(), "r");
+    if (p == nullptr) return out;
+    char buf[512];
+    while (std::fgets(buf, sizeof buf, p) != nullptr) out += buf;
+    status = ::pclose(p);
+    return out;
+}
+
+TEST(KerfDevicesCommand, ListsDevicesOrSaysNoneFoundAgainstRealLibraries) {
+    int status = -1;
+    const std::string kerf = std::string(KERF_BIN_DIR) + "/kerf";
+    const auto out = run(kerf + " devices --devices-dir " KERF_SOURCE_DIR "/config/devices 2>&1", status);
+    EXPECT_EQ(status, 0) << out;
+    const bool none = out.find("no haptic devices found") != std::string::npos;
+    const bool some = out.find("profile") != std::string::npos;
+    EXPECT_TRUE(none || some) << out;
+    const auto json = run(kerf + " devices --json --devices-dir " KERF_SOURCE_DIR "/config/devices", status);
+    EXPECT_EQ(json.rfind("{\"devices\": [", 0), 0U) << json;
+}
+
+TEST(KerfDevicesCommand, ABadProfileDirectoryIsAClearError) {
+    int status = -1;
+    const auto out = run(std::string(KERF_BIN_DIR) + "/kerf devices --devices-dir /nonexistent-kerf 2>&1", status);
+    EXPECT_NE(status, 0);
+    EXPECT_NE(out.find("kerf devices: load device profiles:"), std::string::npos) << out;
+    EXPECT_NE(out.find("/nonexistent-kerf"), std::string::npos) << out;
 }
 
 }  // namespace

@@ -1,6 +1,147 @@
-// Placeholder registration; the issue that owns this command group replaces it.
+// `kerf devices`: lists connected haptic devices — Novint Falcons through libusb (0403:cb48) and
+// Kerf-protocol HID devices through hidapi (the vendor/product ids of every profile in
+// config/devices/) — with their state (accessible or not) and the profile that matches them.
+// Prints a clean "no haptic devices found" when there are none. `--json` for machines.
+#include <cstdio>
+#include <iostream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "config/device_profile.hpp"
+#include "firmware_host/falcon/ftdi.hpp"
+#include "firmware_host/transport/hidapi_transport.hpp"
+#include "firmware_host/transport/libusb_link.hpp"
 #include "tools/kerf/commands.hpp"
 
 namespace kerf::cli {
-void add_devices_command(CLI::App& /*app*/) {}
+namespace {
+
+namespace fh = kerf::firmware_host;
+
+struct Found {
+    std::string kind;     ///< "falcon" or "kerf_hid"
+    std::string where;    ///< "usb bus 1 address 5" or the hidraw path
+    std::uint16_t vid = 0, pid = 0;
+    std::string serial;
+    std::string state;    ///< "ready" or "no permission (install config/udev rules)"
+    std::string profile;  ///< matching profile name, or ""
+};
+
+std::string hex(std::uint16_t v) {
+    char b[8];
+    std::snprintf(b, sizeof b, "%04x", v);
+    return b;
+}
+
+std::string json_escape(const std::string& s) {
+    std::string o;
+    for (char c : s) {
+        if (c == '"' || c == '\\') o += '\\';
+        if (static_cast<unsigned char>(c) >= 0x20) o += c;
+    }
+    return o;
+}
+
+std::string match_profile(const std::vector<config::NamedDeviceProfile>& profiles, config::DeviceKind kind,
+                          std::uint16_t vid, std::uint16_t pid) {
+    for (const auto& p : profiles) {
+        if (p.profile.kind == kind && p.profile.ids.vendor_id == vid && p.profile.ids.product_id == pid) {
+            return p.profile_name;
+        }
+    }
+    return {};
+}
+
+void list_falcons(const std::vector<config::NamedDeviceProfile>& profiles, std::vector<Found>& out,
+                  std::vector<std::string>& errors) {
+    auto usb = fh::enumerate_usb(fh::falcon::kFalconVendorId, fh::falcon::kFalconProductId);
+    if (!usb) {
+        errors.push_back(usb.error().message());
+        return;
+    }
+    for (const auto& d : *usb) {
+        out.push_back({"falcon", "usb bus " + std::to_string(d.bus) + " address " + std::to_string(d.address),
+                       d.vendor_id, d.product_id, d.serial,
+                       d.accessible ? "ready" : "no permission (install config/udev rules)",
+                       match_profile(profiles, config::DeviceKind::kFalcon, d.vendor_id, d.product_id)});
+    }
+}
+
+void list_hid(const std::vector<config::NamedDeviceProfile>& profiles, std::vector<Found>& out,
+              std::vector<std::string>& errors) {
+    std::set<std::pair<std::uint16_t, std::uint16_t>> ids;
+    for (const auto& p : profiles) {
+        if (p.profile.kind == config::DeviceKind::kKerfHid) ids.insert({p.profile.ids.vendor_id, p.profile.ids.product_id});
+    }
+    for (const auto& [vid, pid] : ids) {
+        auto hid = fh::enumerate_hid(vid, pid);
+        if (!hid) {
+            errors.push_back(hid.error().message());
+            return;
+        }
+        for (const auto& d : *hid) {
+            out.push_back({"kerf_hid", d.path, d.vendor_id, d.product_id, d.serial, "ready",
+                           match_profile(profiles, config::DeviceKind::kKerfHid, d.vendor_id, d.product_id)});
+        }
+    }
+}
+
+void print_text(const std::vector<Found>& found, const std::vector<std::string>& errors) {
+    for (const auto& e : errors) std::cerr << "kerf devices: " << e << "\n";
+    if (found.empty()) {
+        std::cout << "no haptic devices found (looked for Novint Falcon usb 0403:cb48 and the Kerf HID "
+                     "ids of config/devices/*.toml)\n";
+        return;
+    }
+    for (const auto& f : found) {
+        std::cout << f.kind << "  " << hex(f.vid) << ":" << hex(f.pid) << "  " << f.where
+                  << "  serial " << (f.serial.empty() ? "-" : f.serial) << "  " << f.state
+                  << "  profile " << (f.profile.empty() ? "-" : f.profile) << "\n";
+    }
+}
+
+void print_json(const std::vector<Found>& found, const std::vector<std::string>& errors) {
+    std::ostringstream o;
+    o << "{\"devices\": [";
+    for (std::size_t i = 0; i < found.size(); ++i) {
+        const auto& f = found[i];
+        o << (i ? ", " : "") << "{\"kind\": \"" << f.kind << "\", \"vendor_id\": \"" << hex(f.vid)
+          << "\", \"product_id\": \"" << hex(f.pid) << "\", \"where\": \"" << json_escape(f.where)
+          << "\", \"serial\": \"" << json_escape(f.serial) << "\", \"state\": \"" << f.state
+          << "\", \"profile\": \"" << f.profile << "\"}";
+    }
+    o << "], \"errors\": [";
+    for (std::size_t i = 0; i < errors.size(); ++i) o << (i ? ", " : "") << "\"" << json_escape(errors[i]) << "\"";
+    o << "]}\n";
+    std::cout << o.str();
+}
+
+}  // namespace
+
+void add_devices_command(CLI::App& app) {
+    auto* cmd = app.add_subcommand("devices", "list connected haptic devices (Falcon, Kerf HID)");
+    struct Options {
+        std::string devices_dir = "config/devices";
+        bool json = false;
+    };
+    auto opts = std::make_shared<Options>();
+    cmd->add_option("--devices-dir", opts->devices_dir, "device profiles to match ids against");
+    cmd->add_flag("--json", opts->json, "machine-readable output");
+    cmd->callback([opts] {
+        auto profiles = config::load_device_profiles(opts->devices_dir);
+        if (!profiles) {
+            std::cerr << "kerf devices: load device profiles: " << profiles.error().message() << "\n";
+            throw CLI::RuntimeError(kExitFailure);
+        }
+        std::vector<Found> found;
+        std::vector<std::string> errors;
+        list_falcons(*profiles, found, errors);
+        list_hid(*profiles, found, errors);
+        opts->json ? print_json(found, errors) : print_text(found, errors);
+        if (errors.size() >= 2) throw CLI::RuntimeError(kExitFailure);  // neither backend worked
+    });
+}
+
 }  // namespace kerf::cli
