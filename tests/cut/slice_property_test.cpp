@@ -25,6 +25,7 @@ TEST(SliceProperty, RandomFullPlaneCutsOfSpheresToriTubesAndBoxesAreClosedAndCon
         const SweepCounts c = sweep_random_planes(shape, rng, 25, /*localised=*/false);
         EXPECT_GT(c.cut, 10);
         EXPECT_EQ(c.failed, 0);
+        EXPECT_EQ(c.cap_refusals, 0);
     }
 }
 
@@ -36,6 +37,7 @@ TEST(SliceProperty, RandomLocalisedCutsFromRandomSeedsAreClosedAndConserveVolume
         const SweepCounts c = sweep_random_planes(shape, rng, 25, /*localised=*/true);
         EXPECT_GT(c.cut, 10);
         EXPECT_EQ(c.failed, 0);
+        EXPECT_EQ(c.cap_refusals, 0);
     }
 }
 
@@ -46,6 +48,7 @@ TEST(SliceProperty, SequencesOfCrossingCutsThroughEarlierCapsStayClosed) {
         for (int run = 0; run < 6; ++run) {
             const SweepCounts c = sweep_sequence(shape, rng, 5);
             EXPECT_EQ(c.failed, 0);
+            EXPECT_EQ(c.cap_refusals, 0);
         }
 }
 
