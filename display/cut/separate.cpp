@@ -1,0 +1,248 @@
+#include "display/cut/separate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_set>
+#include <vector>
+
+namespace kerf::cut {
+namespace {
+
+constexpr std::uint32_t kNoCell = 0xFFFFFFFFu;
+
+struct BandVertex {
+    mesh::VertexHandle v;
+    Vec3 origin;          // position at plan time, m
+    Vec2 xy;              // (u, v) position, m
+    double lift = 0.0;    // signed move at m = 1: side * kerf/2 * (1 - depth / D), m
+    double m = 0.0;       // sweep weight so far, 0..1
+    bool rim = false;
+    std::uint32_t slot = 0;  // index in the grid's item array while still live
+};
+
+/// Distance from q to a counter-clockwise convex polygon (0 inside).
+double distance_to_convex(const Vec2& q, std::span<const Vec2> poly) {
+    bool inside = true;
+    double best = 1e300;
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+        const Vec2& a = poly[i];
+        const Vec2& b = poly[(i + 1) % poly.size()];
+        const Vec2 ab = b - a;
+        const Vec2 aq = q - a;
+        if (ab[0] * aq[1] - ab[1] * aq[0] < 0) inside = false;
+        const double len2 = ab | ab;
+        const double t = len2 > 0 ? std::clamp((aq | ab) / len2, 0.0, 1.0) : 0.0;
+        best = std::min(best, (aq - ab * t).norm());
+    }
+    return inside ? 0.0 : best;
+}
+
+}  // namespace
+
+struct Separator::State {
+    CutContext* ctx = nullptr;
+    Plane plane;
+    double kerf = 0.0;
+    double depth = 0.0;  // D
+    double ramp = 0.0;   // width of the 1 -> 0 fall-off outside the swept region
+    std::vector<BandVertex> band;
+    // Grid of live (m < 1) band vertices by (u, v) cell: cell c holds items
+    // [start[c], start[c] + live[c]).
+    Vec2 grid_origin{0.0, 0.0};
+    double cell = 1.0;
+    std::uint32_t nx = 1, ny = 1;
+    std::vector<std::uint32_t> start;
+    std::vector<std::uint32_t> live;
+    std::vector<std::uint32_t> items;
+    std::vector<Vec2> poly;  // scratch: the polygon being swept, counter-clockwise
+    SeparationStats stats;
+
+    mesh::TriMesh& mesh() { return ctx->mesh(); }
+    std::uint32_t cell_of(const Vec2& p) const noexcept;
+    void collect_band(const CrossSection& cut);
+    void add_side(const CrossSectionSide& side, const CrossSection& cut, double sign,
+                  std::unordered_set<int>& seen);
+    void build_grid();
+    void apply(BandVertex& b, double m);
+    void retire(std::uint32_t index);
+};
+
+std::uint32_t Separator::State::cell_of(const Vec2& p) const noexcept {
+    const auto cx = static_cast<std::uint32_t>(
+        std::clamp((p[0] - grid_origin[0]) / cell, 0.0, static_cast<double>(nx - 1)));
+    const auto cy = static_cast<std::uint32_t>(
+        std::clamp((p[1] - grid_origin[1]) / cell, 0.0, static_cast<double>(ny - 1)));
+    return cy * nx + cx;
+}
+
+/// Breadth-first from one side's rim over vertices on that side nearer the plane than D.
+void Separator::State::add_side(const CrossSectionSide& side, const CrossSection& cut,
+                                double sign, std::unordered_set<int>& seen) {
+    const mesh::TriMesh& m = mesh();
+    const double tol = ctx->tolerance_m();
+    const std::size_t first = band.size();
+    auto push = [&](mesh::VertexHandle v, const Vec2& xy, bool rim) {
+        const double d = std::max(0.0, sign * plane.signed_distance(m.point(v)));
+        BandVertex b;
+        b.v = v;
+        b.origin = m.point(v);
+        b.xy = xy;
+        b.lift = sign * 0.5 * kerf * (1.0 - std::min(d, depth) / depth);
+        b.rim = rim;
+        band.push_back(b);
+    };
+    for (std::size_t i = 0; i < side.loops.size(); ++i) {
+        for (std::size_t j = 0; j < side.loops[i].size(); ++j) {
+            const auto v = side.loops[i][j];
+            if (!v.is_valid() || !seen.insert(v.idx()).second) continue;
+            const bool have_2d = i < cut.loops_2d.size() && j < cut.loops_2d[i].size();
+            push(v, have_2d ? cut.loops_2d[i][j] : plane.to_2d(m.point(v)), true);
+        }
+    }
+    for (std::size_t head = first; head < band.size(); ++head) {
+        const auto v = band[head].v;
+        for (const auto w : m.vv_range(v)) {
+            const double d = sign * plane.signed_distance(m.point(w));
+            if (d < -tol || d >= depth || seen.count(w.idx()) != 0) continue;
+            seen.insert(w.idx());
+            push(w, plane.to_2d(m.point(w)), false);
+        }
+    }
+}
+
+void Separator::State::collect_band(const CrossSection& cut) {
+    std::unordered_set<int> seen;
+    add_side(cut.positive, cut, +1.0, seen);
+    add_side(cut.negative, cut, -1.0, seen);
+    stats.band_vertices = static_cast<std::uint32_t>(band.size());
+    for (const auto& loop : cut.positive.loops) {
+        stats.rim_pairs += static_cast<std::uint32_t>(loop.size());
+    }
+}
+
+/// Cells about a kerf wide (the fall-off width), at most ~4 per band vertex.
+void Separator::State::build_grid() {
+    Vec2 lo(1e300, 1e300), hi(-1e300, -1e300);
+    for (const auto& b : band) {
+        lo.minimize(b.xy);
+        hi.maximize(b.xy);
+    }
+    const Vec2 size = hi - lo;
+    const double n = static_cast<double>(std::max<std::size_t>(band.size(), 1));
+    cell = std::max({ramp, std::sqrt(size[0] * size[1] / (4.0 * n)), 1e-12});
+    grid_origin = lo;
+    nx = static_cast<std::uint32_t>(std::clamp(size[0] / cell + 1.0, 1.0, 4096.0));
+    ny = static_cast<std::uint32_t>(std::clamp(size[1] / cell + 1.0, 1.0, 4096.0));
+    start.assign(std::size_t{nx} * ny + 1, 0);
+    live.assign(std::size_t{nx} * ny, 0);
+    for (const auto& b : band) ++start[cell_of(b.xy) + 1];
+    for (std::size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+    items.assign(band.size(), 0);
+    for (std::uint32_t i = 0; i < band.size(); ++i) {
+        const std::uint32_t c = cell_of(band[i].xy);
+        band[i].slot = start[c] + live[c]++;
+        items[band[i].slot] = i;
+    }
+}
+
+void Separator::State::apply(BandVertex& b, double m) {
+    b.m = m;
+    mesh::TriMesh& mm = mesh();
+    mm.set_point(b.v, b.origin + plane.normal() * (b.lift * m));
+    for (const auto f : mm.vf_range(b.v)) mm.set_normal(f, mm.calc_face_normal(f));
+}
+
+/// Removes a fully swept vertex from its cell (swap with the cell's last live item).
+void Separator::State::retire(std::uint32_t index) {
+    BandVertex& b = band[index];
+    const std::uint32_t c = cell_of(b.xy);
+    const std::uint32_t last_slot = start[c] + --live[c];
+    const std::uint32_t other = items[last_slot];
+    items[b.slot] = other;
+    band[other].slot = b.slot;
+    items[last_slot] = index;
+    b.slot = kNoCell;
+    if (b.rim && b.lift > 0) ++stats.rim_pairs_swept;
+}
+
+Result<Separator, CutStatus> Separator::make(CutContext& ctx, const CrossSection& cut,
+                                             double kerf_width_m) {
+    if (!std::isfinite(kerf_width_m) || kerf_width_m <= 0.0 || cut.positive.loops.empty() ||
+        cut.positive.loops.size() != cut.negative.loops.size()) {
+        return Err{CutStatus::kInvalidArgument};
+    }
+    auto s = std::make_unique<State>();
+    s->ctx = &ctx;
+    s->plane = cut.plane;
+    s->kerf = kerf_width_m;
+    s->depth = kBandDepthKerfs * kerf_width_m;
+    s->ramp = kerf_width_m;
+    s->collect_band(cut);
+    s->build_grid();
+    ctx.note_vertices_moved(0.5 * kerf_width_m);
+    return Separator(std::move(s));
+}
+
+Separator::Separator(std::unique_ptr<State> s) noexcept : s_(std::move(s)) {}
+Separator::Separator(Separator&&) noexcept = default;
+Separator& Separator::operator=(Separator&&) noexcept = default;
+Separator::~Separator() = default;
+
+const SeparationStats& Separator::stats() const noexcept { return s_->stats; }
+
+bool Separator::sweep(std::span<const Vec2> polygon) {
+    State& s = *s_;
+    s.stats.moved_last_sweep = 0;
+    if (polygon.size() < 3) return false;
+    s.poly.assign(polygon.begin(), polygon.end());
+    double twice_area = 0.0;
+    Vec2 lo(1e300, 1e300), hi(-1e300, -1e300);
+    for (std::size_t i = 0; i < s.poly.size(); ++i) {
+        const Vec2& a = s.poly[i];
+        const Vec2& b = s.poly[(i + 1) % s.poly.size()];
+        if (!std::isfinite(a[0]) || !std::isfinite(a[1])) return false;
+        twice_area += a[0] * b[1] - a[1] * b[0];
+        lo.minimize(a);
+        hi.maximize(a);
+    }
+    if (!(std::abs(twice_area) > 0.0)) return false;
+    if (twice_area < 0) std::reverse(s.poly.begin(), s.poly.end());
+    const Vec2 pad(s.ramp, s.ramp);
+    const std::uint32_t c0 = s.cell_of(lo - pad);
+    const std::uint32_t c1 = s.cell_of(hi + pad);
+    for (std::uint32_t cy = c0 / s.nx; cy <= c1 / s.nx; ++cy) {
+        for (std::uint32_t cx = c0 % s.nx; cx <= c1 % s.nx; ++cx) {
+            const std::uint32_t c = cy * s.nx + cx;
+            for (std::uint32_t k = s.start[c]; k < s.start[c] + s.live[c];) {
+                const std::uint32_t i = s.items[k];
+                BandVertex& b = s.band[i];
+                const double d = distance_to_convex(b.xy, s.poly);
+                const double m = std::clamp(1.0 - d / s.ramp, 0.0, 1.0);
+                if (m > b.m) {
+                    s.apply(b, m);
+                    ++s.stats.moved_last_sweep;
+                }
+                if (b.m >= 1.0) {
+                    s.retire(i);  // swaps another live item into slot k: test k again
+                    continue;
+                }
+                ++k;
+            }
+        }
+    }
+    return true;
+}
+
+void Separator::sweep_all() {
+    State& s = *s_;
+    s.stats.moved_last_sweep = 0;
+    for (std::uint32_t i = 0; i < s.band.size(); ++i) {
+        BandVertex& b = s.band[i];
+        if (b.slot == kNoCell) continue;
+        s.apply(b, 1.0);
+        ++s.stats.moved_last_sweep;
+        s.retire(i);
+    }
+}
+
+}  // namespace kerf::cut
