@@ -130,17 +130,14 @@ Result<HandScript, ScriptError> load_hand_script(const std::filesystem::path& pa
 HandPlayer::HandPlayer(HandScript script, const Vec3& start_m)
     : script_(std::move(script)), from_(start_m), pos_(start_m) {}
 
-void HandPlayer::start_action(double t_s) {
-    action_start_s_ = t_s;
-    started_ = true;
-    from_ = pos_;
-}
-
 void HandPlayer::advance(double t_s, std::vector<FaultEvent>& events) {
     vel_ = {};
     while (index_ < script_.size()) {
         const auto& a = script_[index_];
-        if (!started_) start_action(t_s);
+        if (!started_) {  // actions run back to back from t = 0: each starts where the last ended
+            from_ = pos_;
+            started_ = true;
+        }
         if (a.kind == ScriptAction::Kind::kButton || a.kind == ScriptAction::Kind::kFault) {
             if (a.kind == ScriptAction::Kind::kButton) {
                 buttons_ = a.pressed ? (buttons_ | (1U << a.button)) : (buttons_ & ~(1U << a.button));
@@ -166,12 +163,9 @@ void HandPlayer::advance(double t_s, std::vector<FaultEvent>& events) {
         }
         if (u < 1.0) return;
         if (a.kind == ScriptAction::Kind::kSweep) pos_ = from_;  // a sweep ends where it began
+        action_start_s_ += a.duration_s;
         ++index_;
         started_ = false;
-        // The next action starts exactly where this one ended in time.
-        if (index_ < script_.size()) {
-            start_action(action_start_s_ + a.duration_s);
-        }
     }
 }
 

@@ -60,7 +60,6 @@ public:
     bool finished() const noexcept { return index_ >= script_.size(); }
 
 private:
-    void start_action(double t_s);
     HandScript script_;
     std::size_t index_ = 0;
     double action_start_s_ = 0;
