@@ -21,6 +21,21 @@ void face_box(const mesh::TriMesh& m, mesh::FaceHandle f, Vec3& lo, Vec3& hi) {
 
 }  // namespace
 
+FaceGrid::Entry FaceGrid::entry_of(const mesh::TriMesh& mesh, mesh::FaceHandle f) {
+    Vec3 p[3];
+    int k = 0;
+    for (auto v : mesh.fv_range(f)) p[k++] = mesh.point(v);
+    const Vec3 c = (p[0] + p[1] + p[2]) / 3.0;
+    double r = std::max({(p[0] - c).norm(), (p[1] - c).norm(), (p[2] - c).norm()});
+    // float rounding of the centre: pad by a few ulps of the coordinates.
+    r += 4e-7 * (std::abs(c[0]) + std::abs(c[1]) + std::abs(c[2])) + 1e-12;
+    Entry e;
+    e.face = f.idx();
+    for (int a = 0; a < 3; ++a) e.centre[a] = static_cast<float>(c[a]);
+    e.radius = static_cast<float>(r * (1.0 + 1e-6));
+    return e;
+}
+
 int FaceGrid::clamp_cell(double x, int axis) const noexcept {
     const double c = std::floor((x - origin_[axis]) / cell_m_);
     if (!(c >= 0.0)) return 0;
@@ -71,7 +86,10 @@ void FaceGrid::build(const mesh::TriMesh& mesh) {
     for (std::size_t c = 0; c < cells; ++c) offsets_[c + 1] += offsets_[c];
     faces_.resize(offsets_[cells]);
     std::vector<std::uint32_t> fill(offsets_.begin(), offsets_.end() - 1);
-    for (auto f : mesh.faces()) for_cells(f, [&](std::size_t c) { faces_[fill[c]++] = f.idx(); });
+    for (auto f : mesh.faces()) {
+        const Entry e = entry_of(mesh, f);
+        for_cells(f, [&](std::size_t c) { faces_[fill[c]++] = e; });
+    }
     extra_head_.assign(cells, -1);
     extra_.clear();
 }
@@ -80,6 +98,7 @@ void FaceGrid::insert(const mesh::TriMesh& mesh, mesh::FaceHandle f) {
     if (offsets_.empty()) return;
     Vec3 a, b;
     face_box(mesh, f, a, b);
+    const Entry e = entry_of(mesh, f);
     const int i0 = clamp_cell(a[0], 0), i1 = clamp_cell(b[0], 0);
     const int j0 = clamp_cell(a[1], 1), j1 = clamp_cell(b[1], 1);
     const int k0 = clamp_cell(a[2], 2), k1 = clamp_cell(b[2], 2);
@@ -87,7 +106,7 @@ void FaceGrid::insert(const mesh::TriMesh& mesh, mesh::FaceHandle f) {
         for (int j = j0; j <= j1; ++j)
             for (int i = i0; i <= i1; ++i) {
                 const std::size_t c = cell_id(i, j, k);
-                extra_.push_back(Node{f.idx(), extra_head_[c]});
+                extra_.push_back(Node{e, extra_head_[c]});
                 extra_head_[c] = static_cast<std::int32_t>(extra_.size() - 1);
             }
 }

@@ -4,9 +4,11 @@
 // may report deleted faces: callers dedupe and skip.
 //
 // Storage: an immutable CSR of the faces indexed at build time plus, per cell, a linked list of
-// faces inserted since (one flat node pool; no per-cell allocation, no hash map).
+// faces inserted since (one flat node pool; no per-cell allocation, no hash map). Each entry
+// carries the face's bounding sphere, so queries reject most faces without touching the mesh.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -26,12 +28,12 @@ public:
     /// Extra distance every query adds (vertices moved since indexing), m.
     void widen(double margin_m) noexcept { margin_m_ += margin_m; }
 
-    /// Calls `visit(face_index)` for faces registered in cells within `radius_m` of `p`.
+    /// Calls `visit(face_index)` for faces whose bounding sphere comes within `radius_m` of `p`.
     template <class Visit>
     void for_each_near_point(const Vec3& p, double radius_m, Visit&& visit) const;
 
-    /// Calls `visit(face_index)` for faces registered in cells within `slack_m` of the patch of
-    /// `plane` whose frame coordinates lie in [lo, hi].
+    /// Calls `visit(face_index)` for faces whose bounding sphere comes within `slack_m` of the
+    /// plane, registered in cells along the patch of `plane` whose frame coordinates lie in [lo, hi].
     template <class Visit>
     void for_each_near_plane(const Plane& plane, const Vec2& lo, const Vec2& hi, double slack_m,
                              Visit&& visit) const;
@@ -40,32 +42,40 @@ public:
     std::size_t cell_count() const noexcept { return offsets_.empty() ? 0 : offsets_.size() - 1; }
 
 private:
-    struct Node {
+    struct Entry {
         std::int32_t face;
+        float centre[3];  // bounding sphere, m (radius padded for float rounding)
+        float radius;
+    };
+    struct Node {
+        Entry entry;
         std::int32_t next;
     };
+    static Entry entry_of(const mesh::TriMesh& mesh, mesh::FaceHandle f);
 
     int clamp_cell(double x, int axis) const noexcept;
     std::size_t cell_id(int i, int j, int k) const noexcept {
         return (static_cast<std::size_t>(k) * dims_[1] + j) * dims_[0] + i;
     }
-    template <class Visit>
-    void visit_cell(std::size_t c, Visit& visit) const;
+    template <class Accept, class Visit>
+    void visit_cell(std::size_t c, const Accept& accept, Visit& visit) const;
 
     Vec3 origin_{0, 0, 0};
     double cell_m_ = 1.0;
     double margin_m_ = 0.0;
     int dims_[3] = {0, 0, 0};
     std::vector<std::uint32_t> offsets_;  // CSR: cell c holds faces_[offsets_[c] .. offsets_[c+1])
-    std::vector<std::int32_t> faces_;
+    std::vector<Entry> faces_;
     std::vector<std::int32_t> extra_head_;  // per cell, -1 = none
     std::vector<Node> extra_;
 };
 
-template <class Visit>
-void FaceGrid::visit_cell(std::size_t c, Visit& visit) const {
-    for (std::uint32_t i = offsets_[c]; i < offsets_[c + 1]; ++i) visit(faces_[i]);
-    for (std::int32_t n = extra_head_[c]; n >= 0; n = extra_[n].next) visit(extra_[n].face);
+template <class Accept, class Visit>
+void FaceGrid::visit_cell(std::size_t c, const Accept& accept, Visit& visit) const {
+    for (std::uint32_t i = offsets_[c]; i < offsets_[c + 1]; ++i)
+        if (accept(faces_[i])) visit(faces_[i].face);
+    for (std::int32_t n = extra_head_[c]; n >= 0; n = extra_[n].next)
+        if (accept(extra_[n].entry)) visit(extra_[n].entry.face);
 }
 
 template <class Visit>
@@ -77,9 +87,14 @@ void FaceGrid::for_each_near_point(const Vec3& p, double radius_m, Visit&& visit
         lo[a] = clamp_cell(p[a] - r, a);
         hi[a] = clamp_cell(p[a] + r, a);
     }
+    auto accept = [&](const Entry& e) {
+        const double dx = e.centre[0] - p[0], dy = e.centre[1] - p[1], dz = e.centre[2] - p[2];
+        const double reach = e.radius + r;
+        return dx * dx + dy * dy + dz * dz <= reach * reach;
+    };
     for (int k = lo[2]; k <= hi[2]; ++k)
         for (int j = lo[1]; j <= hi[1]; ++j)
-            for (int i = lo[0]; i <= hi[0]; ++i) visit_cell(cell_id(i, j, k), visit);
+            for (int i = lo[0]; i <= hi[0]; ++i) visit_cell(cell_id(i, j, k), accept, visit);
 }
 
 template <class Visit>
@@ -105,6 +120,10 @@ void FaceGrid::for_each_near_plane(const Plane& plane, const Vec2& lo2, const Ve
     const double nw = n[w];
     const double c0 = OpenMesh::dot(n, plane.point());
     const double pad = s / std::abs(nw) + cell_m_ * 1e-9;
+    auto accept = [&](const Entry& e) {
+        const double d = n[0] * e.centre[0] + n[1] * e.centre[1] + n[2] * e.centre[2] - c0;
+        return std::abs(d) <= e.radius + s;
+    };
     int cell[3];
     for (int j = j0; j <= j1; ++j) {
         for (int i = i0; i <= i1; ++i) {
@@ -124,7 +143,7 @@ void FaceGrid::for_each_near_plane(const Plane& plane, const Vec2& lo2, const Ve
             cell[a1] = j;
             for (int k = k0; k <= k1; ++k) {
                 cell[w] = k;
-                visit_cell(cell_id(cell[0], cell[1], cell[2]), visit);
+                visit_cell(cell_id(cell[0], cell[1], cell[2]), accept, visit);
             }
         }
     }
