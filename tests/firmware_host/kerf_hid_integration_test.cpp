@@ -1,6 +1,8 @@
 // Host <-> kerf-hapsim as real processes, Kerf HID protocol over the Unix socket.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <fstream>
 #include <sstream>
 
@@ -145,6 +147,28 @@ TEST(KerfHidIntegration, OpenDeviceOpensTheSimulatedProfileThroughTheEmulator) {
     ASSERT_TRUE(dev) << dev.error().message();
     DeviceLoop loop(**dev);
     test::engage(loop);
+}
+
+// Real-time mode: the emulated device streams reports every millisecond on the wall clock and
+// its watchdog (10 ms) trips when the host falls silent; the host sees the bit, commands zero,
+// clears the latched fault and re-engages.
+TEST(KerfHidIntegration, RealTimeDeviceWatchdogTripsWhenTheHostFallsSilentAndRecovers) {
+    HapsimProcess sim({"--protocol", "kerf", "--realtime"});
+    ASSERT_TRUE(sim.ready()) << sim.output();
+    auto dev = open_kerf(sim);
+    ASSERT_NE(dev, nullptr);
+    DeviceLoop loop(*dev);
+    test::engage(loop);
+    ::usleep(30000);  // the host stalls for 30 ms: three watchdog periods
+    bool tripped = false;
+    for (int i = 0; i < 5 && !tripped; ++i) {
+        loop.tick(5000);
+        tripped = loop.sample.flags.watchdog_tripped;
+    }
+    ASSERT_TRUE(tripped);
+    EXPECT_EQ(loop.force(), 0.0);
+    test::engage(loop);  // clear-fault with a zero command, then ramp-in again
+    EXPECT_FALSE(loop.sample.flags.watchdog_tripped);
 }
 
 struct FaultCase {
