@@ -62,8 +62,10 @@ BuiltMesh build_tri_mesh(const IndexedMesh& in) {
         VertexHandle copies[3];
         for (int k = 0; k < 3; ++k) {
             const VertexHandle src(static_cast<int>(t[static_cast<std::size_t>(k)]));
-            copies[k] = m.add_vertex(m.point(src));
-            m.data(copies[k]).set_material(m.data(src).material());
+            const Point p = m.point(src);  // a copy: add_vertex may reallocate the points
+            const Material material = m.data(src).material();
+            copies[k] = m.add_vertex(p);
+            m.data(copies[k]).set_material(material);
         }
         m.add_face(copies[0], copies[1], copies[2]);
     }
