@@ -47,6 +47,15 @@ TEST(FalconIntegration, LoadsFirmwareHomesAndEngages) {
     EXPECT_TRUE((*dev)->last_report().all_homed());
 }
 
+TEST(FalconIntegration, RealTimeModeStreamsPacketsHomesAndEngages) {
+    HapsimProcess sim({"--protocol", "falcon", "--firmware-loaded", "--realtime"});
+    ASSERT_TRUE(sim.ready()) << sim.output();
+    auto dev = open_falcon(sim, "");
+    ASSERT_TRUE(dev) << dev.error().message();
+    DeviceLoop loop(**dev);
+    test::engage(loop);
+}
+
 TEST(FalconIntegration, EchoMismatchIsRetriedAndTheLoadSucceeds) {
     HapsimProcess sim({"--protocol", "falcon"});
     ASSERT_TRUE(sim.ready());
