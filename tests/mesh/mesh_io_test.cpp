@@ -94,7 +94,7 @@ TEST(MeshIo, StoredStlNormalsAreIgnoredEvenWhenGarbage) {
     std::string data = serialize_mesh(make_box({0, 0, 0}, {1, 1, 1}), Format::kStl, Units::kMetres);
     const float nan = std::numeric_limits<float>::quiet_NaN();
     for (std::size_t f = 0; f < 12; ++f) std::memcpy(data.data() + 84 + 50 * f, &nan, 4);
-    auto m = parse_indexed(as_bytes(data), Format::kStl, Units::kMetres);
+    auto m = parse_mesh(as_bytes(data), Format::kStl, Units::kMetres);
     ASSERT_TRUE(m) << m.error().to_string();
     for (const FaceHandle f : m->mesh.faces()) EXPECT_NEAR(m->mesh.normal(f).norm(), 1.0, 1e-12);
 }
@@ -122,7 +122,7 @@ TEST(MeshIo, NonManifoldEdgeIsKeptDetachedAndCountedNotDropped) {
     const std::string obj =
         "v 0 0 0\nv 0 0 1\nv 1 0 0\nv 0 1 0\nv -1 0 0\n"
         "f 1 2 3\nf 2 1 4\nf 1 2 5\n";
-    auto m = parse_indexed(as_bytes(obj), Format::kObj, Units::kMetres);
+    auto m = parse_mesh(as_bytes(obj), Format::kObj, Units::kMetres);
     ASSERT_TRUE(m) << m.error().to_string();
     EXPECT_EQ(m->mesh.n_faces(), 3u);
     EXPECT_EQ(m->detached_triangles, 1u);
@@ -135,7 +135,7 @@ TEST(MeshIo, NonManifoldEdgeIsKeptDetachedAndCountedNotDropped) {
 
 TEST(MeshIo, RepeatedIndexTriangleIsDegenerateAndDetached) {
     const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 1 2\n";
-    auto m = parse_indexed(as_bytes(obj), Format::kObj, Units::kMetres);
+    auto m = parse_mesh(as_bytes(obj), Format::kObj, Units::kMetres);
     ASSERT_TRUE(m) << m.error().to_string();
     EXPECT_EQ(m->mesh.n_faces(), 2u);
     EXPECT_EQ(m->detached_triangles, 1u);
