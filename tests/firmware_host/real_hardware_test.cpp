@@ -84,3 +84,24 @@ TEST(KerfDevicesCommand, ABadProfileDirectoryIsAClearError) {
 
 }  // namespace
 }  // namespace kerf::firmware_host
+
+#include "firmware_host/transport/usb_hotplug.hpp"
+
+namespace kerf::firmware_host {
+namespace {
+
+TEST(RealLibusb, HotplugMonitorRegistersAndReportsNoFalconWhenNoneIsPlugged) {
+    auto monitor = UsbHotplugMonitor::create(falcon::kFalconVendorId, falcon::kFalconProductId);
+    if (!monitor) {  // libusb without hotplug support: a clean, named error
+        EXPECT_NE(monitor.error().message().find("usb 0403:cb48"), std::string::npos) << monitor.error().message();
+        return;
+    }
+    const auto events = (*monitor)->poll(1000);
+    const auto falcons = enumerate_usb(falcon::kFalconVendorId, falcon::kFalconProductId);
+    ASSERT_TRUE(falcons);
+    EXPECT_EQ(events.arrived, falcons->size());  // LIBUSB_HOTPLUG_ENUMERATE reports present ones
+    EXPECT_EQ(events.left, 0U);
+}
+
+}  // namespace
+}  // namespace kerf::firmware_host
