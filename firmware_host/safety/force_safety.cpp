@@ -37,7 +37,8 @@ std::string_view to_string(SafetyReason reason) noexcept {
 
 std::uint32_t ForceSafety::hard_faults(const SafetyInput& in) noexcept {
     std::uint32_t r = 0;
-    stale_ticks_ = in.read_status == DeviceStatus::kOk ? 0U : stale_ticks_ + 1U;
+    const bool fresh = in.read_status == DeviceStatus::kOk;
+    stale_ticks_ = fresh ? 0U : std::min(stale_ticks_, 0xFFFFFFFEU) + 1U;  // saturates
     if (stale_ticks_ >= std::max<std::uint32_t>(1U, limits_.stale_ticks)) r |= kReasonStale;
     if (in.read_status == DeviceStatus::kMalformed || in.read_status == DeviceStatus::kError) {
         r |= kReasonInvalidInput;
