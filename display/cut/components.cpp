@@ -80,6 +80,48 @@ std::vector<Body> find_components(const mesh::TriMesh& m) {
     return bodies;
 }
 
+namespace {
+
+bool box_holds(const Body& outer, const Body& inner) {
+    for (int k = 0; k < 3; ++k) {
+        if (inner.bbox_min_m[k] < outer.bbox_min_m[k] || inner.bbox_max_m[k] > outer.bbox_max_m[k]) {
+            return false;
+        }
+    }
+    return true;
+}
+
+void absorb(Body& into, const Body& cavity) {
+    into.faces.insert(into.faces.end(), cavity.faces.begin(), cavity.faces.end());
+    std::sort(into.faces.begin(), into.faces.end());
+    into.vertices.insert(into.vertices.end(), cavity.vertices.begin(), cavity.vertices.end());
+    std::sort(into.vertices.begin(), into.vertices.end());
+    into.volume_m3 += cavity.volume_m3;
+}
+
+}  // namespace
+
+std::vector<Body> group_cavities(std::vector<Body> shells) {
+    std::vector<Body> bodies;
+    std::vector<double> shell_volume;  // each body's own shell volume, before cavities
+    for (const Body& s : shells) {
+        if (s.volume_m3 < 0) continue;
+        bodies.push_back(s);
+        shell_volume.push_back(s.volume_m3);
+    }
+    for (const Body& cavity : shells) {
+        if (cavity.volume_m3 >= 0) continue;
+        std::size_t best = bodies.size();
+        for (std::size_t b = 0; b < bodies.size(); ++b) {
+            if (b >= shell_volume.size() || !box_holds(bodies[b], cavity)) continue;
+            if (best == bodies.size() || shell_volume[b] < shell_volume[best]) best = b;
+        }
+        if (best == bodies.size()) bodies.push_back(cavity);
+        else absorb(bodies[best], cavity);
+    }
+    return bodies;
+}
+
 PieceFinder::PieceFinder(const mesh::TriMesh& mesh) : mesh_(mesh) { grow_to_mesh(); }
 
 void PieceFinder::grow_to_mesh() {

@@ -36,6 +36,12 @@ struct Body {
 /// Every piece of `mesh`, ordered by their lowest face index. O(V + F).
 std::vector<Body> find_components(const mesh::TriMesh& mesh);
 
+/// Groups shells into bodies: a shell of negative volume (a cavity, e.g. a bone's medullary canal
+/// modelled as an inward-facing shell) joins the smallest positive shell whose bounding box holds
+/// its own (a box test: cavities are assumed not to straddle two bones). Order: that of the
+/// positive shells; a cavity with no holder stays a body of its own.
+std::vector<Body> group_cavities(std::vector<Body> shells);
+
 /// What find_pieces() found. When every search closes (e.g. two equal halves finish in the same
 /// round) every piece is in `severed` and no seed is kRemainder: keep the largest as the original.
 struct SeverReport {

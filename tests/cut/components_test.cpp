@@ -142,6 +142,29 @@ TEST(Components, AHollowTubeCutAcrossGivesTwoBodiesFoundFromBothLoops) {
     EXPECT_EQ(on_piece, 2);
 }
 
+TEST(Components, CavityShellsJoinTheBoneAroundThem) {
+    // A bone as the foot generator makes it: an outer shell and an inward-facing canal shell.
+    TriMesh m = mesh::make_uv_sphere(0.01, 2000);
+    TriMesh canal = mesh::make_uv_sphere(0.004, 800);
+    for (const auto f : canal.faces()) {  // turn it inside out: a cavity
+        std::vector<mesh::VertexHandle> vs;
+        for (const auto v : canal.fv_range(f)) vs.push_back(v);
+        canal.delete_face(f, false);
+        canal.add_face(vs[0], vs[2], vs[1]);
+    }
+    canal.garbage_collection();
+    append(m, canal);
+    append(m, mesh::make_box({0.1, 0, 0}, {0.2, 0.1, 0.1}));
+    const auto shells = find_components(m);
+    ASSERT_EQ(shells.size(), 3u);
+    const auto bodies = group_cavities(shells);
+    ASSERT_EQ(bodies.size(), 2u);
+    EXPECT_EQ(bodies[0].faces.size(), shells[0].faces.size() + shells[1].faces.size());
+    EXPECT_NEAR(bodies[0].volume_m3, shells[0].volume_m3 + shells[1].volume_m3, 1e-18);
+    EXPECT_LT(bodies[0].volume_m3, shells[0].volume_m3);
+    EXPECT_NEAR(bodies[1].volume_m3, 1e-3, 1e-15);
+}
+
 TEST(Components, InvalidOrDeletedSeedsAreIgnored) {
     TriMesh m = mesh::make_uv_sphere(0.01, 500);
     PieceFinder finder(m);

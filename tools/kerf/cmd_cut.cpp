@@ -1,6 +1,211 @@
-// Placeholder registration; the issue that owns this command group replaces it.
+// `kerf cut IN --plane px,py,pz,nx,ny,nz [--plane ...] [--seed x,y,z ...] [--kerf W]
+//  [--units mm] [--mode uniplanar|biplanar|separated] -o OUT [--json]`
+//
+// Cuts a mesh file plane by plane (several planes = sequential cuts, e.g. a chevron osteotomy)
+// and writes each piece to its own file: OUT with the piece number before the extension
+// (out.stl -> out_1.stl, out_2.stl, ...; piece 1 is the largest). Every number on the command line
+// is in the file's units (--units). A --seed localises the cut to the bone it touches.
+// Errors: `kerf cut: <what>: <where>: <why>`; bad arguments exit 2, a refused cut or bad file 1.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "display/mesh/mesh_io.hpp"
 #include "tools/kerf/commands.hpp"
+#include "tools/kerf/cut_job.hpp"
 
 namespace kerf::cli {
-void add_cut_command(CLI::App& /*app*/) {}
+namespace {
+
+struct CutOptions {
+    std::string input;
+    std::vector<std::string> planes;
+    std::vector<std::string> seeds;
+    std::string kerf;
+    std::string units = "mm";
+    std::string mode = "uniplanar";
+    std::string output;
+    bool json = false;
+};
+
+[[noreturn]] void fail(int code, std::string_view what, std::string_view where,
+                       std::string_view why) {
+    std::cerr << "kerf cut: " << what << ": " << where << ": " << why << "\n";
+    throw CLI::RuntimeError(code);
+}
+
+/// Parses exactly `count` comma-separated finite numbers, or explains why not.
+Result<std::vector<double>, std::string> parse_numbers(const std::string& text, std::size_t count) {
+    std::vector<double> out;
+    std::stringstream in(text);
+    std::string item;
+    while (std::getline(in, item, ',')) {
+        std::size_t used = 0;
+        double v = 0.0;
+        try {
+            v = std::stod(item, &used);
+        } catch (...) {
+            return Err{"'" + item + "' is not a number"};
+        }
+        if (used != item.size() && item.find_first_not_of(" \t", used) != std::string::npos) {
+            return Err{"'" + item + "' is not a number"};
+        }
+        if (!std::isfinite(v)) return Err{"'" + item + "' is not finite"};
+        out.push_back(v);
+    }
+    if (out.size() != count || (!text.empty() && text.back() == ',')) {
+        return Err{"expected " + std::to_string(count) + " comma-separated numbers, got '" + text +
+                   "'"};
+    }
+    return out;
+}
+
+CutJob job_from(const CutOptions& o, double metres_per_unit) {
+    CutJob job;
+    const auto mode = parse_cut_mode(o.mode);
+    if (!mode) fail(kExitUsage, "--mode", o.mode, "expected uniplanar, biplanar or separated");
+    job.mode = *mode;
+    for (std::size_t i = 0; i < o.planes.size(); ++i) {
+        auto v = parse_numbers(o.planes[i], 6);
+        if (!v) fail(kExitUsage, "--plane #" + std::to_string(i + 1), "px,py,pz,nx,ny,nz", v.error());
+        const auto& p = *v;
+        job.planes.push_back({cut::Vec3(p[0], p[1], p[2]) * metres_per_unit,
+                              cut::Vec3(p[3], p[4], p[5])});
+    }
+    for (std::size_t i = 0; i < o.seeds.size(); ++i) {
+        auto v = parse_numbers(o.seeds[i], 3);
+        if (!v) fail(kExitUsage, "--seed #" + std::to_string(i + 1), "x,y,z", v.error());
+        job.seeds_m.push_back(cut::Vec3((*v)[0], (*v)[1], (*v)[2]) * metres_per_unit);
+    }
+    if (!o.kerf.empty()) {
+        auto v = parse_numbers(o.kerf, 1);
+        if (!v || (*v)[0] <= 0) {
+            fail(kExitUsage, "--kerf", o.kerf, v ? "must be positive" : v.error());
+        }
+        job.kerf_m = (*v)[0] * metres_per_unit;
+    }
+    if (auto ok = check_cut_job(job); !ok) {
+        const auto& e = ok.error();
+        if (e.status == cut::CutStatus::kInvalidPlane) {
+            fail(kExitUsage, "--plane #" + std::to_string(e.plane + 1), o.planes[e.plane], e.why);
+        }
+        fail(kExitUsage, "arguments", "--mode " + o.mode, e.why);
+    }
+    return job;
+}
+
+std::filesystem::path piece_path(const std::filesystem::path& out, std::size_t k) {
+    std::filesystem::path p = out;
+    p.replace_filename(out.stem().string() + "_" + std::to_string(k) + out.extension().string());
+    return p;
+}
+
+void print_text(const CutOptions& o, const CutReport& r, const std::vector<std::string>& files,
+                double unit) {
+    const double u3 = unit * unit * unit;
+    for (const auto& s : r.steps) {
+        const auto& st = s.result.stats;
+        std::cout << "cut " << s.plane + 1 << " (" << o.mode << "): " << st.loops << " loops, "
+                  << st.faces_split << " faces split, " << st.vertices_added
+                  << " vertices added, " << st.triangles_added << " triangles added ("
+                  << st.cap_triangles << " cap), " << st.triangles_removed << " removed, "
+                  << static_cast<double>(st.time_ns) * 1e-6 << " ms\n";
+    }
+    std::cout << r.pieces.size() << " pieces:\n";
+    for (std::size_t k = 0; k < r.pieces.size(); ++k) {
+        const auto& b = r.pieces[k];
+        std::cout << "  " << files[k] << ": " << b.faces.size() << " triangles, volume "
+                  << b.volume_m3 / u3 << " " << o.units << "^3\n";
+    }
+    char hash[24];
+    std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(r.mesh_hash));
+    std::cout << "mesh hash " << hash << "\n";
+}
+
+void print_json(const CutOptions& o, const CutReport& r, const std::vector<std::string>& files,
+                double unit) {
+    const double u3 = unit * unit * unit;
+    std::cout << "{\"input\": \"" << o.input << "\", \"units\": \"" << o.units << "\", \"mode\": \""
+              << o.mode << "\", \"cuts\": [";
+    for (std::size_t i = 0; i < r.steps.size(); ++i) {
+        const auto& st = r.steps[i].result.stats;
+        std::cout << (i ? ", " : "") << "{\"plane\": " << r.steps[i].plane + 1
+                  << ", \"loops\": " << st.loops << ", \"faces_split\": " << st.faces_split
+                  << ", \"vertices_added\": " << st.vertices_added
+                  << ", \"triangles_added\": " << st.triangles_added
+                  << ", \"cap_triangles\": " << st.cap_triangles
+                  << ", \"triangles_removed\": " << st.triangles_removed
+                  << ", \"time_ms\": " << static_cast<double>(st.time_ns) * 1e-6 << "}";
+    }
+    std::cout << "], \"pieces\": [";
+    for (std::size_t k = 0; k < r.pieces.size(); ++k) {
+        std::cout << (k ? ", " : "") << "{\"file\": \"" << files[k]
+                  << "\", \"triangles\": " << r.pieces[k].faces.size()
+                  << ", \"volume\": " << r.pieces[k].volume_m3 / u3 << "}";
+    }
+    char hash[24];
+    std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(r.mesh_hash));
+    std::cout << "], \"mesh_hash\": \"" << hash << "\"}\n";
+}
+
+void run_cut(const CutOptions& o) {
+    const auto units = mesh::parse_units(o.units);
+    if (!units) fail(kExitUsage, "--units", o.units, "expected mm, m, cm, in or um");
+    if (!mesh::format_from_path(o.output)) {
+        fail(kExitUsage, "-o", o.output, "unknown extension (expected .stl .obj .ply .off)");
+    }
+    const double unit = mesh::metres_per_unit(*units);
+    const CutJob job = job_from(o, unit);
+    auto loaded = mesh::load_mesh(o.input, *units);
+    if (!loaded) fail(kExitFailure, "cannot load mesh", o.input, loaded.error().to_string());
+    auto report = run_cut_job(*loaded, job);
+    if (!report) {
+        const auto& e = report.error();
+        fail(kExitFailure, "--plane #" + std::to_string(e.plane + 1), o.planes[e.plane], e.why);
+    }
+    std::vector<std::string> files;
+    for (std::size_t k = 0; k < report->pieces.size(); ++k) {
+        const auto path = piece_path(o.output, k + 1);
+        const auto piece = extract_piece(*loaded, report->pieces[k]);
+        auto saved = mesh::save_mesh(piece, path, *units);
+        if (!saved) fail(kExitFailure, "cannot write piece", path.string(), saved.error().to_string());
+        files.push_back(path.string());
+    }
+    if (o.json) print_json(o, *report, files, unit);
+    else print_text(o, *report, files, unit);
+}
+
+}  // namespace
+
+void add_cut_command(CLI::App& app) {
+    auto o = std::make_shared<CutOptions>();
+    CLI::App* cmd = app.add_subcommand(
+        "cut", "Cut a mesh by one or more planes (sequential cuts) and write each piece");
+    cmd->add_option("IN", o->input, "mesh file (.stl .obj .ply .off)")->required();
+    cmd->add_option("--plane", o->planes,
+                    "px,py,pz,nx,ny,nz: a point on the plane and its normal (file units); "
+                    "repeat for sequential cuts")
+        ->required();
+    cmd->add_option("--seed", o->seeds,
+                    "x,y,z: a surface point where the blade touches; localises the cut to that "
+                    "bone; one for all planes or one per plane");
+    cmd->add_option("--kerf", o->kerf, "blade width (file units); needed by biplanar, separated");
+    cmd->add_option("--units", o->units, "length unit of the file and of every number: mm, m, "
+                                         "cm, in, um")
+        ->capture_default_str();
+    cmd->add_option("--mode", o->mode, "uniplanar (one plane), biplanar (remove a kerf-wide "
+                                       "slab) or separated (one plane, then the kerf opened)")
+        ->capture_default_str();
+    cmd->add_option("-o,--output", o->output,
+                    "output file; piece k goes to NAME_k.EXT (.stl .obj .ply .off)")
+        ->required();
+    cmd->add_flag("--json", o->json, "print one JSON object instead of text");
+    cmd->callback([o] { run_cut(*o); });
+}
+
 }  // namespace kerf::cli

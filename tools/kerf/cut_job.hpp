@@ -1,0 +1,71 @@
+// A sequence of planar cuts on one mesh and the pieces it leaves: what `kerf cut` and `kerf demo`
+// run. Lengths in metres (the CLI converts from the file's units before calling).
+//
+//   CutJob job{.mode = CutMode::kUniplanar};
+//   job.planes.push_back({apex, n1});
+//   job.planes.push_back({apex, n2});
+//   job.seeds_m.push_back(surface_point);                  // one seed for every plane
+//   auto report = run_cut_job(mesh, job);                  // cuts in order, then finds pieces
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "config/result.hpp"
+#include "display/cut/components.hpp"
+#include "display/cut/cut_result.hpp"
+#include "display/cut/plane.hpp"
+#include "display/mesh/tri_mesh.hpp"
+
+namespace kerf::cli {
+
+/// How each plane cuts: one plane (sides touch), a slab a kerf wide, or one plane then the kerf
+/// opened by gradual separation swept to completion.
+enum class CutMode : std::uint8_t { kUniplanar, kBiplanar, kSeparated };
+std::string_view to_string(CutMode m) noexcept;
+std::optional<CutMode> parse_cut_mode(std::string_view text) noexcept;
+
+struct PlaneSpec {
+    cut::Vec3 point_m;
+    cut::Vec3 normal;
+};
+
+struct CutJob {
+    std::vector<PlaneSpec> planes;   ///< cut in this order
+    std::vector<cut::Vec3> seeds_m;  ///< none (full plane), one for all planes, or one per plane
+    double kerf_m = 0.0;             ///< blade width; required (> 0) for biplanar and separated
+    CutMode mode = CutMode::kUniplanar;
+};
+
+/// One cut's outcome.
+struct CutStep {
+    std::size_t plane = 0;  ///< index into CutJob::planes
+    cut::CutResult result;
+};
+
+struct CutReport {
+    std::vector<CutStep> steps;
+    std::vector<cut::Body> pieces;  ///< bodies (shells with their cavities), largest first
+    std::uint64_t mesh_hash = 0;
+};
+
+/// Why a job stopped; the mesh keeps every cut made before `plane`.
+struct CutJobError {
+    std::size_t plane = 0;
+    cut::CutStatus status = cut::CutStatus::kInvalidArgument;
+    std::string why;
+};
+
+/// Checks the job's shape (seed count, kerf for the mode, planes valid) without cutting.
+Status<CutJobError> check_cut_job(const CutJob& job);
+
+/// Cuts `mesh` in place plane by plane, then finds the pieces.
+Result<CutReport, CutJobError> run_cut_job(mesh::TriMesh& mesh, const CutJob& job);
+
+/// A standalone mesh of `piece`'s faces (attributes copied, vertices renumbered in order).
+mesh::TriMesh extract_piece(const mesh::TriMesh& mesh, const cut::Body& piece);
+
+}  // namespace kerf::cli
