@@ -12,6 +12,7 @@
 #include "display/mesh/foot_generator.hpp"
 #include "display/mesh/validate.hpp"
 #include "tools/kerf/commands.hpp"
+#include "tools/kerf/demo_chevron.hpp"
 
 namespace kerf::cli {
 namespace {
@@ -70,6 +71,40 @@ void report_scene(const DemoScene& scene, const DemoOptions& o) {
     std::cout << mesh::format_report_text(report, mesh::Units::kMillimetres);
 }
 
+/// The chevron osteotomy of the first metatarsal and its pieces (after the intact scene's report).
+void report_chevron(DemoScene& scene, const DemoOptions& o) {
+    auto chevron = cut_chevron(scene.foot);
+    if (!chevron) {
+        std::cerr << "kerf demo: chevron osteotomy: first metatarsal: " << chevron.error() << "\n";
+        throw CLI::RuntimeError(kExitFailure);
+    }
+    const ChevronReport& c = *chevron;
+    if (o.json) {
+        std::cout << "{\"chevron\": {\"apex_mm\": [" << c.apex_m[0] * 1e3 << ", " << c.apex_m[1] * 1e3
+                  << ", " << c.apex_m[2] * 1e3 << "], \"ms\": " << c.elapsed_ms
+                  << ", \"bodies\": " << c.cuts.pieces.size() << ", \"fragments_mm3\": [";
+        for (std::size_t k = 0; k < c.fragments.size(); ++k) {
+            std::cout << (k ? ", " : "") << c.cuts.pieces[c.fragments[k]].volume_m3 * 1e9;
+        }
+        std::cout << "]}}\n";
+        return;
+    }
+    std::cout << "chevron osteotomy:     first metatarsal, apex " << mm(c.apex_m)
+              << ", 60-degree V, seed " << mm(c.seed_m) << ", " << c.elapsed_ms << " ms\n";
+    for (const auto& step : c.cuts.steps) {
+        const auto& st = step.result.stats;
+        std::cout << "  cut " << step.plane + 1 << ": " << st.loops << " loops, " << st.faces_split
+                  << " faces split, " << st.triangles_added << " triangles added ("
+                  << st.cap_triangles << " cap), " << static_cast<double>(st.time_ns) * 1e-6
+                  << " ms\n";
+    }
+    std::cout << "  first metatarsal now " << c.fragments.size() << " pieces:";
+    for (const std::size_t k : c.fragments) {
+        std::cout << " " << c.cuts.pieces[k].volume_m3 * 1e9 << " mm^3";
+    }
+    std::cout << "; " << c.cuts.pieces.size() << " bodies in the scene\n";
+}
+
 void run_demo(const DemoOptions& o) {
     auto scene = build_scene(o);
     if (!scene) {
@@ -78,6 +113,7 @@ void run_demo(const DemoOptions& o) {
     }
     // Next stage (cutting issue): cut a chevron osteotomy of scene->foot.first_metatarsal().
     report_scene(*scene, o);
+    report_chevron(*scene, o);
 }
 
 }  // namespace
