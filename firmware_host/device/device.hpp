@@ -38,13 +38,13 @@ struct DeviceFlags {
 
 /// One sample, SI units, device frame.
 struct DeviceSample {
-    std::uint64_t count = 0;         ///< fresh samples since open (host-side, never wraps)
+    std::uint64_t count = 0;            ///< fresh samples since open (host-side, never wraps)
     std::uint32_t device_sequence = 0;  ///< the device's own sequence, when it has one
     Vec3d position_m{};
-    Vec3d velocity_m_per_s{};        ///< reported, or differenced by the host
+    Vec3d velocity_m_per_s{};  ///< reported, or differenced by the host
     std::uint32_t buttons = 0;
     DeviceFlags flags;
-    std::uint32_t command_lag = 0;   ///< host commands sent but not yet seen by the device
+    std::uint32_t command_lag = 0;  ///< host commands sent but not yet seen by the device
 };
 
 /// One command, SI units, device frame. The caller's safety layer has already shaped it.

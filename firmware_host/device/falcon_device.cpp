@@ -16,17 +16,20 @@ constexpr std::uint32_t kSetupTimeoutMs = 1000;
 FalconDevice::FalconDevice(std::unique_ptr<UsbLink> link, const FalconOptions& options) noexcept
     : link_(std::move(link)), options_(options), kinematics_(options.geometry) {}
 
-Result<std::unique_ptr<FalconDevice>, TransportError> FalconDevice::open(std::unique_ptr<UsbLink> link,
-                                                                         const FalconOptions& options) {
+Result<std::unique_ptr<FalconDevice>, TransportError> FalconDevice::open(
+    std::unique_ptr<UsbLink> link, const FalconOptions& options) {
     std::unique_ptr<FalconDevice> dev(new FalconDevice(std::move(link), options));
     if (!options.firmware_path.empty()) {
         auto image = falcon::read_firmware_image(options.firmware_path);
-        if (!image) return Err{TransportError{"read falcon firmware", options.firmware_path,
-                                              image.error().message()}};
+        if (!image)
+            return Err{TransportError{"read falcon firmware", options.firmware_path,
+                                      image.error().message()}};
         if (auto s = falcon::load_firmware(*dev->link_, *image, options.load); !s) {
-            return Err{TransportError{"load falcon firmware", options.firmware_path, s.error().message()}};
+            return Err{
+                TransportError{"load falcon firmware", options.firmware_path, s.error().message()}};
         }
-    } else if (auto s = falcon::send_requests(*dev->link_, falcon::normal_mode_requests(), kSetupTimeoutMs);
+    } else if (auto s = falcon::send_requests(*dev->link_, falcon::normal_mode_requests(),
+                                              kSetupTimeoutMs);
                s != LinkStatus::kOk) {
         return Err{TransportError{"set falcon normal mode", "ftdi", std::string(to_string(s))}};
     }
@@ -35,11 +38,11 @@ Result<std::unique_ptr<FalconDevice>, TransportError> FalconDevice::open(std::un
     DeviceSample sample;
     const auto s = dev->try_read(sample, options.probe_timeout_ms * 1000U);
     if (s != DeviceStatus::kOk) {
-        return Err{TransportError{"check falcon firmware", "normal mode",
-                                  std::string(to_string(s)) +
-                                      (options.firmware_path.empty()
-                                           ? " (firmware not loaded? pass a firmware image)"
-                                           : "")}};
+        return Err{TransportError{
+            "check falcon firmware", "normal mode",
+            std::string(to_string(s)) + (options.firmware_path.empty()
+                                             ? " (firmware not loaded? pass a firmware image)"
+                                             : "")}};
     }
     return dev;
 }
@@ -131,7 +134,8 @@ DeviceStatus FalconDevice::try_write(const DeviceCommand& command) noexcept {
     enabled_ = command.enable && homed && have_position_;
     if (enabled_) {
         falcon::Vec3 torque{};
-        if (kinematics_.torques(theta_, position_, command.force_n, torque) == falcon::KinematicsStatus::kOk) {
+        if (kinematics_.torques(theta_, position_, command.force_n, torque) ==
+            falcon::KinematicsStatus::kOk) {
             bool clamped = false;
             cmd.motor = kinematics_.commands(torque, clamped);
             if (clamped) ++counters_.clamped_commands;

@@ -26,11 +26,16 @@ std::int32_t to_milli(double v) noexcept {
 
 std::string_view to_string(DeviceStatus status) noexcept {
     switch (status) {
-        case DeviceStatus::kOk: return "ok";
-        case DeviceStatus::kNoData: return "no new sample";
-        case DeviceStatus::kMalformed: return "malformed data from the device";
-        case DeviceStatus::kDisconnected: return "device disconnected";
-        case DeviceStatus::kError: return "transport error";
+        case DeviceStatus::kOk:
+            return "ok";
+        case DeviceStatus::kNoData:
+            return "no new sample";
+        case DeviceStatus::kMalformed:
+            return "malformed data from the device";
+        case DeviceStatus::kDisconnected:
+            return "device disconnected";
+        case DeviceStatus::kError:
+            return "transport error";
     }
     return "unknown device status";
 }
@@ -48,7 +53,8 @@ Result<std::unique_ptr<KerfHidDevice>, TransportError> KerfHidDevice::open(
     std::array<std::byte, kReportSize> buf{};
     std::size_t n = 0;
     const auto t = options.feature_timeout_ms;
-    auto s = dev->transport_->get_feature(static_cast<std::uint8_t>(ReportId::kIdentity), buf, n, t);
+    auto s =
+        dev->transport_->get_feature(static_cast<std::uint8_t>(ReportId::kIdentity), buf, n, t);
     if (s != LinkStatus::kOk) return fail("get identity report 0x10", std::string(to_string(s)));
     if (auto c = decode_identity(std::span(buf).first(n), dev->identity_); c != CodecStatus::kOk) {
         return fail("decode identity report 0x10", std::string(to_string(c)));
@@ -56,13 +62,15 @@ Result<std::unique_ptr<KerfHidDevice>, TransportError> KerfHidDevice::open(
     const auto& id = dev->identity_;
     if ((options.expected_vendor_id != 0 && id.vendor_id != options.expected_vendor_id) ||
         (options.expected_product_id != 0 && id.product_id != options.expected_product_id)) {
-        return fail("check identity", "device reports " + hex_ids(id.vendor_id, id.product_id) +
-                                          ", profile expects " +
-                                          hex_ids(options.expected_vendor_id, options.expected_product_id));
+        return fail("check identity",
+                    "device reports " + hex_ids(id.vendor_id, id.product_id) +
+                        ", profile expects " +
+                        hex_ids(options.expected_vendor_id, options.expected_product_id));
     }
     s = dev->transport_->get_feature(static_cast<std::uint8_t>(ReportId::kMechanics), buf, n, t);
     if (s != LinkStatus::kOk) return fail("get mechanics report 0x11", std::string(to_string(s)));
-    if (auto c = decode_mechanics(std::span(buf).first(n), dev->mechanics_); c != CodecStatus::kOk) {
+    if (auto c = decode_mechanics(std::span(buf).first(n), dev->mechanics_);
+        c != CodecStatus::kOk) {
         return fail("decode mechanics report 0x11", std::string(to_string(c)));
     }
     if (!dev->mechanics_.cartesian_reporting) {
@@ -72,7 +80,8 @@ Result<std::unique_ptr<KerfHidDevice>, TransportError> KerfHidDevice::open(
         return fail("encode configuration report 0x20", "watchdog_ms outside 1..1000");
     }
     s = dev->transport_->set_feature(buf, t);
-    if (s != LinkStatus::kOk) return fail("set configuration report 0x20", std::string(to_string(s)));
+    if (s != LinkStatus::kOk)
+        return fail("set configuration report 0x20", std::string(to_string(s)));
     return dev;
 }
 

@@ -15,11 +15,11 @@
 namespace kerf::firmware_host {
 
 struct KerfHidOptions {
-    std::uint16_t watchdog_ms = 10;        ///< device-side watchdog period to configure
+    std::uint16_t watchdog_ms = 10;  ///< device-side watchdog period to configure
     std::uint32_t feature_timeout_ms = 1000;
     std::uint16_t expected_vendor_id = 0;  ///< 0: accept any
     std::uint16_t expected_product_id = 0;
-    std::uint32_t max_command_lag = 2;     ///< echo lag beyond this marks samples stale
+    std::uint32_t max_command_lag = 2;  ///< echo lag beyond this marks samples stale
 };
 
 class KerfHidDevice final : public Device {
@@ -38,7 +38,8 @@ public:
     LinkStatus shutdown(std::uint32_t timeout_ms) noexcept;
 
 private:
-    KerfHidDevice(std::unique_ptr<ReportTransport> transport, const KerfHidOptions& options) noexcept;
+    KerfHidDevice(std::unique_ptr<ReportTransport> transport,
+                  const KerfHidOptions& options) noexcept;
     void to_sample(const InputReport& in, DeviceSample& out) noexcept;
 
     std::unique_ptr<ReportTransport> transport_;

@@ -24,7 +24,8 @@ SafetyLimits safety_limits_from(const config::DeviceProfile& device,
         const auto& f = force->limits;
         if (f.max_force_n > 0) l.peak_force_n = std::min(l.peak_force_n, f.max_force_n);
         l.continuous_force_n = std::min(l.continuous_force_n, l.peak_force_n);
-        if (f.slew_rate_n_per_s > 0) l.max_slew_n_per_s = std::min(l.max_slew_n_per_s, f.slew_rate_n_per_s);
+        if (f.slew_rate_n_per_s > 0)
+            l.max_slew_n_per_s = std::min(l.max_slew_n_per_s, f.slew_rate_n_per_s);
         l.ramp_in_s = f.ramp_in_s;
         l.engage_threshold_n = f.engage_threshold_n;
         l.engage_quiet_ticks = f.engage_quiet_ticks;
@@ -55,7 +56,8 @@ falcon::DeltaGeometry delta_geometry_from(const config::DeviceProfile& device) {
 
 KerfHidOptions kerf_hid_options_from(const config::DeviceProfile& device) {
     KerfHidOptions o;
-    o.watchdog_ms = static_cast<std::uint16_t>(std::clamp<std::uint32_t>(device.limits.watchdog_ms, 1U, 1000U));
+    o.watchdog_ms =
+        static_cast<std::uint16_t>(std::clamp<std::uint32_t>(device.limits.watchdog_ms, 1U, 1000U));
     o.expected_vendor_id = device.ids.vendor_id;
     o.expected_product_id = device.ids.product_id;
     return o;
@@ -68,7 +70,8 @@ Result<std::unique_ptr<Device>, TransportError> open_falcon(std::unique_ptr<UsbL
                                                             const OpenOverrides& o) {
     FalconOptions options;
     // A simulated profile may describe no delta: the emulator then uses libnifalcon's figures.
-    if (p.kinematic_model == config::KinematicModel::kFalconDelta) options.geometry = delta_geometry_from(p);
+    if (p.kinematic_model == config::KinematicModel::kFalconDelta)
+        options.geometry = delta_geometry_from(p);
     options.firmware_path = o.firmware_path;
     auto dev = FalconDevice::open(std::move(link), options);
     if (!dev) return Err{dev.error()};
@@ -93,17 +96,20 @@ Result<std::unique_ptr<Device>, TransportError> open_device(const config::Device
             return open_falcon(std::move(*link), p, o);
         }
         case config::DeviceKind::kKerfHid: {
-            auto t = HidapiTransport::open({p.ids.vendor_id, p.ids.product_id, p.ids.serial, o.hid_path});
+            auto t = HidapiTransport::open(
+                {p.ids.vendor_id, p.ids.product_id, p.ids.serial, o.hid_path});
             if (!t) return Err{t.error()};
             return open_kerf(std::move(*t), p);
         }
-        case config::DeviceKind::kSimulated: break;
+        case config::DeviceKind::kSimulated:
+            break;
     }
     std::string path = o.socket_path;
     if (path.empty()) {
         auto expanded = config::expand_path(p.emulator.socket_path, {});
-        if (!expanded) return Err{TransportError{"expand emulator socket path", p.emulator.socket_path,
-                                                 expanded.error().message()}};
+        if (!expanded)
+            return Err{TransportError{"expand emulator socket path", p.emulator.socket_path,
+                                      expanded.error().message()}};
         path = expanded->string();
     }
     auto socket = SeqpacketSocket::connect(path);

@@ -32,11 +32,16 @@ Mat3 transpose(const Mat3& m) noexcept {
 
 std::string_view to_string(KinematicsStatus status) noexcept {
     switch (status) {
-        case KinematicsStatus::kOk: return "ok";
-        case KinematicsStatus::kNoConvergence: return "forward kinematics did not converge";
-        case KinematicsStatus::kSingular: return "kinematic singularity";
-        case KinematicsStatus::kUnreachable: return "position outside the reachable workspace";
-        case KinematicsStatus::kNonFinite: return "non-finite input";
+        case KinematicsStatus::kOk:
+            return "ok";
+        case KinematicsStatus::kNoConvergence:
+            return "forward kinematics did not converge";
+        case KinematicsStatus::kSingular:
+            return "kinematic singularity";
+        case KinematicsStatus::kUnreachable:
+            return "position outside the reachable workspace";
+        case KinematicsStatus::kNonFinite:
+            return "non-finite input";
     }
     return "unknown kinematics status";
 }
@@ -58,8 +63,8 @@ DeltaKinematics::DeltaKinematics(const DeltaGeometry& geometry) noexcept : g_(ge
         cos_phi_[i] = std::cos(g_.leg_angles_deg[i] * kDeg);
         sin_phi_[i] = std::sin(g_.leg_angles_deg[i] * kDeg);
     }
-    rad_per_count_ = 2.0 * std::numbers::pi / g_.counts_per_rev * g_.shaft_diameter_m /
-                     g_.drum_diameter_m;
+    rad_per_count_ =
+        2.0 * std::numbers::pi / g_.counts_per_rev * g_.shaft_diameter_m / g_.drum_diameter_m;
     theta_offset_rad_ = g_.theta_offset_deg * kDeg;
 }
 
@@ -117,8 +122,8 @@ KinematicsStatus DeltaKinematics::inverse(const Vec3& p, Vec3& theta) const noex
         const double pv = -sin_phi_[i] * p[0] + cos_phi_[i] * p[1];
         const double du = pu + g_.c_m - g_.r_m, dv = pv + g_.f_m - g_.s_m, dw = p[2];
         // du cos t + dw sin t = k, from |D - a(cos t, 0, sin t)|^2 = b^2.
-        const double k = (du * du + dv * dv + dw * dw + g_.a_m * g_.a_m - g_.b_m * g_.b_m) /
-                         (2 * g_.a_m);
+        const double k =
+            (du * du + dv * dv + dw * dw + g_.a_m * g_.a_m - g_.b_m * g_.b_m) / (2 * g_.a_m);
         const double rho = std::hypot(du, dw);
         if (rho < 1e-12 || std::abs(k) > rho) return KinematicsStatus::kUnreachable;
         out[i] = std::atan2(dw, du) - std::acos(k / rho);
@@ -155,7 +160,8 @@ KinematicsStatus DeltaKinematics::torques(const Vec3& theta, const Vec3& p, cons
 }
 
 KinematicsStatus DeltaKinematics::force_from_torques(const Vec3& theta, const Vec3& p,
-                                                     const Vec3& torque, Vec3& force) const noexcept {
+                                                     const Vec3& torque,
+                                                     Vec3& force) const noexcept {
     if (!finite(torque)) return KinematicsStatus::kNonFinite;
     Mat3 j{};
     if (auto s = jacobian(theta, p, j); s != KinematicsStatus::kOk) return s;
@@ -163,7 +169,8 @@ KinematicsStatus DeltaKinematics::force_from_torques(const Vec3& theta, const Ve
     return KinematicsStatus::kOk;
 }
 
-std::array<std::int16_t, 3> DeltaKinematics::commands(const Vec3& torque, bool& clamped) const noexcept {
+std::array<std::int16_t, 3> DeltaKinematics::commands(const Vec3& torque,
+                                                      bool& clamped) const noexcept {
     clamped = false;
     std::array<std::int16_t, 3> out{};
     if (!finite(torque)) return out;

@@ -23,9 +23,9 @@ struct DeltaGeometry {
     double a_m = 0.060, b_m = 0.1025, c_m = 0.014, d_m = 0.01125, e_m = 0.01125, f_m = -0.025;
     double r_m = 0.037233758, s_m = -0.027330909;
     Vec3 leg_angles_deg = {105.0, -15.0, -135.0};
-    double theta_offset_deg = 35.0;      ///< arm angle at encoder count 0
-    double counts_per_rev = 1280.0;      ///< motor-shaft encoder counts per revolution
-    double shaft_diameter_m = 0.01425;   ///< capstan; arm angle = motor angle * shaft / drum
+    double theta_offset_deg = 35.0;     ///< arm angle at encoder count 0
+    double counts_per_rev = 1280.0;     ///< motor-shaft encoder counts per revolution
+    double shaft_diameter_m = 0.01425;  ///< capstan; arm angle = motor angle * shaft / drum
     double drum_diameter_m = 0.110;
     double command_per_n_m = 10000.0;    ///< motor command units per N·m of arm torque
     std::int32_t command_limit = 32767;  ///< largest |command|; the host never exceeds it
@@ -50,11 +50,13 @@ public:
     std::int32_t counts(double angle_rad) const noexcept;
 
     /// Position (m) from arm angles; `guess` seeds the Newton iteration (use the last position).
-    KinematicsStatus forward(const Vec3& theta_rad, const Vec3& guess_m, Vec3& position_m) const noexcept;
+    KinematicsStatus forward(const Vec3& theta_rad, const Vec3& guess_m,
+                             Vec3& position_m) const noexcept;
     /// Arm angles for a position (closed form per leg, elbow-out branch).
     KinematicsStatus inverse(const Vec3& position_m, Vec3& theta_rad) const noexcept;
     /// dP/dtheta at a consistent (theta, position) pair.
-    KinematicsStatus jacobian(const Vec3& theta_rad, const Vec3& position_m, Mat3& dp_dtheta) const noexcept;
+    KinematicsStatus jacobian(const Vec3& theta_rad, const Vec3& position_m,
+                              Mat3& dp_dtheta) const noexcept;
 
     /// Arm torques (N·m) producing `force_n` at the effector: tau = J^T F.
     KinematicsStatus torques(const Vec3& theta_rad, const Vec3& position_m, const Vec3& force_n,
@@ -69,7 +71,8 @@ public:
     const DeltaGeometry& geometry() const noexcept { return g_; }
 
 private:
-    void residuals(const Vec3& theta, const Vec3& p, Vec3& g, Mat3& dg_dp, Vec3& dg_dtheta) const noexcept;
+    void residuals(const Vec3& theta, const Vec3& p, Vec3& g, Mat3& dg_dp,
+                   Vec3& dg_dtheta) const noexcept;
 
     DeltaGeometry g_;
     Vec3 cos_phi_{}, sin_phi_{};

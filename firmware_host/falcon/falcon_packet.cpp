@@ -6,7 +6,9 @@ namespace {
 constexpr std::byte kOpen{'<'};
 constexpr std::byte kClose{'>'};
 
-std::byte nibble(unsigned v) noexcept { return std::byte{static_cast<std::uint8_t>((v & 0xFU) + kNibbleBase)}; }
+std::byte nibble(unsigned v) noexcept {
+    return std::byte{static_cast<std::uint8_t>((v & 0xFU) + kNibbleBase)};
+}
 
 // One nibble byte back to 0..15, or -1 when outside 0x41..0x50.
 int unnibble(std::byte b) noexcept {
@@ -41,10 +43,14 @@ FalconCodecStatus check_frame(std::span<const std::byte> in) noexcept {
 
 std::string_view to_string(FalconCodecStatus status) noexcept {
     switch (status) {
-        case FalconCodecStatus::kOk: return "ok";
-        case FalconCodecStatus::kShort: return "short packet (fewer than 16 bytes)";
-        case FalconCodecStatus::kBadFrame: return "packet not framed by '<' ... '>'";
-        case FalconCodecStatus::kBadNibble: return "nibble byte outside 0x41..0x50 or reserved bit set";
+        case FalconCodecStatus::kOk:
+            return "ok";
+        case FalconCodecStatus::kShort:
+            return "short packet (fewer than 16 bytes)";
+        case FalconCodecStatus::kBadFrame:
+            return "packet not framed by '<' ... '>'";
+        case FalconCodecStatus::kBadNibble:
+            return "nibble byte outside 0x41..0x50 or reserved bit set";
     }
     return "unknown falcon codec status";
 }

@@ -28,16 +28,26 @@ bool is_handshake_reply(std::span<const std::byte> got) noexcept {
 
 std::string_view to_string(FirmwareErrorCode code) noexcept {
     switch (code) {
-        case FirmwareErrorCode::kImageUnreadable: return "cannot read the firmware image";
-        case FirmwareErrorCode::kImageEmpty: return "the firmware image is empty";
-        case FirmwareErrorCode::kImageTooLarge: return "the firmware image is larger than 1 MiB";
-        case FirmwareErrorCode::kSetupFailed: return "FTDI set-up request failed";
-        case FirmwareErrorCode::kHandshakeFailed: return "boot loader did not answer the handshake";
-        case FirmwareErrorCode::kProbeFailed: return "boot loader did not answer the baud probe";
-        case FirmwareErrorCode::kEchoMismatch: return "firmware chunk echoed back different bytes";
-        case FirmwareErrorCode::kEchoTimeout: return "firmware chunk echo did not arrive";
-        case FirmwareErrorCode::kWriteFailed: return "bulk write failed";
-        case FirmwareErrorCode::kNormalModeFailed: return "switching to normal mode failed";
+        case FirmwareErrorCode::kImageUnreadable:
+            return "cannot read the firmware image";
+        case FirmwareErrorCode::kImageEmpty:
+            return "the firmware image is empty";
+        case FirmwareErrorCode::kImageTooLarge:
+            return "the firmware image is larger than 1 MiB";
+        case FirmwareErrorCode::kSetupFailed:
+            return "FTDI set-up request failed";
+        case FirmwareErrorCode::kHandshakeFailed:
+            return "boot loader did not answer the handshake";
+        case FirmwareErrorCode::kProbeFailed:
+            return "boot loader did not answer the baud probe";
+        case FirmwareErrorCode::kEchoMismatch:
+            return "firmware chunk echoed back different bytes";
+        case FirmwareErrorCode::kEchoTimeout:
+            return "firmware chunk echo did not arrive";
+        case FirmwareErrorCode::kWriteFailed:
+            return "bulk write failed";
+        case FirmwareErrorCode::kNormalModeFailed:
+            return "switching to normal mode failed";
     }
     return "unknown firmware error";
 }
@@ -83,7 +93,8 @@ std::size_t read_payload(UsbLink& link, std::span<std::byte> out, std::size_t wa
     want = std::min(want, out.size());
     last = LinkStatus::kOk;
     while (got < want) {
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+        const auto left =
+            std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
         if (left.count() <= 0) break;
         std::size_t n = 0;
         last = link.bulk_read(transfer, n, static_cast<std::uint32_t>(left.count()) * 1000U);
@@ -107,8 +118,10 @@ FirmwareLoader::State FirmwareLoader::fail(FirmwareErrorCode code, LinkStatus li
 }
 
 // A failure inside one load attempt: start over from firmware mode while attempts remain.
-FirmwareLoader::State FirmwareLoader::fail_attempt(FirmwareErrorCode code, LinkStatus link) noexcept {
-    if (link == LinkStatus::kDisconnected || attempt_ >= options_.load_attempts) return fail(code, link);
+FirmwareLoader::State FirmwareLoader::fail_attempt(FirmwareErrorCode code,
+                                                   LinkStatus link) noexcept {
+    if (link == LinkStatus::kDisconnected || attempt_ >= options_.load_attempts)
+        return fail(code, link);
     ++attempt_;
     offset_ = 0;
     return state_ = State::kFirmwareMode;
@@ -122,21 +135,25 @@ FirmwareLoader::State FirmwareLoader::step() noexcept {
             if (s != LinkStatus::kOk) return fail(FirmwareErrorCode::kSetupFailed, s);
             return state_ = State::kHandshake;
         }
-        case State::kHandshake: return do_handshake();
+        case State::kHandshake:
+            return do_handshake();
         case State::kLoadBaud: {
             const auto s = send_requests(link_, firmware_load_requests(), timeout);
             if (s != LinkStatus::kOk) return fail(FirmwareErrorCode::kSetupFailed, s);
             return state_ = State::kProbe;
         }
-        case State::kProbe: return do_probe();
-        case State::kChunk: return do_chunk();
+        case State::kProbe:
+            return do_probe();
+        case State::kChunk:
+            return do_chunk();
         case State::kNormalMode: {
             const auto s = send_requests(link_, normal_mode_requests(), timeout);
             if (s != LinkStatus::kOk) return fail(FirmwareErrorCode::kNormalModeFailed, s);
             return state_ = State::kDone;
         }
         case State::kDone:
-        case State::kFailed: return state_;
+        case State::kFailed:
+            return state_;
     }
     return state_;
 }
@@ -165,7 +182,8 @@ FirmwareLoader::State FirmwareLoader::do_probe() noexcept {
 
 FirmwareLoader::State FirmwareLoader::do_chunk() noexcept {
     if (offset_ >= image_.size()) return state_ = State::kNormalMode;
-    const auto chunk = image_.subspan(offset_, std::min(kFirmwareChunkSize, image_.size() - offset_));
+    const auto chunk =
+        image_.subspan(offset_, std::min(kFirmwareChunkSize, image_.size() - offset_));
     auto last = link_.bulk_write(chunk, options_.transfer_timeout_ms);
     if (last != LinkStatus::kOk) return fail_attempt(FirmwareErrorCode::kWriteFailed, last);
     std::array<std::byte, kFirmwareChunkSize> echo{};

@@ -22,7 +22,9 @@ inline constexpr std::size_t kFirmwareChunkSize = 62;  ///< 64-byte packet minus
 inline constexpr std::size_t kMaxFirmwareImageBytes = 1U << 20;
 
 enum class FirmwareErrorCode : std::uint8_t {
-    kImageUnreadable, kImageEmpty, kImageTooLarge,
+    kImageUnreadable,
+    kImageEmpty,
+    kImageTooLarge,
     kSetupFailed,       ///< an FTDI control request failed
     kHandshakeFailed,   ///< no `0A 44 2C 0D` answer to `0A 43 0D`
     kProbeFailed,       ///< no `41` answer to `41` at the load baud rate
@@ -35,11 +37,11 @@ std::string_view to_string(FirmwareErrorCode code) noexcept;
 
 struct FirmwareError {
     FirmwareErrorCode code = FirmwareErrorCode::kSetupFailed;
-    std::size_t offset = 0;                ///< image offset of the failing chunk
-    LinkStatus link = LinkStatus::kOk;     ///< the transfer status behind it, if any
-    int attempts = 0;                      ///< whole-load attempts made
-    std::string path;                      ///< image path, when the file was the problem
-    std::string message() const;           ///< one sentence: what, where, why
+    std::size_t offset = 0;             ///< image offset of the failing chunk
+    LinkStatus link = LinkStatus::kOk;  ///< the transfer status behind it, if any
+    int attempts = 0;                   ///< whole-load attempts made
+    std::string path;                   ///< image path, when the file was the problem
+    std::string message() const;        ///< one sentence: what, where, why
 };
 
 /// Reads and size-checks an image file.
@@ -55,7 +57,14 @@ struct FirmwareLoadOptions {
 class FirmwareLoader {
 public:
     enum class State : std::uint8_t {
-        kFirmwareMode, kHandshake, kLoadBaud, kProbe, kChunk, kNormalMode, kDone, kFailed
+        kFirmwareMode,
+        kHandshake,
+        kLoadBaud,
+        kProbe,
+        kChunk,
+        kNormalMode,
+        kDone,
+        kFailed
     };
     FirmwareLoader(UsbLink& link, std::span<const std::byte> image, FirmwareLoadOptions options);
 

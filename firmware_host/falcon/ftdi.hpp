@@ -16,7 +16,7 @@ inline constexpr std::uint16_t kFalconVendorId = 0x0403;   ///< FTDI
 inline constexpr std::uint16_t kFalconProductId = 0xCB48;  ///< Novint Falcon
 inline constexpr std::uint8_t kBulkOutEndpoint = 0x02;
 inline constexpr std::uint8_t kBulkInEndpoint = 0x81;
-inline constexpr std::size_t kUsbPacketSize = 64;          ///< full-speed bulk max packet
+inline constexpr std::size_t kUsbPacketSize = 64;  ///< full-speed bulk max packet
 inline constexpr std::size_t kFtdiStatusBytes = 2;
 
 /// FTDI vendor requests (bmRequestType 0x40, wIndex 0).

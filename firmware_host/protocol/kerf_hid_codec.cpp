@@ -19,7 +19,8 @@ public:
     }
     std::int16_t i16(std::size_t at) const noexcept { return static_cast<std::int16_t>(u16(at)); }
     std::uint32_t u32(std::size_t at) const noexcept {
-        return static_cast<std::uint32_t>(u16(at)) | (static_cast<std::uint32_t>(u16(at + 2)) << 16);
+        return static_cast<std::uint32_t>(u16(at)) |
+               (static_cast<std::uint32_t>(u16(at + 2)) << 16);
     }
     std::int32_t i32(std::size_t at) const noexcept { return static_cast<std::int32_t>(u32(at)); }
     bool zero(std::size_t from, std::size_t to) const noexcept {
@@ -71,7 +72,6 @@ CodecStatus check_frame(std::span<const std::byte> b, ReportId id) noexcept {
     return CodecStatus::kOk;
 }
 
-
 bool valid_string(const std::array<char, kStringSize>& s) noexcept {
     bool padding = false;
     for (char c : s) {
@@ -93,7 +93,9 @@ void write_string(Writer& w, std::size_t at, const std::array<char, kStringSize>
     for (std::size_t i = 0; i < kStringSize; ++i) w.u8(at + i, static_cast<std::uint8_t>(s[i]));
 }
 
-bool command_in_range(std::int32_t v) noexcept { return v >= -kMaxCommandMilli && v <= kMaxCommandMilli; }
+bool command_in_range(std::int32_t v) noexcept {
+    return v >= -kMaxCommandMilli && v <= kMaxCommandMilli;
+}
 
 bool temperature_in_range(std::int16_t t) noexcept { return t >= -4000 && t <= 15000; }
 
@@ -112,15 +114,24 @@ bool mechanics_in_range(const MechanicsReport& m) noexcept {
 
 std::string_view to_string(CodecStatus status) noexcept {
     switch (status) {
-        case CodecStatus::kOk: return "ok";
-        case CodecStatus::kShort: return "short report (fewer than 64 bytes)";
-        case CodecStatus::kBadReportId: return "unexpected report id";
-        case CodecStatus::kBadChecksum: return "CRC-16 mismatch";
-        case CodecStatus::kBadVersion: return "unsupported protocol version";
-        case CodecStatus::kReservedNotZero: return "reserved bits or bytes not zero";
-        case CodecStatus::kOutOfRange: return "field out of range";
-        case CodecStatus::kBadString: return "string field not printable ASCII + NUL padding";
-        case CodecStatus::kBufferTooSmall: return "output buffer shorter than 64 bytes";
+        case CodecStatus::kOk:
+            return "ok";
+        case CodecStatus::kShort:
+            return "short report (fewer than 64 bytes)";
+        case CodecStatus::kBadReportId:
+            return "unexpected report id";
+        case CodecStatus::kBadChecksum:
+            return "CRC-16 mismatch";
+        case CodecStatus::kBadVersion:
+            return "unsupported protocol version";
+        case CodecStatus::kReservedNotZero:
+            return "reserved bits or bytes not zero";
+        case CodecStatus::kOutOfRange:
+            return "field out of range";
+        case CodecStatus::kBadString:
+            return "string field not printable ASCII + NUL padding";
+        case CodecStatus::kBufferTooSmall:
+            return "output buffer shorter than 64 bytes";
     }
     return "unknown codec status";
 }

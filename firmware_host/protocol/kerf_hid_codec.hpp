@@ -16,14 +16,14 @@ namespace kerf::firmware_host {
 /// Why a report was rejected.
 enum class CodecStatus : std::uint8_t {
     kOk,
-    kShort,           ///< fewer than 64 bytes
-    kBadReportId,     ///< byte 0 is not the expected report id
-    kBadChecksum,     ///< CRC-16 over bytes 0..61 differs from bytes 62..63
-    kBadVersion,      ///< protocol version this codec does not speak
-    kReservedNotZero, ///< a reserved bit or byte is set
-    kOutOfRange,      ///< a field outside its documented range
-    kBadString,       ///< a string field is not printable ASCII followed by NUL padding
-    kBufferTooSmall,  ///< encode: output span shorter than 64 bytes
+    kShort,            ///< fewer than 64 bytes
+    kBadReportId,      ///< byte 0 is not the expected report id
+    kBadChecksum,      ///< CRC-16 over bytes 0..61 differs from bytes 62..63
+    kBadVersion,       ///< protocol version this codec does not speak
+    kReservedNotZero,  ///< a reserved bit or byte is set
+    kOutOfRange,       ///< a field outside its documented range
+    kBadString,        ///< a string field is not printable ASCII followed by NUL padding
+    kBufferTooSmall,   ///< encode: output span shorter than 64 bytes
 };
 std::string_view to_string(CodecStatus status) noexcept;
 

@@ -9,18 +9,18 @@
 
 namespace kerf::firmware_host {
 
-inline constexpr std::size_t kReportSize = 64;          ///< every Kerf report, id byte included
-inline constexpr std::uint8_t kProtocolVersion = 1;     ///< PROTOCOL.md version this codec speaks
+inline constexpr std::size_t kReportSize = 64;       ///< every Kerf report, id byte included
+inline constexpr std::uint8_t kProtocolVersion = 1;  ///< PROTOCOL.md version this codec speaks
 inline constexpr std::int32_t kMaxCommandMilli = 1'000'000;  ///< |command| limit (1 kN, 1 kN·m)
-inline constexpr std::size_t kStringSize = 16;          ///< vendor, model, serial fields
+inline constexpr std::size_t kStringSize = 16;               ///< vendor, model, serial fields
 
 /// Report ids (byte 0 of every report).
 enum class ReportId : std::uint8_t {
-    kInput = 0x01,       ///< device -> host, interrupt IN, every period
-    kOutput = 0x02,      ///< host -> device, interrupt OUT, every period
-    kIdentity = 0x10,    ///< feature, get: who the device is
-    kMechanics = 0x11,   ///< feature, get: kinematics, encoder, force limits, workspace
-    kConfig = 0x20,      ///< feature, get/set: watchdog period, amplifier enable
+    kInput = 0x01,      ///< device -> host, interrupt IN, every period
+    kOutput = 0x02,     ///< host -> device, interrupt OUT, every period
+    kIdentity = 0x10,   ///< feature, get: who the device is
+    kMechanics = 0x11,  ///< feature, get: kinematics, encoder, force limits, workspace
+    kConfig = 0x20,     ///< feature, get/set: watchdog period, amplifier enable
 };
 
 /// Input-report status bits (PROTOCOL.md §3.1). Bits 7..15 are reserved and must be zero.
@@ -45,10 +45,10 @@ inline constexpr std::uint16_t kFlagDefinedMask = 0x0007;
 
 /// Input report 0x01: one device sample.
 struct InputReport {
-    std::uint16_t sequence = 0;       ///< increments by one per report, wraps
-    std::uint16_t echo_sequence = 0;  ///< sequence of the last valid output report received
-    std::uint16_t status = 0;         ///< StatusBit set
-    std::uint32_t device_time_us = 0; ///< device clock, wraps
+    std::uint16_t sequence = 0;              ///< increments by one per report, wraps
+    std::uint16_t echo_sequence = 0;         ///< sequence of the last valid output report received
+    std::uint16_t status = 0;                ///< StatusBit set
+    std::uint32_t device_time_us = 0;        ///< device clock, wraps
     std::array<std::int32_t, 3> position{};  ///< joint: encoder counts; Cartesian: micrometres
     std::array<std::int32_t, 3> velocity{};  ///< counts/s or micrometres/s
     std::uint16_t buttons = 0;               ///< bit i = button i pressed
@@ -59,8 +59,8 @@ struct InputReport {
 
 /// Output report 0x02: one host command.
 struct OutputReport {
-    std::uint16_t sequence = 0;  ///< increments by one per report, wraps
-    std::uint16_t flags = 0;     ///< CommandFlag set
+    std::uint16_t sequence = 0;                   ///< increments by one per report, wraps
+    std::uint16_t flags = 0;                      ///< CommandFlag set
     std::array<std::int32_t, 3> command_milli{};  ///< mN (Cartesian) or mN·m (joint), |v| <= 1e6
     bool operator==(const OutputReport&) const = default;
 };
@@ -82,12 +82,12 @@ enum class WireKinematics : std::uint8_t { kCartesian = 0, kFalconDelta = 1 };
 
 /// Feature report 0x11: mechanics.
 struct MechanicsReport {
-    std::uint8_t dof = 3;                 ///< 1..6
-    bool cartesian_reporting = true;      ///< false: joint space (host runs kinematics)
+    std::uint8_t dof = 3;             ///< 1..6
+    bool cartesian_reporting = true;  ///< false: joint space (host runs kinematics)
     WireKinematics kinematics = WireKinematics::kCartesian;
-    std::uint32_t encoder_resolution = 0; ///< joint: counts per rev; Cartesian: nm per count; > 0
-    std::uint16_t peak_force_centi_n = 0;        ///< > 0
-    std::uint16_t continuous_force_centi_n = 0;  ///< <= peak
+    std::uint32_t encoder_resolution = 0;  ///< joint: counts per rev; Cartesian: nm per count; > 0
+    std::uint16_t peak_force_centi_n = 0;  ///< > 0
+    std::uint16_t continuous_force_centi_n = 0;      ///< <= peak
     std::array<std::int16_t, 3> workspace_min_mm{};  ///< each < workspace_max_mm
     std::array<std::int16_t, 3> workspace_max_mm{};
     std::array<std::int32_t, 8> kinematic_params_um{};  ///< delta a,b,c,d,e,f,r,s; else zero

@@ -18,19 +18,32 @@ bool finite(const Vec3d& v) noexcept {
 
 std::string_view to_string(SafetyReason reason) noexcept {
     switch (reason) {
-        case kReasonNone: return "none";
-        case kReasonStale: return "stale input";
-        case kReasonInvalidInput: return "invalid input";
-        case kReasonNonFinite: return "non-finite force";
-        case kReasonEStop: return "e-stop";
-        case kReasonDeviceFault: return "device fault";
-        case kReasonDisconnected: return "disconnected";
-        case kReasonNotHomed: return "not homed";
-        case kReasonWaitingToEngage: return "waiting to engage";
-        case kReasonRamping: return "ramping in";
-        case kReasonPeakClamp: return "peak clamp";
-        case kReasonThermal: return "continuous-force limit";
-        case kReasonSlew: return "slew limit";
+        case kReasonNone:
+            return "none";
+        case kReasonStale:
+            return "stale input";
+        case kReasonInvalidInput:
+            return "invalid input";
+        case kReasonNonFinite:
+            return "non-finite force";
+        case kReasonEStop:
+            return "e-stop";
+        case kReasonDeviceFault:
+            return "device fault";
+        case kReasonDisconnected:
+            return "disconnected";
+        case kReasonNotHomed:
+            return "not homed";
+        case kReasonWaitingToEngage:
+            return "waiting to engage";
+        case kReasonRamping:
+            return "ramping in";
+        case kReasonPeakClamp:
+            return "peak clamp";
+        case kReasonThermal:
+            return "continuous-force limit";
+        case kReasonSlew:
+            return "slew limit";
     }
     return "unknown safety reason";
 }

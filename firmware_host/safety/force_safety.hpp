@@ -16,15 +16,15 @@ namespace kerf::firmware_host {
 
 /// Limits, SI units. Filled from the device profile and force profile by the caller.
 struct SafetyLimits {
-    double period_s = 0.001;             ///< tick period
-    double peak_force_n = 8.0;           ///< |F| never exceeds this
-    double continuous_force_n = 4.0;     ///< |F| allowed while the thermal budget is spent
-    double thermal_time_constant_s = 2.0;///< low-pass of |F|^2 (I^2 t model of motor heating)
-    double max_slew_n_per_s = 2000.0;    ///< |F(k) - F(k-1)| <= this * period (except to zero)
-    double ramp_in_s = 0.5;              ///< 0 -> full scale after engaging
-    double engage_threshold_n = 0.5;     ///< engage only once |desired| stays below this ...
+    double period_s = 0.001;                ///< tick period
+    double peak_force_n = 8.0;              ///< |F| never exceeds this
+    double continuous_force_n = 4.0;        ///< |F| allowed while the thermal budget is spent
+    double thermal_time_constant_s = 2.0;   ///< low-pass of |F|^2 (I^2 t model of motor heating)
+    double max_slew_n_per_s = 2000.0;       ///< |F(k) - F(k-1)| <= this * period (except to zero)
+    double ramp_in_s = 0.5;                 ///< 0 -> full scale after engaging
+    double engage_threshold_n = 0.5;        ///< engage only once |desired| stays below this ...
     std::uint32_t engage_quiet_ticks = 20;  ///< ... for this many consecutive ticks
-    std::uint32_t stale_ticks = 2;       ///< ticks without a fresh sample before zero force
+    std::uint32_t stale_ticks = 2;          ///< ticks without a fresh sample before zero force
 };
 
 /// Why the last step changed or zeroed the force (bit set).
@@ -49,7 +49,7 @@ std::string_view to_string(SafetyReason reason) noexcept;  ///< name of one bit
 struct SafetyInput {
     Vec3d desired_force_n{};
     DeviceStatus read_status = DeviceStatus::kNoData;  ///< this tick's Device::try_read result
-    DeviceFlags flags;                                  ///< from the newest sample
+    DeviceFlags flags;                                 ///< from the newest sample
 };
 
 class ForceSafety {
@@ -60,7 +60,9 @@ public:
     Vec3d step(const SafetyInput& in) noexcept;
 
     bool engaged() const noexcept { return engaged_; }
-    std::uint32_t reasons() const noexcept { return reasons_; }  ///< SafetyReason bits of the last step
+    std::uint32_t reasons() const noexcept {
+        return reasons_;
+    }  ///< SafetyReason bits of the last step
     double thermal_state_n2() const noexcept { return thermal_n2_; }  ///< low-passed |F|^2
     const SafetyLimits& limits() const noexcept { return limits_; }
     /// Swaps limits at a tick boundary (validated by the caller off the real-time thread).

@@ -38,14 +38,16 @@ Result<std::vector<HidDeviceInfo>, TransportError> enumerate_hid(std::uint16_t v
     std::vector<HidDeviceInfo> out;
     hid_device_info* list = hid_enumerate(vendor_id, product_id);
     for (auto* d = list; d != nullptr; d = d->next) {
-        out.push_back({d->path ? d->path : "", d->vendor_id, d->product_id, narrow(d->serial_number),
-                       narrow(d->manufacturer_string), narrow(d->product_string)});
+        out.push_back({d->path ? d->path : "", d->vendor_id, d->product_id,
+                       narrow(d->serial_number), narrow(d->manufacturer_string),
+                       narrow(d->product_string)});
     }
     hid_free_enumeration(list);
     return out;
 }
 
-Result<std::unique_ptr<HidapiTransport>, TransportError> HidapiTransport::open(const HidOpenSpec& spec) {
+Result<std::unique_ptr<HidapiTransport>, TransportError> HidapiTransport::open(
+    const HidOpenSpec& spec) {
     TransportError error;
     if (!init_hidapi(error)) return Err{error};
     hid_device* device = nullptr;
@@ -54,9 +56,11 @@ Result<std::unique_ptr<HidapiTransport>, TransportError> HidapiTransport::open(c
         where = spec.path;
         device = hid_open_path(spec.path.c_str());
     } else {
-        where = ids(spec.vendor_id, spec.product_id) + (spec.serial.empty() ? "" : " serial " + spec.serial);
+        where = ids(spec.vendor_id, spec.product_id) +
+                (spec.serial.empty() ? "" : " serial " + spec.serial);
         const std::wstring serial = widen(spec.serial);
-        device = hid_open(spec.vendor_id, spec.product_id, spec.serial.empty() ? nullptr : serial.c_str());
+        device = hid_open(spec.vendor_id, spec.product_id,
+                          spec.serial.empty() ? nullptr : serial.c_str());
     }
     if (device == nullptr) {
         const auto found = enumerate_hid(spec.vendor_id, spec.product_id);
@@ -77,7 +81,8 @@ HidapiTransport::~HidapiTransport() {
 }
 
 LinkStatus HidapiTransport::try_write_report(std::span<const std::byte> report) noexcept {
-    const int n = hid_write(device_, reinterpret_cast<const unsigned char*>(report.data()), report.size());
+    const int n =
+        hid_write(device_, reinterpret_cast<const unsigned char*>(report.data()), report.size());
     return n < 0 ? LinkStatus::kDisconnected : LinkStatus::kOk;
 }
 
@@ -94,7 +99,8 @@ LinkStatus HidapiTransport::read_report(std::span<std::byte> buffer, std::size_t
 }
 
 LinkStatus HidapiTransport::get_feature(std::uint8_t id, std::span<std::byte> buffer,
-                                        std::size_t& received, std::uint32_t /*timeout_ms*/) noexcept {
+                                        std::size_t& received,
+                                        std::uint32_t /*timeout_ms*/) noexcept {
     received = 0;
     if (buffer.empty()) return LinkStatus::kOverflow;
     buffer[0] = std::byte{id};
@@ -105,9 +111,10 @@ LinkStatus HidapiTransport::get_feature(std::uint8_t id, std::span<std::byte> bu
     return LinkStatus::kOk;
 }
 
-LinkStatus HidapiTransport::set_feature(std::span<const std::byte> report, std::uint32_t /*timeout_ms*/) noexcept {
-    const int n = hid_send_feature_report(device_, reinterpret_cast<const unsigned char*>(report.data()),
-                                          report.size());
+LinkStatus HidapiTransport::set_feature(std::span<const std::byte> report,
+                                        std::uint32_t /*timeout_ms*/) noexcept {
+    const int n = hid_send_feature_report(
+        device_, reinterpret_cast<const unsigned char*>(report.data()), report.size());
     return n < 0 ? LinkStatus::kStall : LinkStatus::kOk;
 }
 

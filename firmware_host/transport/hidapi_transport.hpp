@@ -18,10 +18,10 @@ namespace kerf::firmware_host {
 
 /// One HID device hidapi sees.
 struct HidDeviceInfo {
-    std::string path;        ///< e.g. /dev/hidraw3
+    std::string path;  ///< e.g. /dev/hidraw3
     std::uint16_t vendor_id = 0;
     std::uint16_t product_id = 0;
-    std::string serial;      ///< may be empty
+    std::string serial;  ///< may be empty
     std::string manufacturer;
     std::string product;
 };
@@ -50,7 +50,8 @@ public:
                            std::uint32_t timeout_us) noexcept override;
     LinkStatus get_feature(std::uint8_t id, std::span<std::byte> buffer, std::size_t& received,
                            std::uint32_t timeout_ms) noexcept override;
-    LinkStatus set_feature(std::span<const std::byte> report, std::uint32_t timeout_ms) noexcept override;
+    LinkStatus set_feature(std::span<const std::byte> report,
+                           std::uint32_t timeout_ms) noexcept override;
 
 private:
     explicit HidapiTransport(hid_device_* device) noexcept : device_(device) {}

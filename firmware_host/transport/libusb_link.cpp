@@ -12,14 +12,17 @@ struct LibusbCallbacks {
     static void LIBUSB_CALL in_done(libusb_transfer* t) {
         auto* self = static_cast<LibusbLink*>(t->user_data);
         self->in_done_ = 1;
-        if (t->status == LIBUSB_TRANSFER_NO_DEVICE) self->gone_.store(true, std::memory_order_release);
+        if (t->status == LIBUSB_TRANSFER_NO_DEVICE)
+            self->gone_.store(true, std::memory_order_release);
     }
     static void LIBUSB_CALL out_done(libusb_transfer* t) {
         auto* self = static_cast<LibusbLink*>(t->user_data);
         self->out_done_ = 1;
-        if (t->status == LIBUSB_TRANSFER_NO_DEVICE) self->gone_.store(true, std::memory_order_release);
+        if (t->status == LIBUSB_TRANSFER_NO_DEVICE)
+            self->gone_.store(true, std::memory_order_release);
     }
-    static int LIBUSB_CALL left(libusb_context*, libusb_device* device, libusb_hotplug_event, void* user) {
+    static int LIBUSB_CALL left(libusb_context*, libusb_device* device, libusb_hotplug_event,
+                                void* user) {
         auto* self = static_cast<LibusbLink*>(user);
         if (self->handle_ != nullptr && libusb_get_device(self->handle_) == device) {
             self->gone_.store(true, std::memory_order_release);
@@ -40,29 +43,43 @@ std::string serial_of(libusb_device_handle* h, const libusb_device_descriptor& d
     unsigned char buf[128] = {};
     if (d.iSerialNumber == 0) return {};
     const int n = libusb_get_string_descriptor_ascii(h, d.iSerialNumber, buf, sizeof buf);
-    return n > 0 ? std::string(reinterpret_cast<char*>(buf), static_cast<std::size_t>(n)) : std::string{};
+    return n > 0 ? std::string(reinterpret_cast<char*>(buf), static_cast<std::size_t>(n))
+                 : std::string{};
 }
 
 LinkStatus from_libusb(int rc) noexcept {
     switch (rc) {
-        case LIBUSB_SUCCESS: return LinkStatus::kOk;
-        case LIBUSB_ERROR_TIMEOUT: return LinkStatus::kTimeout;
-        case LIBUSB_ERROR_PIPE: return LinkStatus::kStall;
-        case LIBUSB_ERROR_NO_DEVICE: return LinkStatus::kDisconnected;
-        case LIBUSB_ERROR_OVERFLOW: return LinkStatus::kOverflow;
-        case LIBUSB_ERROR_BUSY: return LinkStatus::kBusy;
-        default: return rc > 0 ? LinkStatus::kOk : LinkStatus::kError;
+        case LIBUSB_SUCCESS:
+            return LinkStatus::kOk;
+        case LIBUSB_ERROR_TIMEOUT:
+            return LinkStatus::kTimeout;
+        case LIBUSB_ERROR_PIPE:
+            return LinkStatus::kStall;
+        case LIBUSB_ERROR_NO_DEVICE:
+            return LinkStatus::kDisconnected;
+        case LIBUSB_ERROR_OVERFLOW:
+            return LinkStatus::kOverflow;
+        case LIBUSB_ERROR_BUSY:
+            return LinkStatus::kBusy;
+        default:
+            return rc > 0 ? LinkStatus::kOk : LinkStatus::kError;
     }
 }
 
 LinkStatus from_transfer(int status) noexcept {
     switch (status) {
-        case LIBUSB_TRANSFER_COMPLETED: return LinkStatus::kOk;
-        case LIBUSB_TRANSFER_TIMED_OUT: return LinkStatus::kTimeout;
-        case LIBUSB_TRANSFER_STALL: return LinkStatus::kStall;
-        case LIBUSB_TRANSFER_NO_DEVICE: return LinkStatus::kDisconnected;
-        case LIBUSB_TRANSFER_OVERFLOW: return LinkStatus::kOverflow;
-        default: return LinkStatus::kError;
+        case LIBUSB_TRANSFER_COMPLETED:
+            return LinkStatus::kOk;
+        case LIBUSB_TRANSFER_TIMED_OUT:
+            return LinkStatus::kTimeout;
+        case LIBUSB_TRANSFER_STALL:
+            return LinkStatus::kStall;
+        case LIBUSB_TRANSFER_NO_DEVICE:
+            return LinkStatus::kDisconnected;
+        case LIBUSB_TRANSFER_OVERFLOW:
+            return LinkStatus::kOverflow;
+        default:
+            return LinkStatus::kError;
     }
 }
 
@@ -81,8 +98,12 @@ Result<std::vector<UsbDeviceInfo>, TransportError> enumerate_usb(std::uint16_t v
         libusb_device_descriptor d{};
         if (libusb_get_device_descriptor(list[i], &d) != 0) continue;
         if (d.idVendor != vendor_id || d.idProduct != product_id) continue;
-        UsbDeviceInfo info{libusb_get_bus_number(list[i]), libusb_get_device_address(list[i]),
-                           d.idVendor, d.idProduct, {}, false};
+        UsbDeviceInfo info{libusb_get_bus_number(list[i]),
+                           libusb_get_device_address(list[i]),
+                           d.idVendor,
+                           d.idProduct,
+                           {},
+                           false};
         libusb_device_handle* h = nullptr;
         if (libusb_open(list[i], &h) == 0) {
             info.accessible = true;
@@ -108,10 +129,12 @@ Result<std::unique_ptr<LibusbLink>, TransportError> LibusbLink::open(const UsbOp
     const auto it = std::find_if(found->begin(), found->end(), [&](const UsbDeviceInfo& d) {
         return spec.serial.empty() || d.serial == spec.serial;
     });
-    if (it == found->end()) return Err{TransportError{"open USB device", where, "no such device connected"}};
+    if (it == found->end())
+        return Err{TransportError{"open USB device", where, "no such device connected"}};
     if (!it->accessible) {
-        return Err{TransportError{"open USB device", where,
-                                  "permission denied (install config/udev rules, join group plugdev)"}};
+        return Err{
+            TransportError{"open USB device", where,
+                           "permission denied (install config/udev rules, join group plugdev)"}};
     }
     std::unique_ptr<LibusbLink> link(new LibusbLink());
     auto fail = [&](const char* what, int rc) {
@@ -121,7 +144,8 @@ Result<std::unique_ptr<LibusbLink>, TransportError> LibusbLink::open(const UsbOp
     libusb_device** list = nullptr;
     const auto count = libusb_get_device_list(link->ctx_, &list);
     for (ssize_t i = 0; i < count && link->handle_ == nullptr; ++i) {
-        if (libusb_get_bus_number(list[i]) == it->bus && libusb_get_device_address(list[i]) == it->address) {
+        if (libusb_get_bus_number(list[i]) == it->bus &&
+            libusb_get_device_address(list[i]) == it->address) {
             if (int rc = libusb_open(list[i], &link->handle_); rc != 0) {
                 libusb_free_device_list(list, 1);
                 return fail("open USB device", rc);
@@ -129,22 +153,26 @@ Result<std::unique_ptr<LibusbLink>, TransportError> LibusbLink::open(const UsbOp
         }
     }
     if (count >= 0) libusb_free_device_list(list, 1);
-    if (link->handle_ == nullptr) return Err{TransportError{"open USB device", where, "device vanished"}};
+    if (link->handle_ == nullptr)
+        return Err{TransportError{"open USB device", where, "device vanished"}};
     libusb_set_auto_detach_kernel_driver(link->handle_, 1);  // ftdi_sio may have bound it
-    if (int rc = libusb_claim_interface(link->handle_, 0); rc != 0) return fail("claim interface 0", rc);
+    if (int rc = libusb_claim_interface(link->handle_, 0); rc != 0)
+        return fail("claim interface 0", rc);
     link->in_ = libusb_alloc_transfer(0);
     link->out_ = libusb_alloc_transfer(0);
-    if (link->in_ == nullptr || link->out_ == nullptr) return fail("allocate transfers", LIBUSB_ERROR_NO_MEM);
+    if (link->in_ == nullptr || link->out_ == nullptr)
+        return fail("allocate transfers", LIBUSB_ERROR_NO_MEM);
     libusb_fill_bulk_transfer(link->in_, link->handle_, 0x81, link->in_buf_.data(),
-                              static_cast<int>(link->in_buf_.size()), LibusbCallbacks::in_done, link.get(), 0);
+                              static_cast<int>(link->in_buf_.size()), LibusbCallbacks::in_done,
+                              link.get(), 0);
     libusb_fill_bulk_transfer(link->out_, link->handle_, 0x02, link->out_buf_.data(), 0,
                               LibusbCallbacks::out_done, link.get(), 0);
     if (libusb_has_capability(LIBUSB_CAP_HAS_HOTPLUG) != 0) {
         link->hotplug_registered_ =
-            libusb_hotplug_register_callback(link->ctx_, LIBUSB_HOTPLUG_EVENT_DEVICE_LEFT,
-                                             LIBUSB_HOTPLUG_NO_FLAGS, spec.vendor_id, spec.product_id,
-                                             LIBUSB_HOTPLUG_MATCH_ANY, LibusbCallbacks::left,
-                                             link.get(), &link->hotplug_) == 0;
+            libusb_hotplug_register_callback(
+                link->ctx_, LIBUSB_HOTPLUG_EVENT_DEVICE_LEFT, LIBUSB_HOTPLUG_NO_FLAGS,
+                spec.vendor_id, spec.product_id, LIBUSB_HOTPLUG_MATCH_ANY, LibusbCallbacks::left,
+                link.get(), &link->hotplug_) == 0;
     }
     return link;
 }
@@ -152,7 +180,8 @@ Result<std::unique_ptr<LibusbLink>, TransportError> LibusbLink::open(const UsbOp
 LibusbLink::~LibusbLink() {
     if (in_flight_ && in_ != nullptr) libusb_cancel_transfer(in_);
     if (out_flight_ && out_ != nullptr) libusb_cancel_transfer(out_);
-    for (int i = 0; i < 100 && ((in_flight_ && in_done_ == 0) || (out_flight_ && out_done_ == 0)); ++i) {
+    for (int i = 0; i < 100 && ((in_flight_ && in_done_ == 0) || (out_flight_ && out_done_ == 0));
+         ++i) {
         timeval tv{0, 10000};
         libusb_handle_events_timeout_completed(ctx_, &tv, nullptr);
     }
@@ -170,19 +199,22 @@ LinkStatus LibusbLink::control_transfer(std::uint8_t request_type, std::uint8_t 
                                         std::uint16_t value, std::uint16_t index,
                                         std::uint32_t timeout_ms) noexcept {
     if (unplugged()) return LinkStatus::kDisconnected;
-    const int rc = libusb_control_transfer(handle_, request_type, request, value, index, nullptr, 0, timeout_ms);
+    const int rc = libusb_control_transfer(handle_, request_type, request, value, index, nullptr, 0,
+                                           timeout_ms);
     return from_libusb(rc);
 }
 
 // Handles libusb events until `completed` is set or `timeout_us` passes.
 LinkStatus LibusbLink::pump(int& completed, std::uint32_t timeout_us) noexcept {
-    timeval tv{static_cast<time_t>(timeout_us / 1000000U), static_cast<suseconds_t>(timeout_us % 1000000U)};
+    timeval tv{static_cast<time_t>(timeout_us / 1000000U),
+               static_cast<suseconds_t>(timeout_us % 1000000U)};
     const int rc = libusb_handle_events_timeout_completed(ctx_, &tv, &completed);
     if (rc != 0 && rc != LIBUSB_ERROR_INTERRUPTED) return from_libusb(rc);
     return unplugged() ? LinkStatus::kDisconnected : LinkStatus::kOk;
 }
 
-LinkStatus LibusbLink::bulk_write(std::span<const std::byte> data, std::uint32_t timeout_ms) noexcept {
+LinkStatus LibusbLink::bulk_write(std::span<const std::byte> data,
+                                  std::uint32_t timeout_ms) noexcept {
     if (unplugged()) return LinkStatus::kDisconnected;
     if (data.size() > out_buf_.size()) return LinkStatus::kOverflow;
     if (out_flight_ && out_done_ == 0) {

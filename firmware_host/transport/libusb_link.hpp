@@ -28,8 +28,8 @@ struct UsbDeviceInfo {
     std::uint8_t address = 0;
     std::uint16_t vendor_id = 0;
     std::uint16_t product_id = 0;
-    std::string serial;      ///< empty when the device could not be opened to read it
-    bool accessible = false; ///< we could open it (udev rules / permissions)
+    std::string serial;       ///< empty when the device could not be opened to read it
+    bool accessible = false;  ///< we could open it (udev rules / permissions)
 };
 
 /// Every USB device with these ids, or an error when libusb cannot start.
@@ -52,7 +52,8 @@ public:
     LinkStatus control_transfer(std::uint8_t request_type, std::uint8_t request,
                                 std::uint16_t value, std::uint16_t index,
                                 std::uint32_t timeout_ms) noexcept override;
-    LinkStatus bulk_write(std::span<const std::byte> data, std::uint32_t timeout_ms) noexcept override;
+    LinkStatus bulk_write(std::span<const std::byte> data,
+                          std::uint32_t timeout_ms) noexcept override;
     LinkStatus bulk_read(std::span<std::byte> buffer, std::size_t& received,
                          std::uint32_t timeout_us) noexcept override;
 

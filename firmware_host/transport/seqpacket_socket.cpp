@@ -61,7 +61,9 @@ Result<SeqpacketSocket, TransportError> SeqpacketSocket::connect(const std::stri
     return SeqpacketSocket(fd);
 }
 
-SeqpacketSocket::SeqpacketSocket(SeqpacketSocket&& other) noexcept : fd_(other.fd_) { other.fd_ = -1; }
+SeqpacketSocket::SeqpacketSocket(SeqpacketSocket&& other) noexcept : fd_(other.fd_) {
+    other.fd_ = -1;
+}
 
 SeqpacketSocket& SeqpacketSocket::operator=(SeqpacketSocket&& other) noexcept {
     if (this != &other) {
@@ -86,7 +88,8 @@ LinkStatus SeqpacketSocket::try_send(std::span<const std::byte> datagram) noexce
     return LinkStatus::kOk;
 }
 
-LinkStatus SeqpacketSocket::try_send_tagged(std::byte tag, std::span<const std::byte> payload) noexcept {
+LinkStatus SeqpacketSocket::try_send_tagged(std::byte tag,
+                                            std::span<const std::byte> payload) noexcept {
     if (fd_ < 0) return LinkStatus::kDisconnected;
     iovec iov[2] = {{&tag, 1}, {const_cast<std::byte*>(payload.data()), payload.size()}};
     msghdr msg{};
@@ -121,7 +124,7 @@ Result<SeqpacketListener, TransportError> SeqpacketListener::listen(const std::s
     if (!fill_address(path, addr)) {
         return Err{TransportError{"listen on emulator socket", path, "path empty or too long"}};
     }
-    struct stat st{};
+    struct stat st {};
     if (::lstat(path.c_str(), &st) == 0) {
         if (!S_ISSOCK(st.st_mode)) {
             return Err{TransportError{"listen on emulator socket", path,
@@ -162,7 +165,8 @@ Result<std::pair<SeqpacketSocket, SeqpacketSocket>, TransportError> seqpacket_pa
     if (::socketpair(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0, fds) != 0) {
         return os_error("socketpair", "AF_UNIX SOCK_SEQPACKET", errno);
     }
-    return std::pair<SeqpacketSocket, SeqpacketSocket>{SeqpacketSocket(fds[0]), SeqpacketSocket(fds[1])};
+    return std::pair<SeqpacketSocket, SeqpacketSocket>{SeqpacketSocket(fds[0]),
+                                                       SeqpacketSocket(fds[1])};
 }
 
 }  // namespace kerf::firmware_host

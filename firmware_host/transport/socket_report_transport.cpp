@@ -12,7 +12,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 std::uint32_t us_left(Clock::time_point deadline) noexcept {
-    const auto left = std::chrono::duration_cast<std::chrono::microseconds>(deadline - Clock::now());
+    const auto left =
+        std::chrono::duration_cast<std::chrono::microseconds>(deadline - Clock::now());
     return left.count() > 0 ? static_cast<std::uint32_t>(left.count()) : 0U;
 }
 
@@ -48,7 +49,8 @@ LinkStatus SocketReportTransport::read_report(std::span<std::byte> buffer, std::
 }
 
 LinkStatus SocketReportTransport::get_feature(std::uint8_t id, std::span<std::byte> buffer,
-                                              std::size_t& received, std::uint32_t timeout_ms) noexcept {
+                                              std::size_t& received,
+                                              std::uint32_t timeout_ms) noexcept {
     const std::array<std::byte, 1> request = {std::byte{id}};
     if (auto s = socket_.try_send_tagged(tag::kGetFeature, request); s != LinkStatus::kOk) return s;
     const auto s = await(tag::kFeature, buffer, received, timeout_ms * 1000U);

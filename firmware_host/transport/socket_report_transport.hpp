@@ -15,7 +15,8 @@ public:
                            std::uint32_t timeout_us) noexcept override;
     LinkStatus get_feature(std::uint8_t id, std::span<std::byte> buffer, std::size_t& received,
                            std::uint32_t timeout_ms) noexcept override;
-    LinkStatus set_feature(std::span<const std::byte> report, std::uint32_t timeout_ms) noexcept override;
+    LinkStatus set_feature(std::span<const std::byte> report,
+                           std::uint32_t timeout_ms) noexcept override;
 
 private:
     // Waits for a datagram starting with `want`; other datagrams are dropped.

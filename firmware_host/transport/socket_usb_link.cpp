@@ -12,7 +12,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 std::uint32_t us_left(Clock::time_point deadline) noexcept {
-    const auto left = std::chrono::duration_cast<std::chrono::microseconds>(deadline - Clock::now());
+    const auto left =
+        std::chrono::duration_cast<std::chrono::microseconds>(deadline - Clock::now());
     return left.count() > 0 ? static_cast<std::uint32_t>(left.count()) : 0U;
 }
 
@@ -21,10 +22,12 @@ std::uint32_t us_left(Clock::time_point deadline) noexcept {
 LinkStatus SocketUsbLink::control_transfer(std::uint8_t request_type, std::uint8_t request,
                                            std::uint16_t value, std::uint16_t index,
                                            std::uint32_t timeout_ms) noexcept {
-    const std::array<std::byte, 6> setup = {
-        std::byte{request_type}, std::byte{request},
-        std::byte{static_cast<std::uint8_t>(value & 0xFF)}, std::byte{static_cast<std::uint8_t>(value >> 8)},
-        std::byte{static_cast<std::uint8_t>(index & 0xFF)}, std::byte{static_cast<std::uint8_t>(index >> 8)}};
+    const std::array<std::byte, 6> setup = {std::byte{request_type},
+                                            std::byte{request},
+                                            std::byte{static_cast<std::uint8_t>(value & 0xFF)},
+                                            std::byte{static_cast<std::uint8_t>(value >> 8)},
+                                            std::byte{static_cast<std::uint8_t>(index & 0xFF)},
+                                            std::byte{static_cast<std::uint8_t>(index >> 8)}};
     if (auto s = socket_.try_send_tagged(tag::kControl, setup); s != LinkStatus::kOk) return s;
     const auto deadline = Clock::now() + std::chrono::milliseconds(timeout_ms);
     std::array<std::byte, 600> reply{};
@@ -40,7 +43,8 @@ LinkStatus SocketUsbLink::control_transfer(std::uint8_t request_type, std::uint8
     }
 }
 
-LinkStatus SocketUsbLink::bulk_write(std::span<const std::byte> data, std::uint32_t /*timeout_ms*/) noexcept {
+LinkStatus SocketUsbLink::bulk_write(std::span<const std::byte> data,
+                                     std::uint32_t /*timeout_ms*/) noexcept {
     return socket_.try_send_tagged(tag::kOut, data);
 }
 

@@ -15,7 +15,8 @@ public:
     LinkStatus control_transfer(std::uint8_t request_type, std::uint8_t request,
                                 std::uint16_t value, std::uint16_t index,
                                 std::uint32_t timeout_ms) noexcept override;
-    LinkStatus bulk_write(std::span<const std::byte> data, std::uint32_t timeout_ms) noexcept override;
+    LinkStatus bulk_write(std::span<const std::byte> data,
+                          std::uint32_t timeout_ms) noexcept override;
     LinkStatus bulk_read(std::span<std::byte> buffer, std::size_t& received,
                          std::uint32_t timeout_us) noexcept override;
 

@@ -7,7 +7,8 @@
 namespace kerf::firmware_host {
 
 struct UsbHotplugMonitor::Callbacks {
-    static int LIBUSB_CALL on_event(libusb_context*, libusb_device*, libusb_hotplug_event event, void* user) {
+    static int LIBUSB_CALL on_event(libusb_context*, libusb_device*, libusb_hotplug_event event,
+                                    void* user) {
         auto* self = static_cast<UsbHotplugMonitor*>(user);
         if (event == LIBUSB_HOTPLUG_EVENT_DEVICE_ARRIVED) ++self->counts_.arrived;
         if (event == LIBUSB_HOTPLUG_EVENT_DEVICE_LEFT) ++self->counts_.left;
@@ -15,8 +16,8 @@ struct UsbHotplugMonitor::Callbacks {
     }
 };
 
-Result<std::unique_ptr<UsbHotplugMonitor>, TransportError> UsbHotplugMonitor::create(std::uint16_t vendor_id,
-                                                                                     std::uint16_t product_id) {
+Result<std::unique_ptr<UsbHotplugMonitor>, TransportError> UsbHotplugMonitor::create(
+    std::uint16_t vendor_id, std::uint16_t product_id) {
     char where[32];
     std::snprintf(where, sizeof where, "usb %04x:%04x", vendor_id, product_id);
     std::unique_ptr<UsbHotplugMonitor> m(new UsbHotplugMonitor());
@@ -28,8 +29,8 @@ Result<std::unique_ptr<UsbHotplugMonitor>, TransportError> UsbHotplugMonitor::cr
     }
     const auto events = static_cast<libusb_hotplug_event>(LIBUSB_HOTPLUG_EVENT_DEVICE_ARRIVED |
                                                           LIBUSB_HOTPLUG_EVENT_DEVICE_LEFT);
-    const int rc = libusb_hotplug_register_callback(m->ctx_, events, LIBUSB_HOTPLUG_ENUMERATE, vendor_id,
-                                                    product_id, LIBUSB_HOTPLUG_MATCH_ANY,
+    const int rc = libusb_hotplug_register_callback(m->ctx_, events, LIBUSB_HOTPLUG_ENUMERATE,
+                                                    vendor_id, product_id, LIBUSB_HOTPLUG_MATCH_ANY,
                                                     Callbacks::on_event, m.get(), &m->handle_);
     if (rc != 0) return Err{TransportError{"watch hotplug", where, libusb_strerror(rc)}};
     m->registered_ = true;
@@ -42,7 +43,8 @@ UsbHotplugMonitor::~UsbHotplugMonitor() {
 }
 
 HotplugCounts UsbHotplugMonitor::poll(std::uint32_t timeout_us) noexcept {
-    timeval tv{static_cast<time_t>(timeout_us / 1000000U), static_cast<suseconds_t>(timeout_us % 1000000U)};
+    timeval tv{static_cast<time_t>(timeout_us / 1000000U),
+               static_cast<suseconds_t>(timeout_us % 1000000U)};
     libusb_handle_events_timeout_completed(ctx_, &tv, nullptr);
     const HotplugCounts out = counts_;
     counts_ = {};

@@ -21,8 +21,8 @@ struct HotplugCounts {
 class UsbHotplugMonitor {
 public:
     /// Registers for devices `vendor_id:product_id`; an error when libusb has no hotplug support.
-    static Result<std::unique_ptr<UsbHotplugMonitor>, TransportError> create(std::uint16_t vendor_id,
-                                                                             std::uint16_t product_id);
+    static Result<std::unique_ptr<UsbHotplugMonitor>, TransportError> create(
+        std::uint16_t vendor_id, std::uint16_t product_id);
     ~UsbHotplugMonitor();
     UsbHotplugMonitor(const UsbHotplugMonitor&) = delete;
     UsbHotplugMonitor& operator=(const UsbHotplugMonitor&) = delete;

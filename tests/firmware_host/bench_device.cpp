@@ -3,7 +3,6 @@
 // SOCK_SEQPACKET socketpair ping-pong with a forked echo process — measured in the same run.
 // Run by hand:  build/bin/bench_device --benchmark_counters_tabular=true
 #include <benchmark/benchmark.h>
-
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -177,19 +176,22 @@ void hapsim_round_trip(benchmark::State& state, std::vector<std::string> args, O
 }
 
 void BM_HapsimRoundTripKerfHid(benchmark::State& state) {
-    hapsim_round_trip(state, {"--protocol", "kerf"}, [](fh::SeqpacketSocket s) -> std::unique_ptr<fh::Device> {
-        auto d = fh::KerfHidDevice::open(std::make_unique<fh::SocketReportTransport>(std::move(s)), {});
-        return d ? std::unique_ptr<fh::Device>(std::move(*d)) : nullptr;
-    });
+    hapsim_round_trip(state, {"--protocol", "kerf"},
+                      [](fh::SeqpacketSocket s) -> std::unique_ptr<fh::Device> {
+                          auto d = fh::KerfHidDevice::open(
+                              std::make_unique<fh::SocketReportTransport>(std::move(s)), {});
+                          return d ? std::unique_ptr<fh::Device>(std::move(*d)) : nullptr;
+                      });
 }
 BENCHMARK(BM_HapsimRoundTripKerfHid)->UseRealTime();
 
 void BM_HapsimRoundTripFalcon(benchmark::State& state) {
     hapsim_round_trip(state, {"--protocol", "falcon", "--firmware-loaded"},
                       [](fh::SeqpacketSocket s) -> std::unique_ptr<fh::Device> {
-        auto d = fh::FalconDevice::open(std::make_unique<fh::SocketUsbLink>(std::move(s)), {});
-        return d ? std::unique_ptr<fh::Device>(std::move(*d)) : nullptr;
-    });
+                          auto d = fh::FalconDevice::open(
+                              std::make_unique<fh::SocketUsbLink>(std::move(s)), {});
+                          return d ? std::unique_ptr<fh::Device>(std::move(*d)) : nullptr;
+                      });
 }
 BENCHMARK(BM_HapsimRoundTripFalcon)->UseRealTime();
 

@@ -40,7 +40,9 @@ struct DeviceLoop {
         out = safety.step(in);
     }
     /// Second half: send the command.
-    void write() noexcept { write_status = device->try_write(DeviceCommand{out, safety.engaged(), 0}); }
+    void write() noexcept {
+        write_status = device->try_write(DeviceCommand{out, safety.engaged(), 0});
+    }
     double force() const { return std::sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2]); }
 
     Device* device;

@@ -82,7 +82,8 @@ TEST(FalconIntegration, MissingFirmwareFileIsAClearError) {
     auto dev = open_falcon(sim, "/nonexistent/novint.bin");
     ASSERT_FALSE(dev);
     EXPECT_NE(dev.error().message().find("cannot read the firmware image: /nonexistent/novint.bin"),
-              std::string::npos) << dev.error().message();
+              std::string::npos)
+        << dev.error().message();
 }
 
 TEST(FalconIntegration, OpeningWithoutFirmwareSaysSo) {
@@ -94,7 +95,8 @@ TEST(FalconIntegration, OpeningWithoutFirmwareSaysSo) {
     options.probe_timeout_ms = 50;
     auto dev = FalconDevice::open(std::make_unique<SocketUsbLink>(std::move(*socket)), options);
     ASSERT_FALSE(dev);
-    EXPECT_NE(dev.error().message().find("firmware not loaded"), std::string::npos) << dev.error().message();
+    EXPECT_NE(dev.error().message().find("firmware not loaded"), std::string::npos)
+        << dev.error().message();
 }
 
 // Scripted motion: every host position (forward kinematics of the quantised encoder counts)
@@ -102,8 +104,10 @@ TEST(FalconIntegration, OpeningWithoutFirmwareSaysSo) {
 TEST(FalconIntegration, ScriptedMotionMatchesTheTruthWithinEncoderResolution) {
     const std::string script = test::temp_path("falcon-motion.csv");
     const std::string trace = test::temp_path("falcon-trace.csv");
-    std::ofstream(script) << "move,0.02,0.0,0.12,1.0\nsweep,0.0,0.02,0.0,1.0,2.0\nmove,-0.02,0.01,0.1,1.0\n";
-    HapsimProcess sim({"--protocol", "falcon", "--firmware-loaded", "--script", script, "--trace", trace});
+    std::ofstream(script)
+        << "move,0.02,0.0,0.12,1.0\nsweep,0.0,0.02,0.0,1.0,2.0\nmove,-0.02,0.01,0.1,1.0\n";
+    HapsimProcess sim(
+        {"--protocol", "falcon", "--firmware-loaded", "--script", script, "--trace", trace});
     ASSERT_TRUE(sim.ready()) << sim.output();
     auto dev = open_falcon(sim, "");
     ASSERT_TRUE(dev) << dev.error().message();
@@ -118,7 +122,8 @@ TEST(FalconIntegration, ScriptedMotionMatchesTheTruthWithinEncoderResolution) {
         seen.push_back(loop.sample.position_m);
         homed.push_back(loop.sample.flags.homed);
         falcon::Mat3 j{};
-        ASSERT_EQ(kin.jacobian((*dev)->joint_angles(), loop.sample.position_m, j), falcon::KinematicsStatus::kOk);
+        ASSERT_EQ(kin.jacobian((*dev)->joint_angles(), loop.sample.position_m, j),
+                  falcon::KinematicsStatus::kOk);
         jac.push_back(j);
     }
     ASSERT_EQ(sim.stop(), 0);
@@ -139,8 +144,10 @@ TEST(FalconIntegration, ScriptedMotionMatchesTheTruthWithinEncoderResolution) {
         const auto& j = jac[i - 1];
         const Vec3d truth = {x, y, z};
         for (int r = 0; r < 3; ++r) {
-            const double bound = 0.5 * half_count * (std::abs(j[r][0]) + std::abs(j[r][1]) + std::abs(j[r][2]));
-            ASSERT_LE(std::abs(p[r] - truth[r]), bound * 1.01 + 1e-9) << "tick " << i << " axis " << r;
+            const double bound =
+                0.5 * half_count * (std::abs(j[r][0]) + std::abs(j[r][1]) + std::abs(j[r][2]));
+            ASSERT_LE(std::abs(p[r] - truth[r]), bound * 1.01 + 1e-9)
+                << "tick " << i << " axis " << r;
         }
     }
     EXPECT_GT(compared, 3900);
@@ -178,8 +185,10 @@ TEST_P(FalconFault, ZeroesForceWithinTwoTicksAndRecovers) {
 }
 
 INSTANTIATE_TEST_SUITE_P(TransportFaults, FalconFault,
-                         ::testing::Values(FaultCase{"drop", "on", false}, FaultCase{"delay", "50", false},
-                                           FaultCase{"corrupt", "on", false}, FaultCase{"short", "on", false},
+                         ::testing::Values(FaultCase{"drop", "on", false},
+                                           FaultCase{"delay", "50", false},
+                                           FaultCase{"corrupt", "on", false},
+                                           FaultCase{"short", "on", false},
                                            FaultCase{"unplug", "on", true}),
                          [](const auto& test_info) { return std::string(test_info.param.name); });
 

@@ -17,8 +17,8 @@ TEST(FalconPacket, CommandIsFramedWithLeastSignificantNibbleFirst) {
     Packet p{};
     ASSERT_EQ(encode_command(cmd, p), FalconCodecStatus::kOk);
     const std::array<std::uint8_t, kPacketSize> expected = {
-        '<', 0x45, 0x44, 0x43, 0x42, 0x50, 0x50, 0x50, 0x50, 0x41, 0x41, 0x41, 0x41,
-        0x41 + 0xD, 0x41, '>'};
+        '<',  0x45, 0x44, 0x43, 0x42, 0x50,       0x50, 0x50,
+        0x50, 0x41, 0x41, 0x41, 0x41, 0x41 + 0xD, 0x41, '>'};
     for (std::size_t i = 0; i < kPacketSize; ++i) {
         EXPECT_EQ(std::to_integer<int>(p[i]), expected[i]) << "byte " << i;
     }

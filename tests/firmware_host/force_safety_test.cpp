@@ -72,7 +72,8 @@ TEST(ForceSafety, RampsInAfterEngaging) {
     l.max_slew_n_per_s = 1e9;
     ForceSafety s(l);
     const Vec3d out = engage_and_hold(s, {0, 0, 4}, 10);
-    EXPECT_NEAR(norm(out), 4.0 * 16 * 0.001 / 0.1, 1e-9);  // engaged on quiet tick 5: 6 + 10 ramp steps
+    EXPECT_NEAR(norm(out), 4.0 * 16 * 0.001 / 0.1,
+                1e-9);  // engaged on quiet tick 5: 6 + 10 ramp steps
     EXPECT_TRUE(s.reasons() & kReasonRamping);
 }
 
@@ -110,7 +111,8 @@ TEST(ForceSafety, ZeroesForceAtOnceOnEveryHardFault) {
     check([](SafetyInput& in) { in.flags.estop = true; }, kReasonEStop);
     check([](SafetyInput& in) { in.flags.watchdog_tripped = true; }, kReasonDeviceFault);
     check([](SafetyInput& in) { in.flags.encoder_fault = true; }, kReasonDeviceFault);
-    check([](SafetyInput& in) { in.read_status = DeviceStatus::kDisconnected; }, kReasonDisconnected);
+    check([](SafetyInput& in) { in.read_status = DeviceStatus::kDisconnected; },
+          kReasonDisconnected);
     check([](SafetyInput& in) { in.read_status = DeviceStatus::kMalformed; }, kReasonInvalidInput);
     check([](SafetyInput& in) { in.flags.homed = false; }, kReasonNotHomed);
 }
@@ -134,7 +136,8 @@ TEST(ForceSafetyProperty, RandomAndAdversarialInputsNeverExceedLimitsOrSlew) {
     ForceSafety s(l);
     std::mt19937_64 rng(12345);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
-    const double specials[] = {0.0, -0.0, 1e308, -1e308, 4.9e-324, INFINITY, -INFINITY, NAN, 8.0, -8.0000001};
+    const double specials[] = {0.0,      -0.0,      1e308, -1e308, 4.9e-324,
+                               INFINITY, -INFINITY, NAN,   8.0,    -8.0000001};
     Vec3d prev{};
     const double max_step = l.max_slew_n_per_s * l.period_s + 1e-9;
     for (int tick = 0; tick < 200000; ++tick) {

@@ -12,7 +12,8 @@ namespace {
 
 TEST(FtdiStatusBytes, AreStrippedAtTheStartOfEvery64BytePacket) {
     std::vector<std::byte> transfer(64 + 64 + 10);
-    for (std::size_t i = 0; i < transfer.size(); ++i) transfer[i] = std::byte{static_cast<std::uint8_t>(i)};
+    for (std::size_t i = 0; i < transfer.size(); ++i)
+        transfer[i] = std::byte{static_cast<std::uint8_t>(i)};
     std::array<std::byte, 256> out{};
     const auto n = strip_ftdi_status(transfer, out);
     ASSERT_EQ(n, 62U + 62U + 8U);
@@ -38,7 +39,9 @@ public:
         requests.push_back(request);
         return stall_controls ? LinkStatus::kStall : LinkStatus::kOk;
     }
-    LinkStatus bulk_write(std::span<const std::byte>, std::uint32_t) noexcept override { return LinkStatus::kOk; }
+    LinkStatus bulk_write(std::span<const std::byte>, std::uint32_t) noexcept override {
+        return LinkStatus::kOk;
+    }
     LinkStatus bulk_read(std::span<std::byte>, std::size_t& n, std::uint32_t) noexcept override {
         n = 0;
         return LinkStatus::kTimeout;
@@ -53,7 +56,8 @@ TEST(FirmwareLoader, AStalledSetupRequestIsAClearError) {
     auto s = load_firmware(link, image, {50, 2, 2});
     ASSERT_FALSE(s);
     EXPECT_EQ(s.error().code, FirmwareErrorCode::kSetupFailed);
-    EXPECT_NE(s.error().message().find("device refused the request"), std::string::npos) << s.error().message();
+    EXPECT_NE(s.error().message().find("device refused the request"), std::string::npos)
+        << s.error().message();
     EXPECT_EQ(link.requests.front(), ftdi::kReset);
 }
 
@@ -62,7 +66,8 @@ TEST(FirmwareLoader, ASilentBootLoaderFailsTheHandshakeAfterEveryAttempt) {
     link.stall_controls = false;
     const std::vector<std::byte> image(100, std::byte{1});
     FirmwareLoader loader(link, image, {1, 2, 3});
-    while (loader.state() != FirmwareLoader::State::kDone && loader.state() != FirmwareLoader::State::kFailed) {
+    while (loader.state() != FirmwareLoader::State::kDone &&
+           loader.state() != FirmwareLoader::State::kFailed) {
         loader.step();
     }
     ASSERT_EQ(loader.state(), FirmwareLoader::State::kFailed);

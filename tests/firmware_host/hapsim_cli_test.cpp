@@ -43,7 +43,9 @@ TEST(HapsimCli, ABadScriptExitsOneWithFileAndLine) {
     int rc = 0;
     const auto out = run("--socket " + test::temp_path("s.sock") + " --script " + script, rc);
     EXPECT_EQ(rc, 1);
-    EXPECT_NE(out.find(script + ":2: hold: value 1 'soon' is not a finite number"), std::string::npos) << out;
+    EXPECT_NE(out.find(script + ":2: hold: value 1 'soon' is not a finite number"),
+              std::string::npos)
+        << out;
 }
 
 TEST(HapsimCli, ASocketPathInTheWayIsAClearError) {

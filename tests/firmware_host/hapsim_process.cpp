@@ -14,11 +14,13 @@ namespace kerf::firmware_host::test {
 
 std::string temp_path(const std::string& stem) {
     static std::atomic<int> counter{0};
-    return "/tmp/kerf-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + "-" + stem;
+    return "/tmp/kerf-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + "-" +
+           stem;
 }
 
 HapsimProcess::HapsimProcess(std::vector<std::string> args) : socket_(temp_path("hapsim.sock")) {
-    args.insert(args.begin(), {std::string(KERF_BIN_DIR) + "/kerf-hapsim", "--socket", socket_, "--commands"});
+    args.insert(args.begin(),
+                {std::string(KERF_BIN_DIR) + "/kerf-hapsim", "--socket", socket_, "--commands"});
     int in_pipe[2], out_pipe[2];
     if (::pipe2(in_pipe, O_CLOEXEC) != 0 || ::pipe2(out_pipe, O_CLOEXEC) != 0) return;
     pid_ = ::fork();
@@ -54,7 +56,8 @@ bool HapsimProcess::read_line(std::string& line, int timeout_ms) {
             return true;
         }
         const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-            deadline - std::chrono::steady_clock::now()).count();
+                              deadline - std::chrono::steady_clock::now())
+                              .count();
         if (left <= 0 || from_child_ < 0) return false;
         pollfd p{from_child_, POLLIN, 0};
         if (::poll(&p, 1, static_cast<int>(left)) <= 0) return false;

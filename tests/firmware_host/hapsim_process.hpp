@@ -2,10 +2,10 @@
 // waits for its `ready` line, sends stdin commands and waits for their `ok`, stops it cleanly.
 #pragma once
 
+#include <sys/types.h>
+
 #include <string>
 #include <vector>
-
-#include <sys/types.h>
 
 namespace kerf::firmware_host::test {
 

@@ -1,8 +1,7 @@
-#include "tools/hapsim/hand_script.hpp"
-
 #include <gtest/gtest.h>
 
 #include "tools/hapsim/faults.hpp"
+#include "tools/hapsim/hand_script.hpp"
 
 namespace kerf::hapsim {
 namespace {
@@ -47,11 +46,13 @@ TEST(HandScript, EveryBadLineIsNamedWithFileLineAndReason) {
 TEST(HandScript, AMissingFileIsAClearError) {
     auto s = load_hand_script("/nonexistent/script.csv");
     ASSERT_FALSE(s);
-    EXPECT_NE(s.error().message().find("/nonexistent/script.csv:0: cannot read"), std::string::npos);
+    EXPECT_NE(s.error().message().find("/nonexistent/script.csv:0: cannot read"),
+              std::string::npos);
 }
 
 TEST(HandPlayer, MovesHoldsSweepsAndFiresFaultsOnTime) {
-    auto s = parse_hand_script("move,0.1,0,0,1\nfault,corrupt,on\nhold,1\nbutton,0,down\nsweep,0,0.01,0,1,1\n", "t");
+    auto s = parse_hand_script(
+        "move,0.1,0,0,1\nfault,corrupt,on\nhold,1\nbutton,0,down\nsweep,0,0.01,0,1,1\n", "t");
     ASSERT_TRUE(s);
     HandPlayer hand(*s, {0, 0, 0});
     std::vector<FaultEvent> events;

@@ -1,6 +1,5 @@
 // Host <-> kerf-hapsim as real processes, Kerf HID protocol over the Unix socket.
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <fstream>
@@ -28,7 +27,8 @@ std::unique_ptr<KerfHidDevice> open_kerf(const HapsimProcess& sim) {
     KerfHidOptions options;
     options.expected_vendor_id = 0x1209;
     options.expected_product_id = 0x0001;
-    auto dev = KerfHidDevice::open(std::make_unique<SocketReportTransport>(std::move(*socket)), options);
+    auto dev =
+        KerfHidDevice::open(std::make_unique<SocketReportTransport>(std::move(*socket)), options);
     if (!dev) {
         ADD_FAILURE() << dev.error().message();
         return nullptr;
@@ -39,7 +39,8 @@ std::unique_ptr<KerfHidDevice> open_kerf(const HapsimProcess& sim) {
 // Runs until homed and the force loop is engaged and delivering `force_n` upward.
 void home_and_engage(DeviceLoop& loop, double force_n = 2.0) {
     loop.desired = {0, 0, 0};
-    for (int i = 0; i < 200 && !(loop.status == DeviceStatus::kOk && loop.safety.engaged()); ++i) loop.tick();
+    for (int i = 0; i < 200 && !(loop.status == DeviceStatus::kOk && loop.safety.engaged()); ++i)
+        loop.tick();
     ASSERT_TRUE(loop.sample.flags.homed);
     ASSERT_TRUE(loop.safety.engaged());
     loop.desired = {0, 0, force_n};
@@ -70,7 +71,8 @@ TEST(KerfHidIntegration, OpenFailsClearlyWhenTheProfileIdsDoNotMatch) {
     ASSERT_TRUE(socket);
     KerfHidOptions options;
     options.expected_vendor_id = 0x0403;
-    auto dev = KerfHidDevice::open(std::make_unique<SocketReportTransport>(std::move(*socket)), options);
+    auto dev =
+        KerfHidDevice::open(std::make_unique<SocketReportTransport>(std::move(*socket)), options);
     ASSERT_FALSE(dev);
     EXPECT_NE(dev.error().message().find("1209:0001"), std::string::npos) << dev.error().message();
 }
@@ -78,7 +80,8 @@ TEST(KerfHidIntegration, OpenFailsClearlyWhenTheProfileIdsDoNotMatch) {
 TEST(KerfHidIntegration, ConnectingToAMissingEmulatorIsAClearError) {
     auto socket = SeqpacketSocket::connect(test::temp_path("nobody-listens.sock"));
     ASSERT_FALSE(socket);
-    EXPECT_NE(socket.error().message().find("No such file"), std::string::npos) << socket.error().message();
+    EXPECT_NE(socket.error().message().find("No such file"), std::string::npos)
+        << socket.error().message();
 }
 
 struct TraceRow {
@@ -141,7 +144,8 @@ TEST(KerfHidIntegration, TenThousandTicksOfScriptedMotionMatchTheTruthWithinReso
 TEST(KerfHidIntegration, OpenDeviceOpensTheSimulatedProfileThroughTheEmulator) {
     HapsimProcess sim({"--protocol", "kerf"});
     ASSERT_TRUE(sim.ready());
-    auto profile = config::load_device_profile(std::string(KERF_SOURCE_DIR) + "/config/devices/simulated.toml");
+    auto profile = config::load_device_profile(std::string(KERF_SOURCE_DIR) +
+                                               "/config/devices/simulated.toml");
     ASSERT_TRUE(profile) << profile.error().message();
     auto dev = open_device(*profile, {"", sim.socket_path(), ""});
     ASSERT_TRUE(dev) << dev.error().message();
@@ -200,15 +204,16 @@ TEST_P(KerfHidFault, ZeroesForceWithinTwoTicksAndRecovers) {
                       c.reconnect ? std::function<DeviceLoop*()>(reopen) : nullptr);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    AllFaults, KerfHidFault,
-    ::testing::Values(FaultCase{"drop", "on", "off", false}, FaultCase{"delay", "50", "off", false},
-                      FaultCase{"corrupt", "on", "off", false}, FaultCase{"short", "on", "off", false},
-                      FaultCase{"unplug", "on", "off", true},
-                      FaultCase{"stuck_encoder", "on", "off", false},
-                      FaultCase{"estop", "on", "off", false},
-                      FaultCase{"watchdog_trip", "on", "off", false}),
-    [](const auto& test_info) { return std::string(test_info.param.name); });
+INSTANTIATE_TEST_SUITE_P(AllFaults, KerfHidFault,
+                         ::testing::Values(FaultCase{"drop", "on", "off", false},
+                                           FaultCase{"delay", "50", "off", false},
+                                           FaultCase{"corrupt", "on", "off", false},
+                                           FaultCase{"short", "on", "off", false},
+                                           FaultCase{"unplug", "on", "off", true},
+                                           FaultCase{"stuck_encoder", "on", "off", false},
+                                           FaultCase{"estop", "on", "off", false},
+                                           FaultCase{"watchdog_trip", "on", "off", false}),
+                         [](const auto& test_info) { return std::string(test_info.param.name); });
 
 }  // namespace
 }  // namespace kerf::firmware_host

@@ -1,7 +1,6 @@
 // Real hidapi and libusb on this machine (usually no haptic device attached): enumeration and
 // opening a missing device give clean results, never a crash.
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <cstdio>
@@ -25,7 +24,8 @@ TEST(RealHidapi, EnumeratesWithoutCrashing) {
 TEST(RealHidapi, OpeningAMissingDeviceIsAClearError) {
     auto dev = HidapiTransport::open({0x1209, 0x7FFE, "", ""});
     ASSERT_FALSE(dev);
-    EXPECT_NE(dev.error().message().find("hid 1209:7ffe"), std::string::npos) << dev.error().message();
+    EXPECT_NE(dev.error().message().find("hid 1209:7ffe"), std::string::npos)
+        << dev.error().message();
     EXPECT_NE(dev.error().message().find("no such device connected"), std::string::npos);
     auto by_path = HidapiTransport::open({0, 0, "", "/dev/hidraw-does-not-exist"});
     ASSERT_FALSE(by_path);
@@ -35,14 +35,16 @@ TEST(RealHidapi, OpeningAMissingDeviceIsAClearError) {
 TEST(RealLibusb, EnumeratesFalconsCleanly) {
     auto falcons = enumerate_usb(falcon::kFalconVendorId, falcon::kFalconProductId);
     if (!falcons) {  // e.g. a container without usbfs: still a clean, named error
-        EXPECT_NE(falcons.error().message().find("libusb"), std::string::npos) << falcons.error().message();
+        EXPECT_NE(falcons.error().message().find("libusb"), std::string::npos)
+            << falcons.error().message();
         return;
     }
     for (const auto& d : *falcons) EXPECT_EQ(d.product_id, falcon::kFalconProductId);
 }
 
 TEST(RealLibusb, OpeningAMissingFalconIsAClearError) {
-    auto link = LibusbLink::open({falcon::kFalconVendorId, falcon::kFalconProductId, "NO-SUCH-SERIAL"});
+    auto link =
+        LibusbLink::open({falcon::kFalconVendorId, falcon::kFalconProductId, "NO-SUCH-SERIAL"});
     ASSERT_FALSE(link);
     const auto m = link.error().message();
     EXPECT_NE(m.find("usb 0403:cb48"), std::string::npos) << m;
@@ -70,19 +72,22 @@ TEST(KerfDevicesCommand, ListsDevicesOrSaysNoneFoundAgainstRealLibraries) {
     if (!have_kerf()) GTEST_SKIP() << "bin/kerf not built (partial build): build the `kerf` target";
     int status = -1;
     const std::string kerf = std::string(KERF_BIN_DIR) + "/kerf";
-    const auto out = run(kerf + " devices --devices-dir " KERF_SOURCE_DIR "/config/devices 2>&1", status);
+    const auto out =
+        run(kerf + " devices --devices-dir " KERF_SOURCE_DIR "/config/devices 2>&1", status);
     EXPECT_EQ(status, 0) << out;
     const bool none = out.find("no haptic devices found") != std::string::npos;
     const bool some = out.find("profile") != std::string::npos;
     EXPECT_TRUE(none || some) << out;
-    const auto json = run(kerf + " devices --json --devices-dir " KERF_SOURCE_DIR "/config/devices", status);
+    const auto json =
+        run(kerf + " devices --json --devices-dir " KERF_SOURCE_DIR "/config/devices", status);
     EXPECT_EQ(json.rfind("{\"devices\": [", 0), 0U) << json;
 }
 
 TEST(KerfDevicesCommand, ABadProfileDirectoryIsAClearError) {
     if (!have_kerf()) GTEST_SKIP() << "bin/kerf not built (partial build): build the `kerf` target";
     int status = -1;
-    const auto out = run(std::string(KERF_BIN_DIR) + "/kerf devices --devices-dir /nonexistent-kerf 2>&1", status);
+    const auto out = run(
+        std::string(KERF_BIN_DIR) + "/kerf devices --devices-dir /nonexistent-kerf 2>&1", status);
     EXPECT_NE(status, 0);
     EXPECT_NE(out.find("kerf devices: load device profiles:"), std::string::npos) << out;
     EXPECT_NE(out.find("/nonexistent-kerf"), std::string::npos) << out;
@@ -99,7 +104,8 @@ namespace {
 TEST(RealLibusb, HotplugMonitorRegistersAndReportsNoFalconWhenNoneIsPlugged) {
     auto monitor = UsbHotplugMonitor::create(falcon::kFalconVendorId, falcon::kFalconProductId);
     if (!monitor) {  // libusb without hotplug support: a clean, named error
-        EXPECT_NE(monitor.error().message().find("usb 0403:cb48"), std::string::npos) << monitor.error().message();
+        EXPECT_NE(monitor.error().message().find("usb 0403:cb48"), std::string::npos)
+            << monitor.error().message();
         return;
     }
     const auto events = (*monitor)->poll(1000);

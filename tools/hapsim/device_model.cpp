@@ -25,8 +25,10 @@ void DeviceModel::step(double dt_s, const Vec3& motor_force_n, const Vec3& hand_
             f += p_.hand_stiffness_n_per_m * (hand_m[axis] - x_[axis]) +
                  p_.hand_damping_n_s_per_m * (hand_m_per_s[axis] - v_[axis]);
             f -= p_.viscous_n_s_per_m[axis] * v_[axis];
-            if (x_[axis] < p_.workspace_min_m[axis]) f += p_.wall_stiffness_n_per_m * (p_.workspace_min_m[axis] - x_[axis]);
-            if (x_[axis] > p_.workspace_max_m[axis]) f -= p_.wall_stiffness_n_per_m * (x_[axis] - p_.workspace_max_m[axis]);
+            if (x_[axis] < p_.workspace_min_m[axis])
+                f += p_.wall_stiffness_n_per_m * (p_.workspace_min_m[axis] - x_[axis]);
+            if (x_[axis] > p_.workspace_max_m[axis])
+                f -= p_.wall_stiffness_n_per_m * (x_[axis] - p_.workspace_max_m[axis]);
             // Coulomb friction opposes motion; at rest it holds up to its limit (stick).
             const double c = p_.coulomb_n[axis];
             if (std::abs(v_[axis]) > 1e-6) {

@@ -16,10 +16,10 @@ struct ModelParams {
     double motor_limit_n = 10.0;               ///< |motor force| per axis
     double hand_stiffness_n_per_m = 800.0;
     double hand_damping_n_s_per_m = 8.0;
-    double wall_stiffness_n_per_m = 5000.0;    ///< end stops at the workspace box
+    double wall_stiffness_n_per_m = 5000.0;  ///< end stops at the workspace box
     Vec3 workspace_min_m = {-0.08, -0.08, -0.08};
     Vec3 workspace_max_m = {0.08, 0.08, 0.08};
-    int substeps = 4;                          ///< integration steps per device period
+    int substeps = 4;  ///< integration steps per device period
 };
 
 class DeviceModel {
@@ -28,7 +28,8 @@ public:
 
     void reset(const Vec3& position_m) noexcept;
     /// Advances `dt_s` under the motor force (saturated per axis) and the hand at `hand_m`.
-    void step(double dt_s, const Vec3& motor_force_n, const Vec3& hand_m, const Vec3& hand_m_per_s) noexcept;
+    void step(double dt_s, const Vec3& motor_force_n, const Vec3& hand_m,
+              const Vec3& hand_m_per_s) noexcept;
 
     const Vec3& position_m() const noexcept { return x_; }
     const Vec3& velocity_m_per_s() const noexcept { return v_; }

@@ -55,7 +55,8 @@ bool FalconSide::on_control(std::span<const std::byte> setup) {
             return true;
         case fal::ftdi::kBaudDivisor:
             baud_ = value;
-            if (value == fal::ftdi::kBaudNormal && boot_ == Boot::kLoading && image_bytes_ > 0 && !image_bad_) {
+            if (value == fal::ftdi::kBaudNormal && boot_ == Boot::kLoading && image_bytes_ > 0 &&
+                !image_bad_) {
                 boot_ = Boot::kRunning;  // the loaded firmware starts
             }
             return true;
@@ -71,19 +72,23 @@ bool FalconSide::on_control(std::span<const std::byte> setup) {
 void FalconSide::on_bulk_out(std::span<const std::byte> data, Outbox& out) {
     auto& faults = sim_.faults();
     switch (boot_) {
-        case Boot::kNoFirmware: return;  // nobody answers
+        case Boot::kNoFirmware:
+            return;  // nobody answers
         case Boot::kAwaitHandshake: {
-            const std::array<std::byte, 3> hello = {std::byte{0x0A}, std::byte{0x43}, std::byte{0x0D}};
+            const std::array<std::byte, 3> hello = {std::byte{0x0A}, std::byte{0x43},
+                                                    std::byte{0x0D}};
             if (data.size() == 3 && std::equal(data.begin(), data.end(), hello.begin())) {
-                const std::array<std::byte, 5> reply = {std::byte{0x00}, std::byte{0x0A}, std::byte{0x44},
-                                                        std::byte{0x2C}, std::byte{0x0D}};
+                const std::array<std::byte, 5> reply = {std::byte{0x00}, std::byte{0x0A},
+                                                        std::byte{0x44}, std::byte{0x2C},
+                                                        std::byte{0x0D}};
                 push_in(reply, out);
                 boot_ = Boot::kAwaitProbe;
             }
             return;
         }
         case Boot::kAwaitProbe:
-            if (baud_ == fal::ftdi::kBaudFirmwareLoad && !dtr_ && data.size() == 1 && data[0] == std::byte{0x41}) {
+            if (baud_ == fal::ftdi::kBaudFirmwareLoad && !dtr_ && data.size() == 1 &&
+                data[0] == std::byte{0x41}) {
                 push_in(data, out);
                 boot_ = Boot::kLoading;
             }
@@ -127,15 +132,18 @@ Vec3 FalconSide::motor_force() const {
 
 void FalconSide::step_and_report(Outbox& out) {
     for (int i = 0; i < 3; ++i) {
-        if (homing_mode_ && (homed_ & (1U << i)) == 0 && ++homing_steps_[i] >= p_.homing_steps + 5U * i) {
+        if (homing_mode_ && (homed_ & (1U << i)) == 0 &&
+            ++homing_steps_[i] >= p_.homing_steps + 5U * i) {
             homed_ |= static_cast<std::uint8_t>(1U << i);
         }
     }
     sim_.step(motor_force());
     fal::Vec3 theta{};
-    if (!sim_.faults().stuck_encoder && kin_.inverse(sim_.model().position_m(), theta) == fal::KinematicsStatus::kOk) {
+    if (!sim_.faults().stuck_encoder &&
+        kin_.inverse(sim_.model().position_m(), theta) == fal::KinematicsStatus::kOk) {
         for (int i = 0; i < 3; ++i) {
-            const auto c = kin_.counts(theta[i]) + ((homed_ & (1U << i)) != 0 ? 0 : kUnhomedOffset[i]);
+            const auto c =
+                kin_.counts(theta[i]) + ((homed_ & (1U << i)) != 0 ? 0 : kUnhomedOffset[i]);
             counts_[i] = static_cast<std::int16_t>(std::clamp(c, -32768, 32767));
         }
     }
@@ -151,7 +159,8 @@ void FalconSide::step_and_report(Outbox& out) {
 void FalconSide::on_datagram(std::span<const std::byte> d, Outbox& out) {
     if (d.empty()) return;
     if (d[0] == fh::tag::kControl) {
-        const std::byte ok[1] = {std::byte{static_cast<std::uint8_t>(on_control(d.subspan(1)) ? 1 : 0)}};
+        const std::byte ok[1] = {
+            std::byte{static_cast<std::uint8_t>(on_control(d.subspan(1)) ? 1 : 0)}};
         out.push(fh::tag::kControlReply, ok);
     } else if (d[0] == fh::tag::kOut) {
         on_bulk_out(d.subspan(1), out);

@@ -19,7 +19,13 @@ struct FalconSideParams {
 
 class FalconSide final : public EmulatedDevice {
 public:
-    enum class Boot : std::uint8_t { kNoFirmware, kAwaitHandshake, kAwaitProbe, kLoading, kRunning };
+    enum class Boot : std::uint8_t {
+        kNoFirmware,
+        kAwaitHandshake,
+        kAwaitProbe,
+        kLoading,
+        kRunning
+    };
 
     FalconSide(Simulation& sim, const FalconSideParams& params);
 

@@ -21,16 +21,25 @@ bool count(std::string_view value, std::uint32_t& out) {
 
 std::string apply_fault(Faults& f, std::string_view name, std::string_view value) {
     bool* flag = nullptr;
-    if (name == "drop") flag = &f.drop;
-    else if (name == "corrupt") flag = &f.corrupt;
-    else if (name == "short") flag = &f.short_packets;
-    else if (name == "unplug") flag = &f.unplugged;
-    else if (name == "stuck_encoder") flag = &f.stuck_encoder;
-    else if (name == "estop") flag = &f.estop;
-    else if (name == "watchdog_trip") flag = &f.watchdog_trip;
-    else if (name == "firmware_fail") flag = &f.firmware_fail;
+    if (name == "drop")
+        flag = &f.drop;
+    else if (name == "corrupt")
+        flag = &f.corrupt;
+    else if (name == "short")
+        flag = &f.short_packets;
+    else if (name == "unplug")
+        flag = &f.unplugged;
+    else if (name == "stuck_encoder")
+        flag = &f.stuck_encoder;
+    else if (name == "estop")
+        flag = &f.estop;
+    else if (name == "watchdog_trip")
+        flag = &f.watchdog_trip;
+    else if (name == "firmware_fail")
+        flag = &f.firmware_fail;
     if (flag != nullptr) {
-        if (!on_off(value, *flag)) return "fault " + std::string(name) + ": value must be on or off";
+        if (!on_off(value, *flag))
+            return "fault " + std::string(name) + ": value must be on or off";
         return {};
     }
     std::uint32_t n = 0;

@@ -26,7 +26,7 @@ struct Faults {
     bool unplugged = false;
     bool stuck_encoder = false;
     bool estop = false;
-    bool watchdog_trip = false;   ///< one-shot: the protocol side consumes it
+    bool watchdog_trip = false;  ///< one-shot: the protocol side consumes it
     bool firmware_fail = false;
     int echo_mismatch_left = 0;
 };

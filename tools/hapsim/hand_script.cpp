@@ -10,8 +10,10 @@ namespace kerf::hapsim {
 namespace {
 
 std::string_view trim(std::string_view s) {
-    while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
-    while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+    while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r'))
+        s.remove_prefix(1);
+    while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
+        s.remove_suffix(1);
     return s;
 }
 
@@ -44,8 +46,8 @@ bool numbers(const std::vector<std::string_view>& f, std::size_t count, const ch
     }
     for (std::size_t i = 0; i < count; ++i) {
         if (!number(f[i + 1], out[i])) {
-            why = std::string(f[0]) + ": value " + std::to_string(i + 1) + " '" + std::string(f[i + 1]) +
-                  "' is not a finite number (" + usage + ")";
+            why = std::string(f[0]) + ": value " + std::to_string(i + 1) + " '" +
+                  std::string(f[i + 1]) + "' is not a finite number (" + usage + ")";
             return false;
         }
     }
@@ -72,8 +74,8 @@ bool parse_action(const std::vector<std::string_view>& f, ScriptAction& a, std::
         a.frequency_hz = v[3];
         if (v[3] <= 0) return (why = "sweep: frequency_hz must be > 0", false);
     } else if (name == "button") {
-        if (f.size() != 3 || !number(f[1], v[0]) || v[0] < 0 || v[0] > 15 || v[0] != std::floor(v[0]) ||
-            (f[2] != "down" && f[2] != "up")) {
+        if (f.size() != 3 || !number(f[1], v[0]) || v[0] < 0 || v[0] > 15 ||
+            v[0] != std::floor(v[0]) || (f[2] != "down" && f[2] != "up")) {
             return (why = "button: expected index 0..15 and down|up, e.g. button,0,down", false);
         }
         a.kind = ScriptAction::Kind::kButton;
@@ -109,7 +111,8 @@ Result<HandScript, ScriptError> parse_hand_script(std::string_view text, std::st
         if (line.empty()) continue;
         ScriptAction a;
         std::string why;
-        if (!parse_action(split(line), a, why)) return Err{ScriptError{std::string(source), line_no, why}};
+        if (!parse_action(split(line), a, why))
+            return Err{ScriptError{std::string(source), line_no, why}};
         a.line = line_no;
         script.push_back(std::move(a));
     }
@@ -140,7 +143,8 @@ void HandPlayer::advance(double t_s, std::vector<FaultEvent>& events) {
         }
         if (a.kind == ScriptAction::Kind::kButton || a.kind == ScriptAction::Kind::kFault) {
             if (a.kind == ScriptAction::Kind::kButton) {
-                buttons_ = a.pressed ? (buttons_ | (1U << a.button)) : (buttons_ & ~(1U << a.button));
+                buttons_ =
+                    a.pressed ? (buttons_ | (1U << a.button)) : (buttons_ & ~(1U << a.button));
             } else {
                 events.push_back({a.fault_name, a.fault_value});
             }
@@ -154,7 +158,8 @@ void HandPlayer::advance(double t_s, std::vector<FaultEvent>& events) {
         for (int k = 0; k < 3; ++k) {
             if (a.kind == ScriptAction::Kind::kMove) {
                 pos_[k] = from_[k] + (a.vec[k] - from_[k]) * s;
-                vel_[k] = (u < 1.0 && a.duration_s > 0) ? (a.vec[k] - from_[k]) / a.duration_s : 0.0;
+                vel_[k] =
+                    (u < 1.0 && a.duration_s > 0) ? (a.vec[k] - from_[k]) / a.duration_s : 0.0;
             } else if (a.kind == ScriptAction::Kind::kSweep) {
                 const double w = 2 * std::numbers::pi * a.frequency_hz;
                 pos_[k] = from_[k] + a.vec[k] * std::sin(w * tau);

@@ -28,9 +28,9 @@ struct ScriptError {
 
 struct ScriptAction {
     enum class Kind { kMove, kHold, kButton, kSweep, kFault } kind = Kind::kHold;
-    Vec3 vec{};                ///< move: target; sweep: amplitude
+    Vec3 vec{};  ///< move: target; sweep: amplitude
     double duration_s = 0;
-    double frequency_hz = 0;   ///< sweep
+    double frequency_hz = 0;  ///< sweep
     int button = 0;
     bool pressed = false;
     std::string fault_name, fault_value;

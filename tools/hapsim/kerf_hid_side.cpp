@@ -70,7 +70,8 @@ void KerfHidSide::step_and_report(Outbox& out) {
     in.sequence = ++in_sequence_;
     in.echo_sequence = echo_;
     in.status = status();
-    in.device_time_us = static_cast<std::uint32_t>(sim_.steps() * static_cast<std::uint64_t>(sim_.period_s() * 1e6));
+    in.device_time_us = static_cast<std::uint32_t>(
+        sim_.steps() * static_cast<std::uint64_t>(sim_.period_s() * 1e6));
     const auto& x = sim_.model().position_m();
     const auto& v = sim_.model().velocity_m_per_s();
     for (int i = 0; i < 3; ++i) {
@@ -78,8 +79,10 @@ void KerfHidSide::step_and_report(Outbox& out) {
         const auto um = static_cast<std::int32_t>(std::llround(q * 1e6));
         in.position[i] = faults.stuck_encoder ? frozen_um_[i] : um;
         if (!faults.stuck_encoder) frozen_um_[i] = um;
-        in.velocity[i] = static_cast<std::int32_t>(std::llround(std::clamp(v[i], -100.0, 100.0) * 1e6));
-        in.applied_centi[i] = static_cast<std::int16_t>(std::lround(sim_.model().applied_force_n()[i] * 100));
+        in.velocity[i] =
+            static_cast<std::int32_t>(std::llround(std::clamp(v[i], -100.0, 100.0) * 1e6));
+        in.applied_centi[i] =
+            static_cast<std::int16_t>(std::lround(sim_.model().applied_force_n()[i] * 100));
     }
     in.buttons = static_cast<std::uint16_t>(sim_.hand().buttons());
     in.temperature_centi_c = 3100;
@@ -90,8 +93,10 @@ void KerfHidSide::step_and_report(Outbox& out) {
 void KerfHidSide::on_feature_get(std::uint8_t id, Outbox& out) {
     std::array<std::byte, fh::kReportSize> buf{};
     fh::CodecStatus s = fh::CodecStatus::kBadReportId;
-    if (id == static_cast<std::uint8_t>(fh::ReportId::kIdentity)) s = fh::encode_identity(p_.identity, buf);
-    if (id == static_cast<std::uint8_t>(fh::ReportId::kMechanics)) s = fh::encode_mechanics(p_.mechanics, buf);
+    if (id == static_cast<std::uint8_t>(fh::ReportId::kIdentity))
+        s = fh::encode_identity(p_.identity, buf);
+    if (id == static_cast<std::uint8_t>(fh::ReportId::kMechanics))
+        s = fh::encode_mechanics(p_.mechanics, buf);
     if (id == static_cast<std::uint8_t>(fh::ReportId::kConfig)) s = fh::encode_config(config_, buf);
     if (s == fh::CodecStatus::kOk) {
         out.push(fh::tag::kFeature, buf);

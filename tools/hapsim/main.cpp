@@ -2,7 +2,6 @@
 // protocol or the Novint Falcon's FTDI/firmware protocol on a Unix SOCK_SEQPACKET socket, models
 // the mechanism and a scripted hand, and injects faults. See tools/hapsim/README.md.
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
 
 #include "tools/hapsim/falcon_side.hpp"
@@ -37,7 +36,8 @@ KerfSideParams kerf_params(const Args& a) {
     const std::string vendor = "Kerf", model = "kerf-hapsim";
     std::copy(vendor.begin(), vendor.end(), p.identity.vendor.begin());
     std::copy(model.begin(), model.end(), p.identity.model.begin());
-    std::copy_n(a.serial.begin(), std::min<std::size_t>(a.serial.size(), 16), p.identity.serial.begin());
+    std::copy_n(a.serial.begin(), std::min<std::size_t>(a.serial.size(), 16),
+                p.identity.serial.begin());
     p.mechanics.encoder_resolution = static_cast<std::uint32_t>(a.resolution_m * 1e9);
     p.mechanics.peak_force_centi_n = static_cast<std::uint16_t>(a.peak_force_n * 100);
     p.mechanics.continuous_force_centi_n = static_cast<std::uint16_t>(a.peak_force_n * 50);
@@ -103,21 +103,29 @@ int run(const Args& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"kerf-hapsim — byte-level haptic device emulator (Kerf HID protocol or Novint Falcon)"};
+    CLI::App app{
+        "kerf-hapsim — byte-level haptic device emulator (Kerf HID protocol or Novint Falcon)"};
     Args a;
     app.add_option("--socket", a.socket_path, "Unix socket path to listen on")->required();
     app.add_option("--protocol", a.protocol, "wire protocol: kerf or falcon")
         ->check(CLI::IsMember({"kerf", "falcon"}));
-    app.add_flag("--realtime", a.realtime, "run on the wall clock (default: lockstep, one step per host packet)");
+    app.add_flag("--realtime", a.realtime,
+                 "run on the wall clock (default: lockstep, one step per host packet)");
     app.add_option("--script", a.script_path, "hand script (CSV: move, hold, button, sweep, fault)")
         ->check(CLI::ExistingFile);
-    app.add_option("--trace", a.trace_path, "write the true device positions per step (CSV) on exit");
-    app.add_option("--period-us", a.period_us, "device period in microseconds")->check(CLI::Range(100U, 100000U));
-    app.add_flag("--commands", a.commands, "read `fault <name> <value>` / `status` / `quit` lines on stdin");
+    app.add_option("--trace", a.trace_path,
+                   "write the true device positions per step (CSV) on exit");
+    app.add_option("--period-us", a.period_us, "device period in microseconds")
+        ->check(CLI::Range(100U, 100000U));
+    app.add_flag("--commands", a.commands,
+                 "read `fault <name> <value>` / `status` / `quit` lines on stdin");
     app.add_flag("--firmware-loaded", a.firmware_loaded, "falcon: start with firmware running");
-    app.add_option("--homing-steps", a.homing_steps, "periods homing takes")->check(CLI::Range(1U, 100000U));
-    app.add_option("--peak-force-n", a.peak_force_n, "kerf: device peak force (N)")->check(CLI::Range(0.1, 300.0));
-    app.add_option("--resolution-m", a.resolution_m, "kerf: position quantum (m)")->check(CLI::Range(1e-9, 1e-3));
+    app.add_option("--homing-steps", a.homing_steps, "periods homing takes")
+        ->check(CLI::Range(1U, 100000U));
+    app.add_option("--peak-force-n", a.peak_force_n, "kerf: device peak force (N)")
+        ->check(CLI::Range(0.1, 300.0));
+    app.add_option("--resolution-m", a.resolution_m, "kerf: position quantum (m)")
+        ->check(CLI::Range(1e-9, 1e-3));
     app.add_option("--serial", a.serial, "kerf: serial number string (printable ASCII, <= 16)")
         ->check([](const std::string& s) {
             if (s.size() > 16) return std::string("at most 16 characters");

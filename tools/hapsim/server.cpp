@@ -33,8 +33,8 @@ void Server::handle_command(const std::string& line) {
     } else if (verb == "fault" && !name.empty() && !value.empty()) {
         why = apply_fault(sim_.faults(), name, value);
     } else if (verb == "status") {
-        std::printf("status steps=%llu connected=%d\n", static_cast<unsigned long long>(sim_.steps()),
-                    conn_.valid() ? 1 : 0);
+        std::printf("status steps=%llu connected=%d\n",
+                    static_cast<unsigned long long>(sim_.steps()), conn_.valid() ? 1 : 0);
     } else {
         why = "unknown command '" + line + "' (fault <name> <value> | status | quit)";
     }
@@ -96,7 +96,8 @@ void Server::flush(Outbox& out) {
             if (f.corrupt && d.size() > 2) d[1 + (d.size() - 1) / 2] ^= std::byte{0x80};
             if (f.short_packets && d.size() > 2) d.resize(1 + (d.size() - 1) / 2);
             if (f.delay_ms > 0) {
-                delayed_.emplace_back(Clock::now() + std::chrono::milliseconds(f.delay_ms), std::move(d));
+                delayed_.emplace_back(Clock::now() + std::chrono::milliseconds(f.delay_ms),
+                                      std::move(d));
                 continue;
             }
         }
@@ -117,7 +118,8 @@ int Server::poll_timeout_ms() const {
     auto next = Clock::now() + std::chrono::milliseconds(100);
     if (!options_.lockstep && conn_.valid()) next = std::min(next, next_period_);
     if (!delayed_.empty()) next = std::min(next, delayed_.front().first);
-    const auto ms = std::chrono::duration_cast<std::chrono::microseconds>(next - Clock::now()).count();
+    const auto ms =
+        std::chrono::duration_cast<std::chrono::microseconds>(next - Clock::now()).count();
     return ms <= 0 ? 0 : static_cast<int>((ms + 999) / 1000);
 }
 
@@ -140,7 +142,8 @@ int Server::run() {
             conn_ = listener_.accept(0);
             next_period_ = Clock::now();
         }
-        if (conn_.valid() && (fds[1].revents & (POLLIN | POLLHUP | POLLERR)) != 0) read_connection();
+        if (conn_.valid() && (fds[1].revents & (POLLIN | POLLHUP | POLLERR)) != 0)
+            read_connection();
         if (!options_.lockstep && conn_.valid() && Clock::now() >= next_period_) {
             Outbox out;
             device_.on_period(out);

@@ -16,7 +16,7 @@ namespace kerf::hapsim {
 struct ServerOptions {
     bool lockstep = true;
     std::chrono::microseconds period{1000};
-    bool commands = false;   ///< read `fault ...` / `quit` lines from stdin, ack on stdout
+    bool commands = false;  ///< read `fault ...` / `quit` lines from stdin, ack on stdout
 };
 
 class Server {

@@ -14,7 +14,8 @@ void Outbox::push(std::byte tag, std::span<const std::byte> payload) {
     datagrams.push_back(std::move(d));
 }
 
-Simulation::Simulation(const ModelParams& params, HandScript script, const Vec3& start_m, double period_s)
+Simulation::Simulation(const ModelParams& params, HandScript script, const Vec3& start_m,
+                       double period_s)
     : model_(params), hand_(std::move(script), start_m), period_s_(period_s) {
     model_.reset(start_m);
 }
@@ -28,7 +29,9 @@ void Simulation::step(const Vec3& motor_force_n) {
         if (!why.empty()) warnings_.push_back("script fault ignored: " + why);
     }
     model_.step(period_s_, motor_force_n, hand_.position_m(), hand_.velocity_m_per_s());
-    if (trace_on_) trace_.push_back({steps_, model_.position_m(), hand_.position_m(), model_.applied_force_n()});
+    if (trace_on_)
+        trace_.push_back(
+            {steps_, model_.position_m(), hand_.position_m(), model_.applied_force_n()});
 }
 
 bool Simulation::write_trace(const std::filesystem::path& path, std::string& why) const {

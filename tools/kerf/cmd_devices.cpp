@@ -21,8 +21,8 @@ namespace {
 namespace fh = kerf::firmware_host;
 
 struct Found {
-    std::string kind;     ///< "falcon" or "kerf_hid"
-    std::string where;    ///< "usb bus 1 address 5" or the hidraw path
+    std::string kind;   ///< "falcon" or "kerf_hid"
+    std::string where;  ///< "usb bus 1 address 5" or the hidraw path
     std::uint16_t vid = 0, pid = 0;
     std::string serial;
     std::string state;    ///< "ready" or "no permission (install config/udev rules)"
@@ -44,10 +44,11 @@ std::string json_escape(const std::string& s) {
     return o;
 }
 
-std::string match_profile(const std::vector<config::NamedDeviceProfile>& profiles, config::DeviceKind kind,
-                          std::uint16_t vid, std::uint16_t pid) {
+std::string match_profile(const std::vector<config::NamedDeviceProfile>& profiles,
+                          config::DeviceKind kind, std::uint16_t vid, std::uint16_t pid) {
     for (const auto& p : profiles) {
-        if (p.profile.kind == kind && p.profile.ids.vendor_id == vid && p.profile.ids.product_id == pid) {
+        if (p.profile.kind == kind && p.profile.ids.vendor_id == vid &&
+            p.profile.ids.product_id == pid) {
             return p.profile_name;
         }
     }
@@ -62,10 +63,11 @@ void list_falcons(const std::vector<config::NamedDeviceProfile>& profiles, std::
         return;
     }
     for (const auto& d : *usb) {
-        out.push_back({"falcon", "usb bus " + std::to_string(d.bus) + " address " + std::to_string(d.address),
-                       d.vendor_id, d.product_id, d.serial,
-                       d.accessible ? "ready" : "no permission (install config/udev rules)",
-                       match_profile(profiles, config::DeviceKind::kFalcon, d.vendor_id, d.product_id)});
+        out.push_back(
+            {"falcon", "usb bus " + std::to_string(d.bus) + " address " + std::to_string(d.address),
+             d.vendor_id, d.product_id, d.serial,
+             d.accessible ? "ready" : "no permission (install config/udev rules)",
+             match_profile(profiles, config::DeviceKind::kFalcon, d.vendor_id, d.product_id)});
     }
 }
 
@@ -73,7 +75,8 @@ void list_hid(const std::vector<config::NamedDeviceProfile>& profiles, std::vect
               std::vector<std::string>& errors) {
     std::set<std::pair<std::uint16_t, std::uint16_t>> ids;
     for (const auto& p : profiles) {
-        if (p.profile.kind == config::DeviceKind::kKerfHid) ids.insert({p.profile.ids.vendor_id, p.profile.ids.product_id});
+        if (p.profile.kind == config::DeviceKind::kKerfHid)
+            ids.insert({p.profile.ids.vendor_id, p.profile.ids.product_id});
     }
     for (const auto& [vid, pid] : ids) {
         auto hid = fh::enumerate_hid(vid, pid);
@@ -82,8 +85,9 @@ void list_hid(const std::vector<config::NamedDeviceProfile>& profiles, std::vect
             return;
         }
         for (const auto& d : *hid) {
-            out.push_back({"kerf_hid", d.path, d.vendor_id, d.product_id, d.serial, "ready",
-                           match_profile(profiles, config::DeviceKind::kKerfHid, d.vendor_id, d.product_id)});
+            out.push_back(
+                {"kerf_hid", d.path, d.vendor_id, d.product_id, d.serial, "ready",
+                 match_profile(profiles, config::DeviceKind::kKerfHid, d.vendor_id, d.product_id)});
         }
     }
 }
@@ -91,8 +95,9 @@ void list_hid(const std::vector<config::NamedDeviceProfile>& profiles, std::vect
 void print_text(const std::vector<Found>& found, const std::vector<std::string>& errors) {
     for (const auto& e : errors) std::cerr << "kerf devices: " << e << "\n";
     if (found.empty()) {
-        std::cout << "no haptic devices found (looked for Novint Falcon usb 0403:cb48 and the Kerf HID "
-                     "ids of config/devices/*.toml)\n";
+        std::cout
+            << "no haptic devices found (looked for Novint Falcon usb 0403:cb48 and the Kerf HID "
+               "ids of config/devices/*.toml)\n";
         return;
     }
     for (const auto& f : found) {
@@ -113,7 +118,8 @@ void print_json(const std::vector<Found>& found, const std::vector<std::string>&
           << "\", \"profile\": \"" << f.profile << "\"}";
     }
     o << "], \"errors\": [";
-    for (std::size_t i = 0; i < errors.size(); ++i) o << (i ? ", " : "") << "\"" << json_escape(errors[i]) << "\"";
+    for (std::size_t i = 0; i < errors.size(); ++i)
+        o << (i ? ", " : "") << "\"" << json_escape(errors[i]) << "\"";
     o << "]}\n";
     std::cout << o.str();
 }
@@ -132,7 +138,8 @@ void add_devices_command(CLI::App& app) {
     cmd->callback([opts] {
         auto profiles = config::load_device_profiles(opts->devices_dir);
         if (!profiles) {
-            std::cerr << "kerf devices: load device profiles: " << profiles.error().message() << "\n";
+            std::cerr << "kerf devices: load device profiles: " << profiles.error().message()
+                      << "\n";
             throw CLI::RuntimeError(kExitFailure);
         }
         std::vector<Found> found;
