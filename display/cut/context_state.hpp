@@ -34,6 +34,7 @@ struct ContextState {
     mesh::TriMesh& mesh;
     double scale_m = 0.0;
     double tolerance_m = 0.0;
+    double max_edge_m = 0.0;  ///< longest non-cap edge (+ vertex moves noted since): full-slice reach
     FaceGrid grid;
     std::vector<mesh::FaceHandle> cap_faces;  ///< every cap face made so far (not in the grid)
 
@@ -48,7 +49,6 @@ struct ContextState {
 
     SectionPlan plan;
     Triangulator triangulator;
-    std::vector<std::int8_t> vertex_sides;  ///< full-plane classification scratch
     std::vector<std::uint32_t> heap;        ///< seed search scratch
 };
 

@@ -35,6 +35,14 @@ void ContextState::rebuild() {
     }
     scale_m = mesh.n_vertices() == 0 ? 0.0 : (hi - lo).norm();
     tolerance_m = Plane::tolerance_for_scale(scale_m);
+    max_edge_m = 0.0;
+    for (auto e : mesh.edges()) {
+        const auto h = mesh.halfedge_handle(e, 0);
+        const auto f0 = mesh.face_handle(h), f1 = mesh.face_handle(mesh.opposite_halfedge_handle(h));
+        const bool cap_edge = (f0.is_valid() && mesh.property(cap, f0) != kCapNone) ||
+                              (f1.is_valid() && mesh.property(cap, f1) != kCapNone);
+        if (!cap_edge) max_edge_m = std::max(max_edge_m, mesh.calc_edge_length(e));
+    }
     grid.build(mesh);
     cap_faces.clear();
     for (auto f : mesh.faces())
@@ -77,7 +85,9 @@ double CutContext::scale_m() const noexcept { return state_->scale_m; }
 double CutContext::tolerance_m() const noexcept { return state_->tolerance_m; }
 
 void CutContext::note_vertices_moved(double max_distance_m) noexcept {
-    if (max_distance_m > 0.0) state_->grid.widen(max_distance_m);
+    if (!(max_distance_m > 0.0)) return;
+    state_->grid.widen(max_distance_m);
+    state_->max_edge_m += 2.0 * max_distance_m;
 }
 
 void CutContext::rebuild() { state_->rebuild(); }

@@ -416,27 +416,39 @@ CutStatus plan_full(ContextState& s, const Plane& plane) {
     s.next_generation();
     TriMesh& m = s.mesh;
     Walker w(s, plane);
-    auto& sides = s.vertex_sides;
-    sides.resize(m.n_vertices());
-    for (std::size_t i = 0; i < sides.size(); ++i)
-        sides[i] = static_cast<std::int8_t>(plane.side(m.point(VertexHandle(static_cast<int>(i))), s.tolerance_m));
-    const auto n_edges = static_cast<int>(m.n_edges());
-    for (int i = 0; i < n_edges; ++i) {
-        const EdgeHandle e(i);
-        if (m.status(e).deleted()) continue;
-        const HalfedgeHandle h0 = m.halfedge_handle(e, 0);
-        const int sa = sides[m.to_vertex_handle(h0).idx()];
-        const int sb = sides[m.from_vertex_handle(h0).idx()];
-        CutPointKey start;
-        if (sa * sb == -1) {
-            start = CutPointKey{i, true};
-            if (w.marked(start)) continue;
-        } else if (sa == 0 && sb == 0) {
-            const FaceHandle f = m.face_handle(h0);
-            if (!f.is_valid() || !w.start_on(f, start)) continue;
-        } else {
-            continue;
+    // Only vertices within one (longest non-cap) edge of the plane can end a crossing or on-plane
+    // edge: one streaming pass over the positions, then their one-rings.
+    const double reach = s.max_edge_m + s.tolerance_m;
+    const auto n = static_cast<int>(m.n_vertices());
+    const TriMesh::Point* points = m.points();
+    for (int i = 0; i < n; ++i) {
+        if (std::abs(plane.signed_distance(points[i])) > reach) continue;
+        const VertexHandle v(i);
+        if (m.status(v).deleted()) continue;
+        const int sv = w.side(v);
+        if (sv < 0) continue;  // crossings are found from their positive end
+        for (auto h : m.voh_range(v)) {
+            const VertexHandle u = m.to_vertex_handle(h);
+            const int su = w.side(u);
+            CutPointKey start;
+            if (sv > 0 && su < 0) {
+                start = CutPointKey{m.edge_handle(h).idx(), true};
+                if (w.marked(start)) continue;
+            } else if (sv == 0 && su == 0 && v.idx() < u.idx()) {
+                const FaceHandle f = m.face_handle(h);
+                if (!f.is_valid() || !w.start_on(f, start)) continue;
+            } else {
+                continue;
+            }
+            const CutStatus st = w.walk(start);
+            if (st != CutStatus::kOk) return st;
+            s.plan.loops.back().selected = true;
         }
+    }
+    // Cap edges may be longer than the bound (a cap spans its cross-section): check cap faces.
+    for (const FaceHandle f : s.cap_faces) {
+        CutPointKey start;
+        if (m.status(f).deleted() || !w.start_on(f, start)) continue;
         const CutStatus st = w.walk(start);
         if (st != CutStatus::kOk) return st;
         s.plan.loops.back().selected = true;
