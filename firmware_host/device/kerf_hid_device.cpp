@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 namespace kerf::firmware_host {
 namespace {
@@ -44,44 +45,66 @@ KerfHidDevice::KerfHidDevice(std::unique_ptr<ReportTransport> transport,
                              const KerfHidOptions& options) noexcept
     : transport_(std::move(transport)), options_(options) {}
 
+namespace {
+
+TransportError open_error(std::string what, std::string_view why) {
+    return TransportError{std::move(what), "kerf hid device", std::string(why)};
+}
+
+// Gets feature report `id` and decodes it into `out`; the error names the report.
+template <class T, class Decode>
+std::optional<TransportError> get_decoded(ReportTransport& t, ReportId id, const char* name,
+                                          std::uint32_t timeout_ms, Decode decode, T& out) {
+    std::array<std::byte, kReportSize> buf{};
+    std::size_t n = 0;
+    if (auto s = t.get_feature(static_cast<std::uint8_t>(id), buf, n, timeout_ms);
+        s != LinkStatus::kOk) {
+        return open_error(std::string("get ") + name, to_string(s));
+    }
+    if (auto c = decode(std::span<const std::byte>(buf).first(n), out); c != CodecStatus::kOk) {
+        return open_error(std::string("decode ") + name, to_string(c));
+    }
+    return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<TransportError> KerfHidDevice::check_identity() const {
+    const auto& id = identity_;
+    if ((options_.expected_vendor_id != 0 && id.vendor_id != options_.expected_vendor_id) ||
+        (options_.expected_product_id != 0 && id.product_id != options_.expected_product_id)) {
+        return open_error("check identity",
+                          "device reports " + hex_ids(id.vendor_id, id.product_id) +
+                              ", profile expects " +
+                              hex_ids(options_.expected_vendor_id, options_.expected_product_id));
+    }
+    if (!mechanics_.cartesian_reporting) {
+        return open_error("check mechanics", "joint-space Kerf HID devices are not supported yet");
+    }
+    return std::nullopt;
+}
+
 Result<std::unique_ptr<KerfHidDevice>, TransportError> KerfHidDevice::open(
     std::unique_ptr<ReportTransport> transport, const KerfHidOptions& options) {
     std::unique_ptr<KerfHidDevice> dev(new KerfHidDevice(std::move(transport), options));
-    auto fail = [](std::string what, std::string why) {
-        return Err{TransportError{std::move(what), "kerf hid device", std::move(why)}};
-    };
+    auto& t = *dev->transport_;
+    const auto timeout = options.feature_timeout_ms;
+    if (auto e = get_decoded(t, ReportId::kIdentity, "identity report 0x10", timeout,
+                             decode_identity, dev->identity_)) {
+        return Err{*e};
+    }
+    if (auto e = get_decoded(t, ReportId::kMechanics, "mechanics report 0x11", timeout,
+                             decode_mechanics, dev->mechanics_)) {
+        return Err{*e};
+    }
+    if (auto e = dev->check_identity()) return Err{*e};
     std::array<std::byte, kReportSize> buf{};
-    std::size_t n = 0;
-    const auto t = options.feature_timeout_ms;
-    auto s =
-        dev->transport_->get_feature(static_cast<std::uint8_t>(ReportId::kIdentity), buf, n, t);
-    if (s != LinkStatus::kOk) return fail("get identity report 0x10", std::string(to_string(s)));
-    if (auto c = decode_identity(std::span(buf).first(n), dev->identity_); c != CodecStatus::kOk) {
-        return fail("decode identity report 0x10", std::string(to_string(c)));
-    }
-    const auto& id = dev->identity_;
-    if ((options.expected_vendor_id != 0 && id.vendor_id != options.expected_vendor_id) ||
-        (options.expected_product_id != 0 && id.product_id != options.expected_product_id)) {
-        return fail("check identity",
-                    "device reports " + hex_ids(id.vendor_id, id.product_id) +
-                        ", profile expects " +
-                        hex_ids(options.expected_vendor_id, options.expected_product_id));
-    }
-    s = dev->transport_->get_feature(static_cast<std::uint8_t>(ReportId::kMechanics), buf, n, t);
-    if (s != LinkStatus::kOk) return fail("get mechanics report 0x11", std::string(to_string(s)));
-    if (auto c = decode_mechanics(std::span(buf).first(n), dev->mechanics_);
-        c != CodecStatus::kOk) {
-        return fail("decode mechanics report 0x11", std::string(to_string(c)));
-    }
-    if (!dev->mechanics_.cartesian_reporting) {
-        return fail("check mechanics", "joint-space Kerf HID devices are not supported yet");
-    }
     if (encode_config(ConfigReport{true, options.watchdog_ms}, buf) != CodecStatus::kOk) {
-        return fail("encode configuration report 0x20", "watchdog_ms outside 1..1000");
+        return Err{open_error("encode configuration report 0x20", "watchdog_ms outside 1..1000")};
     }
-    s = dev->transport_->set_feature(buf, t);
-    if (s != LinkStatus::kOk)
-        return fail("set configuration report 0x20", std::string(to_string(s)));
+    if (auto s = t.set_feature(buf, timeout); s != LinkStatus::kOk) {
+        return Err{open_error("set configuration report 0x20", to_string(s))};
+    }
     return dev;
 }
 

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 
 #include "config/result.hpp"
 #include "firmware_host/device/device.hpp"
@@ -41,6 +42,7 @@ private:
     KerfHidDevice(std::unique_ptr<ReportTransport> transport,
                   const KerfHidOptions& options) noexcept;
     void to_sample(const InputReport& in, DeviceSample& out) noexcept;
+    std::optional<TransportError> check_identity() const;
 
     std::unique_ptr<ReportTransport> transport_;
     KerfHidOptions options_;

@@ -121,58 +121,78 @@ Result<std::vector<UsbDeviceInfo>, TransportError> enumerate_usb(std::uint16_t v
     return out;
 }
 
-Result<std::unique_ptr<LibusbLink>, TransportError> LibusbLink::open(const UsbOpenSpec& spec) {
-    const std::string where = ids(spec.vendor_id, spec.product_id) +
-                              (spec.serial.empty() ? "" : " serial " + spec.serial);
+namespace {
+
+// The first matching device we may open, or why there is none.
+Result<UsbDeviceInfo, TransportError> find_accessible(const UsbOpenSpec& spec,
+                                                      const std::string& where) {
     auto found = enumerate_usb(spec.vendor_id, spec.product_id);
     if (!found) return Err{found.error()};
     const auto it = std::find_if(found->begin(), found->end(), [&](const UsbDeviceInfo& d) {
         return spec.serial.empty() || d.serial == spec.serial;
     });
-    if (it == found->end())
+    if (it == found->end()) {
         return Err{TransportError{"open USB device", where, "no such device connected"}};
+    }
     if (!it->accessible) {
         return Err{
             TransportError{"open USB device", where,
                            "permission denied (install config/udev rules, join group plugdev)"}};
     }
-    std::unique_ptr<LibusbLink> link(new LibusbLink());
-    auto fail = [&](const char* what, int rc) {
-        return Err{TransportError{what, where, libusb_strerror(rc)}};
-    };
-    if (int rc = libusb_init(&link->ctx_); rc != 0) return fail("start libusb", rc);
+    return *it;
+}
+
+}  // namespace
+
+// Opens the device at bus/address on our own context; a libusb error code on failure.
+int LibusbLink::open_handle(std::uint8_t bus, std::uint8_t address) noexcept {
+    if (int rc = libusb_init(&ctx_); rc != 0) return rc;
     libusb_device** list = nullptr;
-    const auto count = libusb_get_device_list(link->ctx_, &list);
-    for (ssize_t i = 0; i < count && link->handle_ == nullptr; ++i) {
-        if (libusb_get_bus_number(list[i]) == it->bus &&
-            libusb_get_device_address(list[i]) == it->address) {
-            if (int rc = libusb_open(list[i], &link->handle_); rc != 0) {
-                libusb_free_device_list(list, 1);
-                return fail("open USB device", rc);
-            }
+    const auto count = libusb_get_device_list(ctx_, &list);
+    if (count < 0) return static_cast<int>(count);
+    int rc = LIBUSB_ERROR_NO_DEVICE;  // it vanished between enumeration and open
+    for (ssize_t i = 0; i < count && handle_ == nullptr; ++i) {
+        if (libusb_get_bus_number(list[i]) == bus &&
+            libusb_get_device_address(list[i]) == address) {
+            rc = libusb_open(list[i], &handle_);
         }
     }
-    if (count >= 0) libusb_free_device_list(list, 1);
-    if (link->handle_ == nullptr)
-        return Err{TransportError{"open USB device", where, "device vanished"}};
-    libusb_set_auto_detach_kernel_driver(link->handle_, 1);  // ftdi_sio may have bound it
-    if (int rc = libusb_claim_interface(link->handle_, 0); rc != 0)
-        return fail("claim interface 0", rc);
-    link->in_ = libusb_alloc_transfer(0);
-    link->out_ = libusb_alloc_transfer(0);
-    if (link->in_ == nullptr || link->out_ == nullptr)
-        return fail("allocate transfers", LIBUSB_ERROR_NO_MEM);
-    libusb_fill_bulk_transfer(link->in_, link->handle_, 0x81, link->in_buf_.data(),
-                              static_cast<int>(link->in_buf_.size()), LibusbCallbacks::in_done,
-                              link.get(), 0);
-    libusb_fill_bulk_transfer(link->out_, link->handle_, 0x02, link->out_buf_.data(), 0,
-                              LibusbCallbacks::out_done, link.get(), 0);
+    libusb_free_device_list(list, 1);
+    return rc;
+}
+
+// Claims interface 0, allocates both bulk transfers once, registers the unplug callback.
+int LibusbLink::prepare(const UsbOpenSpec& spec) noexcept {
+    libusb_set_auto_detach_kernel_driver(handle_, 1);  // ftdi_sio may have bound it
+    if (int rc = libusb_claim_interface(handle_, 0); rc != 0) return rc;
+    in_ = libusb_alloc_transfer(0);
+    out_ = libusb_alloc_transfer(0);
+    if (in_ == nullptr || out_ == nullptr) return LIBUSB_ERROR_NO_MEM;
+    libusb_fill_bulk_transfer(in_, handle_, 0x81, in_buf_.data(), static_cast<int>(in_buf_.size()),
+                              LibusbCallbacks::in_done, this, 0);
+    libusb_fill_bulk_transfer(out_, handle_, 0x02, out_buf_.data(), 0, LibusbCallbacks::out_done,
+                              this, 0);
     if (libusb_has_capability(LIBUSB_CAP_HAS_HOTPLUG) != 0) {
-        link->hotplug_registered_ =
-            libusb_hotplug_register_callback(
-                link->ctx_, LIBUSB_HOTPLUG_EVENT_DEVICE_LEFT, LIBUSB_HOTPLUG_NO_FLAGS,
-                spec.vendor_id, spec.product_id, LIBUSB_HOTPLUG_MATCH_ANY, LibusbCallbacks::left,
-                link.get(), &link->hotplug_) == 0;
+        hotplug_registered_ = libusb_hotplug_register_callback(
+                                  ctx_, LIBUSB_HOTPLUG_EVENT_DEVICE_LEFT, LIBUSB_HOTPLUG_NO_FLAGS,
+                                  spec.vendor_id, spec.product_id, LIBUSB_HOTPLUG_MATCH_ANY,
+                                  LibusbCallbacks::left, this, &hotplug_) == 0;
+    }
+    return 0;
+}
+
+Result<std::unique_ptr<LibusbLink>, TransportError> LibusbLink::open(const UsbOpenSpec& spec) {
+    const std::string where = ids(spec.vendor_id, spec.product_id) +
+                              (spec.serial.empty() ? "" : " serial " + spec.serial);
+    auto device = find_accessible(spec, where);
+    if (!device) return Err{device.error()};
+    std::unique_ptr<LibusbLink> link(new LibusbLink());
+    if (int rc = link->open_handle(device->bus, device->address); rc != 0) {
+        return Err{TransportError{"open USB device", where, libusb_strerror(rc)}};
+    }
+    if (int rc = link->prepare(spec); rc != 0) {
+        return Err{
+            TransportError{"claim interface 0 and set up transfers", where, libusb_strerror(rc)}};
     }
     return link;
 }

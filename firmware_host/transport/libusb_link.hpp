@@ -64,6 +64,8 @@ public:
 
 private:
     LibusbLink() = default;
+    int open_handle(std::uint8_t bus, std::uint8_t address) noexcept;
+    int prepare(const UsbOpenSpec& spec) noexcept;
     LinkStatus pump(int& completed, std::uint32_t timeout_us) noexcept;
 
     libusb_context* ctx_ = nullptr;
