@@ -6,6 +6,7 @@
 #include <random>
 
 #include "firmware_host/device/falcon_device.hpp"
+#include "firmware_host/device/open_device.hpp"
 #include "firmware_host/transport/socket_usb_link.hpp"
 #include "tests/firmware_host/fault_check.hpp"
 
@@ -51,6 +52,23 @@ TEST(FalconIntegration, RealTimeModeStreamsPacketsHomesAndEngages) {
     HapsimProcess sim({"--protocol", "falcon", "--firmware-loaded", "--realtime"});
     ASSERT_TRUE(sim.ready()) << sim.output();
     auto dev = open_falcon(sim, "");
+    ASSERT_TRUE(dev) << dev.error().message();
+    DeviceLoop loop(**dev);
+    test::engage(loop);
+}
+
+TEST(FalconIntegration, TheFalconProfileConfiguresEmulatorAndHostAlike) {
+    const std::string profile_path = std::string(KERF_SOURCE_DIR) + "/config/devices/falcon.toml";
+    HapsimProcess sim({"--profile", profile_path, "--firmware-loaded"});
+    ASSERT_TRUE(sim.ready()) << sim.output();
+    EXPECT_NE(sim.output().find("protocol=falcon"), std::string::npos) << sim.output();
+    auto profile = config::load_device_profile(profile_path);
+    ASSERT_TRUE(profile) << profile.error().message();
+    auto socket = SeqpacketSocket::connect(sim.socket_path());
+    ASSERT_TRUE(socket);
+    FalconOptions options;
+    options.geometry = delta_geometry_from(*profile);
+    auto dev = FalconDevice::open(std::make_unique<SocketUsbLink>(std::move(*socket)), options);
     ASSERT_TRUE(dev) << dev.error().message();
     DeviceLoop loop(**dev);
     test::engage(loop);

@@ -58,6 +58,15 @@ TEST(HapsimCli, ASocketPathInTheWayIsAClearError) {
     std::remove(path.c_str());
 }
 
+TEST(HapsimCli, ABadProfileExitsOneAndNamesTheFile) {
+    const std::string profile = test::temp_path("bad-profile.toml");
+    std::ofstream(profile) << "name = 3\n";
+    int rc = 0;
+    const auto out = run("--socket " + test::temp_path("s.sock") + " --profile " + profile, rc);
+    EXPECT_EQ(rc, 1);
+    EXPECT_NE(out.find("kerf-hapsim: profile: " + profile), std::string::npos) << out;
+}
+
 TEST(HapsimCli, AnUnknownFaultCommandIsRefusedAndTheEmulatorKeepsRunning) {
     test::HapsimProcess sim({"--protocol", "kerf"});
     ASSERT_TRUE(sim.ready());

@@ -142,13 +142,19 @@ TEST(KerfHidIntegration, TenThousandTicksOfScriptedMotionMatchTheTruthWithinReso
 }
 
 TEST(KerfHidIntegration, OpenDeviceOpensTheSimulatedProfileThroughTheEmulator) {
-    HapsimProcess sim({"--protocol", "kerf"});
+    const std::string profile_path =
+        std::string(KERF_SOURCE_DIR) + "/config/devices/simulated.toml";
+    HapsimProcess sim({"--profile", profile_path});  // the emulator configured by the same file
     ASSERT_TRUE(sim.ready());
     auto profile = config::load_device_profile(std::string(KERF_SOURCE_DIR) +
                                                "/config/devices/simulated.toml");
     ASSERT_TRUE(profile) << profile.error().message();
+    profile->emulator.lockstep = true;
     auto dev = open_device(*profile, {"", sim.socket_path(), ""});
     ASSERT_TRUE(dev) << dev.error().message();
+    const auto& kerf = dynamic_cast<const KerfHidDevice&>(**dev);
+    EXPECT_EQ(std::string(kerf.identity().serial.data()), profile->ids.serial);
+    EXPECT_EQ(kerf.mechanics().peak_force_centi_n, std::lround(profile->limits.peak_force_n * 100));
     DeviceLoop loop(**dev);
     test::engage(loop);
 }

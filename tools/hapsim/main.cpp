@@ -2,8 +2,12 @@
 // protocol or the Novint Falcon's FTDI/firmware protocol on a Unix SOCK_SEQPACKET socket, models
 // the mechanism and a scripted hand, and injects faults. See tools/hapsim/README.md.
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 
+#include "config/device_profile.hpp"
+#include "config/expand_path.hpp"
+#include "firmware_host/device/open_device.hpp"
 #include "tools/hapsim/falcon_side.hpp"
 #include "tools/hapsim/kerf_hid_side.hpp"
 #include "tools/hapsim/server.hpp"
@@ -26,13 +30,46 @@ struct Args {
     double peak_force_n = 10.0;
     double resolution_m = 1e-5;
     std::string serial = "HAPSIM-0001";
+    std::string profile_path;
+    std::uint16_t vendor_id = 0x1209;
+    std::uint16_t product_id = 0x0001;
+    double continuous_force_n = 5.0;
+    Vec3 workspace_min_m = {-0.08, -0.08, -0.08};
+    Vec3 workspace_max_m = {0.08, 0.08, 0.08};
+    fh::falcon::DeltaGeometry geometry;
 };
+
+// Fills what the command line did not set from a device profile (config/devices/*.toml).
+void apply_profile(const kerf::config::DeviceProfile& p, const CLI::App& app, Args& a) {
+    namespace cfg = kerf::config;
+    const auto given = [&app](const char* option) { return app.count(option) > 0; };
+    const auto kind = p.kind == cfg::DeviceKind::kSimulated ? p.emulator.protocol : p.kind;
+    if (!given("--protocol")) a.protocol = kind == cfg::DeviceKind::kFalcon ? "falcon" : "kerf";
+    if (!given("--serial") && !p.ids.serial.empty()) a.serial = p.ids.serial.substr(0, 16);
+    if (!given("--peak-force-n")) a.peak_force_n = p.limits.peak_force_n;
+    if (!given("--resolution-m") && p.encoder.resolution_m > 0)
+        a.resolution_m = p.encoder.resolution_m;
+    if (!given("--realtime") && p.kind == cfg::DeviceKind::kSimulated)
+        a.realtime = !p.emulator.lockstep;
+    if (!given("--socket") && p.kind == cfg::DeviceKind::kSimulated) {
+        auto path = cfg::expand_path(p.emulator.socket_path, {});
+        if (path) a.socket_path = path->string();
+    }
+    a.vendor_id = p.ids.vendor_id;
+    a.product_id = p.ids.product_id;
+    a.continuous_force_n = p.limits.continuous_force_n;
+    a.workspace_min_m = p.workspace.min_m;
+    a.workspace_max_m = p.workspace.max_m;
+    if (p.kinematic_model == cfg::KinematicModel::kFalconDelta) {
+        a.geometry = fh::delta_geometry_from(p);
+    }
+}
 
 KerfSideParams kerf_params(const Args& a) {
     KerfSideParams p;
     p.identity.firmware_version = 0x0100;
-    p.identity.vendor_id = 0x1209;
-    p.identity.product_id = 0x0001;
+    p.identity.vendor_id = a.vendor_id;
+    p.identity.product_id = a.product_id;
     const std::string vendor = "Kerf", model = "kerf-hapsim";
     std::copy(vendor.begin(), vendor.end(), p.identity.vendor.begin());
     std::copy(model.begin(), model.end(), p.identity.model.begin());
@@ -40,9 +77,14 @@ KerfSideParams kerf_params(const Args& a) {
                 p.identity.serial.begin());
     p.mechanics.encoder_resolution = static_cast<std::uint32_t>(a.resolution_m * 1e9);
     p.mechanics.peak_force_centi_n = static_cast<std::uint16_t>(a.peak_force_n * 100);
-    p.mechanics.continuous_force_centi_n = static_cast<std::uint16_t>(a.peak_force_n * 50);
-    p.mechanics.workspace_min_mm = {-80, -80, -80};
-    p.mechanics.workspace_max_mm = {80, 80, 80};
+    p.mechanics.continuous_force_centi_n =
+        static_cast<std::uint16_t>(std::min(a.continuous_force_n, a.peak_force_n) * 100);
+    for (int i = 0; i < 3; ++i) {
+        p.mechanics.workspace_min_mm[i] =
+            static_cast<std::int16_t>(std::lround(a.workspace_min_m[i] * 1000));
+        p.mechanics.workspace_max_mm[i] =
+            static_cast<std::int16_t>(std::lround(a.workspace_max_m[i] * 1000));
+    }
     p.resolution_m = a.resolution_m;
     p.peak_force_n = a.peak_force_n;
     p.homing_steps = a.homing_steps;
@@ -62,11 +104,15 @@ int run(const Args& a) {
     }
     const bool falcon = a.protocol == "falcon";
     ModelParams model;
+    model.workspace_min_m = a.workspace_min_m;
+    model.workspace_max_m = a.workspace_max_m;
+    model.motor_limit_n = a.peak_force_n;
     Vec3 start = {0, 0, 0};
     if (falcon) {
-        model.workspace_min_m = {-0.06, -0.06, 0.075};
-        model.workspace_max_m = {0.06, 0.06, 0.135};
-        model.motor_limit_n = 9.0;
+        if (a.profile_path.empty()) {  // the Falcon's box in libnifalcon's frame
+            model.workspace_min_m = {-0.06, -0.06, 0.075};
+            model.workspace_max_m = {0.06, 0.06, 0.135};
+        }
         start = {0, 0, 0.11};
     }
     Simulation sim(model, std::move(script), start, a.period_us * 1e-6);
@@ -82,6 +128,7 @@ int run(const Args& a) {
         p.firmware_loaded = a.firmware_loaded;
         p.homing_steps = a.homing_steps;
         p.lockstep = !a.realtime;
+        p.geometry = a.geometry;
         device = std::make_unique<FalconSide>(sim, p);
     } else {
         device = std::make_unique<KerfHidSide>(sim, kerf_params(a));
@@ -106,7 +153,13 @@ int main(int argc, char** argv) {
     CLI::App app{
         "kerf-hapsim — byte-level haptic device emulator (Kerf HID protocol or Novint Falcon)"};
     Args a;
-    app.add_option("--socket", a.socket_path, "Unix socket path to listen on")->required();
+    app.add_option(
+        "--socket", a.socket_path,
+        "Unix socket path to listen on (default: the --profile's [emulator] socket_path)");
+    app.add_option("--profile", a.profile_path,
+                   "device profile (config/devices/*.toml): ids, serial, limits, resolution, "
+                   "workspace, Falcon geometry; options given on the command line win")
+        ->check(CLI::ExistingFile);
     app.add_option("--protocol", a.protocol, "wire protocol: kerf or falcon")
         ->check(CLI::IsMember({"kerf", "falcon"}));
     app.add_flag("--realtime", a.realtime,
@@ -139,6 +192,20 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         const int rc = app.exit(e);  // prints help or the error
         return rc == 0 ? 0 : 2;      // usage errors exit 2
+    }
+    if (!a.profile_path.empty()) {
+        auto profile = kerf::config::load_device_profile(a.profile_path);
+        if (!profile) {
+            std::fprintf(stderr, "kerf-hapsim: profile: %s\n", profile.error().message().c_str());
+            return 1;
+        }
+        apply_profile(*profile, app, a);
+    }
+    if (a.socket_path.empty()) {
+        std::fprintf(stderr,
+                     "kerf-hapsim: --socket is required (or a --profile with an [emulator] "
+                     "socket_path)\n");
+        return 2;
     }
     return run(a);
 }
