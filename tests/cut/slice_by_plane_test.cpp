@@ -137,5 +137,42 @@ TEST(SliceByPlane, EdgeVerticesInterpolateEveryAttributeWithOneParameter) {
     }
 }
 
+TEST(SliceByPlane, ACrossSectionPinchingAtASaddleVertexIsRefusedUnchanged) {
+    // A closed double cone whose apex v0 sits on the plane with its ring alternating above and
+    // below: four rim segments meet at v0, so the two loops would touch there.
+    TriMesh m;
+    const auto v0 = m.add_vertex(TriMesh::Point(0, 0, 0));
+    const auto a = m.add_vertex(TriMesh::Point(1, 0, 1)), b = m.add_vertex(TriMesh::Point(0, 1, -1));
+    const auto c = m.add_vertex(TriMesh::Point(-1, 0, 1)), d = m.add_vertex(TriMesh::Point(0, -1, -1));
+    const auto p = m.add_vertex(TriMesh::Point(0, 0, -5));
+    m.add_face(v0, a, b), m.add_face(v0, b, c), m.add_face(v0, c, d), m.add_face(v0, d, a);
+    m.add_face(b, a, p), m.add_face(c, b, p), m.add_face(d, c, p), m.add_face(a, d, p);
+    m.update_normals();
+    expect_closed_2_manifold(m);
+    const auto before = snapshot(m);
+    CutContext ctx(m);
+    CrossSection cs;
+    EXPECT_EQ(slice_by_plane(ctx, plane_of(Vec3(0, 0, 0), Vec3(0, 0, 1)), cs).status,
+              CutStatus::kDegenerateCrossSection);
+    EXPECT_TRUE(snapshot(m) == before);
+}
+
+TEST(SliceByPlane, ALocalisedCutCoplanarWithAnEarlierCapIsAMiss) {
+    auto m = hollow_tube(0.01, 0.006, 0.05, 10, 32);
+    CutContext ctx(m);
+    CrossSection cs;
+    const Plane p = plane_of(Vec3(0, 0, 0.0213), Vec3(0, 0, 1));
+    ASSERT_TRUE(slice_by_plane(ctx, p, cs).ok());
+    const auto after_first = snapshot(m);
+    // Seed on the positive cap itself (the blade resting on the earlier cut).
+    const auto cap_face = cs.positive.cap_faces.front();
+    Vec3 centre(0, 0, 0);
+    for (auto v : m.fv_range(cap_face)) centre += m.point(v);
+    const auto r = slice_by_plane(ctx, p, Seed{centre / 3.0, cap_face, -1.0}, cs);
+    EXPECT_TRUE(r.status == CutStatus::kSeedFarFromCut || r.status == CutStatus::kPlaneMissesMesh)
+        << to_string(r.status);
+    EXPECT_TRUE(snapshot(m) == after_first);
+}
+
 }  // namespace
 }  // namespace kerf::cut
