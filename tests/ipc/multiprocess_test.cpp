@@ -4,6 +4,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -205,6 +206,8 @@ TEST(MultiProcess, ConsumerDetectsAKilledProducerThroughItsHeartbeatWithin100ms)
             EXPECT_EQ(h, ProducerHealth::kStale);
             producer.kill_now(SIGKILL);
         }
+        producer.wait();
+        shm_unlink(("/" + name).c_str());  // a killed producer leaves its segment behind
     }
 }
 
