@@ -301,5 +301,48 @@ TEST(MultiProcess, ScribblerOverHeaderRingsAndMailboxCausesCountedRejectionsNeve
     EXPECT_GT(rejections, 0u);
 }
 
+std::string run_kerf(const std::string& args, int& exit_code) {
+    const std::string cmd = std::string(KERF_BIN_DIR) + "/kerf " + args + " 2>&1";
+    FILE* f = popen(cmd.c_str(), "r");
+    std::string out;
+    char buf[4096];
+    while (f != nullptr && std::fgets(buf, sizeof buf, f) != nullptr) out += buf;
+    const int status = f != nullptr ? pclose(f) : -1;
+    exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return out;
+}
+
+TEST(KerfShmCommand, LsStatsAndTailShowALiveSession) {
+    test::ScratchDir dir;
+    const auto name = test::unique_segment_name("cli");
+    Peer producer(dir.path, {"producer", "--name", name, "--journal-dir", dir.path, "--events",
+                             "100", "--per-tick", "10", "--hold-ms", "5000"});
+    ASSERT_TRUE(wait_for_segment(name));
+    int code = -1;
+    std::string out = run_kerf("shm tail " + name + " --from 0 --count 5", code);
+    EXPECT_EQ(code, 0) << out;
+    EXPECT_NE(out.find("cut_begin"), std::string::npos) << out;
+    EXPECT_NE(out.find("\n4 "), std::string::npos) << out;  // sequence 4 came (from the journal)
+    out = run_kerf("shm ls", code);
+    EXPECT_EQ(code, 0) << out;
+    EXPECT_NE(out.find(name), std::string::npos) << out;
+    out = run_kerf("shm stats " + name + " --json", code);
+    EXPECT_EQ(code, 0) << out;
+    EXPECT_NE(out.find("\"health\": \"alive\""), std::string::npos) << out;
+    producer.kill_now(SIGTERM);
+    EXPECT_EQ(producer.wait(), 0);
+}
+
+TEST(KerfShmCommand, MissingSessionIsAClearErrorWithExitCode1) {
+    int code = -1;
+    const std::string out = run_kerf("shm stats kerf.no-such-session", code);
+    EXPECT_EQ(code, 1);
+    EXPECT_NE(out.find("kerf shm stats: cannot open segment: segment kerf.no-such-session: no such "
+                       "segment"), std::string::npos) << out;
+    const std::string bad = run_kerf("shm tail 'bad/name'", code);
+    EXPECT_EQ(code, 1);
+    EXPECT_NE(bad.find("invalid"), std::string::npos) << bad;
+}
+
 }  // namespace
 }  // namespace kerf::ipc
