@@ -18,12 +18,12 @@ namespace kerf::firmware_host::test {
 inline void engage(DeviceLoop& loop, double force_n = 2.0) {
     loop.desired = {0, 0, 0};
     for (int i = 0; i < 400 && !(loop.status == DeviceStatus::kOk && loop.safety.engaged()); ++i) {
-        loop.tick(5000);
+        loop.tick(20000);
     }
     ASSERT_TRUE(loop.sample.flags.homed);
     ASSERT_TRUE(loop.safety.engaged()) << to_string(loop.status);
     loop.desired = {0, 0, force_n};
-    for (int i = 0; i < 60; ++i) loop.tick(5000);
+    for (int i = 0; i < 60; ++i) loop.tick(20000);
     ASSERT_NEAR(loop.force(), force_n, 1e-6) << to_string(loop.status);
 }
 
