@@ -126,6 +126,7 @@ bool add_cap(TriMesh& m, const std::vector<std::array<VertexHandle, 3>>& tris, R
         bool operator<(const Inner& o) const { return undirected < o.undirected || (undirected == o.undirected && slot < o.slot); }
     };
     std::vector<Inner> inner;
+    std::size_t rim_used = 0;
     for (std::size_t t = 0; t < n; ++t)
         for (int k = 0; k < 3; ++k) {
             const VertexHandle u = tris[t][k], v = tris[t][(k + 1) % 3];
@@ -133,12 +134,13 @@ bool add_cap(TriMesh& m, const std::vector<std::array<VertexHandle, 3>>& tris, R
             if (it != rim.end() && it->first == edge_key(u, v)) {
                 if (!m.is_boundary(it->second)) return false;  // used twice
                 he[3 * t + k] = it->second;
+                ++rim_used;
                 continue;
             }
             inner.push_back(Inner{u.idx() < v.idx() ? edge_key(u, v) : edge_key(v, u), static_cast<std::uint32_t>(3 * t + k)});
         }
     std::sort(inner.begin(), inner.end());
-    if (inner.size() % 2 != 0) return false;
+    if (inner.size() % 2 != 0 || rim_used != rim.size()) return false;  // every rim edge once
     for (std::size_t i = 0; i < inner.size(); i += 2) {
         if (inner[i].undirected != inner[i + 1].undirected) return false;
         const std::uint32_t a = inner[i].slot, b = inner[i + 1].slot;
