@@ -145,12 +145,11 @@ TEST(KerfHidIntegration, TenThousandTicksOfScriptedMotionMatchTheTruthWithinReso
 TEST(KerfHidIntegration, OpenDeviceOpensTheSimulatedProfileThroughTheEmulator) {
     const std::string profile_path =
         std::string(KERF_SOURCE_DIR) + "/config/devices/simulated.toml";
-    HapsimProcess sim({"--profile", profile_path});  // the emulator configured by the same file
+    HapsimProcess sim({"--profile", profile_path, "--lockstep"});  // configured by the same file
     ASSERT_TRUE(sim.ready());
     auto profile = config::load_device_profile(std::string(KERF_SOURCE_DIR) +
                                                "/config/devices/simulated.toml");
     ASSERT_TRUE(profile) << profile.error().message();
-    profile->emulator.lockstep = true;
     auto dev = open_device(*profile, {"", sim.socket_path(), ""});
     ASSERT_TRUE(dev) << dev.error().message();
     const auto& kerf = dynamic_cast<const KerfHidDevice&>(**dev);

@@ -49,8 +49,9 @@ void apply_profile(const kerf::config::DeviceProfile& p, const CLI::App& app, Ar
     if (!given("--peak-force-n")) a.peak_force_n = p.limits.peak_force_n;
     if (!given("--resolution-m") && p.encoder.resolution_m > 0)
         a.resolution_m = p.encoder.resolution_m;
-    if (!given("--realtime") && p.kind == cfg::DeviceKind::kSimulated)
+    if (!given("--realtime") && !given("--lockstep") && p.kind == cfg::DeviceKind::kSimulated) {
         a.realtime = !p.emulator.lockstep;
+    }
     if (!given("--socket") && p.kind == cfg::DeviceKind::kSimulated) {
         auto path = cfg::expand_path(p.emulator.socket_path, {});
         if (path) a.socket_path = path->string();
@@ -162,8 +163,13 @@ int main(int argc, char** argv) {
         ->check(CLI::ExistingFile);
     app.add_option("--protocol", a.protocol, "wire protocol: kerf or falcon")
         ->check(CLI::IsMember({"kerf", "falcon"}));
-    app.add_flag("--realtime", a.realtime,
-                 "run on the wall clock (default: lockstep, one step per host packet)");
+    auto* realtime_option =
+        app.add_flag("--realtime", a.realtime,
+                     "run on the wall clock (default: lockstep, one step per host packet)");
+    bool lockstep_flag = false;
+    app.add_flag("--lockstep", lockstep_flag,
+                 "one step per host packet (the default; wins over a profile)")
+        ->excludes(realtime_option);
     app.add_option("--script", a.script_path, "hand script (CSV: move, hold, button, sweep, fault)")
         ->check(CLI::ExistingFile);
     app.add_option("--trace", a.trace_path,
