@@ -24,7 +24,14 @@
 //  - A cross-section that pinches at an on-plane vertex (two loops touching) is refused with
 //    kDegenerateCrossSection; an open edge where the cut passes gives kNonManifoldInput.
 //  - Cuts through earlier caps are ordinary: a cap is surface like any other.
+//  - Caps never contain a sliver: rim points straight up to rounding are fanned, and a cap that
+//    would still need a near-zero-area or tilted triangle is refused (kCapTriangulationFailed;
+//    rare: once in ~200 random cuts on real bones, never on generated shapes).
 //  Every check runs before the first edit, so any failure leaves the mesh unchanged.
+//
+// Localised statuses: kSeedNotOnSurface (no triangle within the seed tolerance), kSeedFarFromCut
+// (no crossing reached within 20,000 triangles of the seed, nearest-to-plane first),
+// kSeedOnInnerBoundary (the seed's loop is a hole, e.g. on the canal wall).
 #pragma once
 
 #include "display/cut/cross_section.hpp"
