@@ -69,6 +69,9 @@ CutStatus plan_from_faces(ContextState& s, const Plane& plane,
 /// (kCapTriangulationFailed if a loop cannot be capped without slivers or tilted triangles).
 CutStatus plan_caps(ContextState& s, const Vec3& normal);
 
+/// Whether loop `inner` lies inside loop `outer` (a majority of up to 9 of its points does).
+bool loop_nested(const SectionPlan& plan, const PlanLoop& inner, const PlanLoop& outer);
+
 /// Closest distance from `p` to triangle `f`, m.
 double distance_to_face(const mesh::TriMesh& m, mesh::FaceHandle f, const Vec3& p);
 

@@ -1,0 +1,227 @@
+// The cap half of a slice plan: grouping loops into cap regions, triangulating each with the
+// triangulator, and guaranteeing no sliver (see section_plan.hpp).
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "display/cut/context_state.hpp"
+#include "display/cut/section_plan.hpp"
+
+namespace kerf::cut::detail {
+
+namespace {
+
+constexpr double kMinCapRelativeArea = 2e-15;
+
+double area2(const std::vector<Point2>& uv, const Triangle& t) {
+    const Point2& a = uv[t.a];
+    const Point2& b = uv[t.b];
+    const Point2& c = uv[t.c];
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+double longest2(const std::vector<Point2>& uv, const Triangle& t) {
+    return std::max({(uv[t.a] - uv[t.b]).sqrnorm(), (uv[t.b] - uv[t.c]).sqrnorm(),
+                     (uv[t.c] - uv[t.a]).sqrnorm()});
+}
+
+// Rim points that are collinear up to rounding (a plane crossing a flat quad) can leave ears of
+// near-zero area. Each such sliver (a, b, c), b between a and c, is removed by flipping its long
+// edge (c, a) with the neighbouring triangle (a, c, d): (a, b, d) and (b, c, d).
+bool repair_slivers(const std::vector<Point2>& uv, std::vector<Triangle>& tris) {
+    constexpr double kSliver = 1e-9;
+    for (int round = 0; round < 8; ++round) {
+        bool changed = false;
+        for (std::size_t i = 0; i < tris.size(); ++i) {
+            if (area2(uv, tris[i]) > kSliver * longest2(uv, tris[i])) continue;
+            Triangle t = tris[i];
+            // Rotate so that (c, a) is the longest edge and b the middle vertex.
+            for (int r = 0; r < 3 && (uv[t.c] - uv[t.a]).sqrnorm() < longest2(uv, t); ++r)
+                t = Triangle{t.b, t.c, t.a};
+            std::size_t j = tris.size();
+            std::uint32_t d = 0;
+            for (std::size_t k = 0; k < tris.size() && j == tris.size(); ++k) {
+                const Triangle& o = tris[k];
+                const std::uint32_t v[3] = {o.a, o.b, o.c};
+                for (int e = 0; e < 3; ++e)
+                    if (v[e] == t.a && v[(e + 1) % 3] == t.c) j = k, d = v[(e + 2) % 3];
+            }
+            if (j == tris.size()) return false;  // the long edge is on the rim: cannot flip
+            const Triangle n1{t.a, t.b, d}, n2{t.b, t.c, d};
+            const double worst = std::min(area2(uv, n1), area2(uv, n2));
+            if (!(worst > area2(uv, t))) continue;
+            tris[i] = n1;
+            tris[j] = n2;
+            changed = true;
+        }
+        if (!changed) return true;
+    }
+    return true;
+}
+
+}  // namespace
+
+namespace {
+
+// Cap groups: each selected outer loop with the selected holes whose smallest enclosing outer
+// loop it is. Loops of different pieces (or interpenetrating bones) are capped separately.
+std::vector<std::int32_t> cap_groups(const SectionPlan& plan) {
+    std::vector<std::int32_t> parent(plan.loops.size(), -1);
+    for (std::size_t i = 0; i < plan.loops.size(); ++i) {
+        const PlanLoop& h = plan.loops[i];
+        if (!h.selected || h.area_m2 >= 0) continue;
+        double best = 1e300;
+        parent[i] = -2;  // orphan unless an outer loop contains it
+        for (std::size_t j = 0; j < plan.loops.size(); ++j) {
+            const PlanLoop& o = plan.loops[j];
+            if (o.selected && o.area_m2 > 0 && o.area_m2 < best && loop_nested(plan, h, o))
+                best = o.area_m2, parent[i] = static_cast<std::int32_t>(j);
+        }
+    }
+    return parent;
+}
+
+}  // namespace
+
+namespace {
+
+// A rim point is "straight" when it lies on the line through its neighbours up to rounding (a
+// plane crossing a flat quad gives runs of such points). Triangulating them directly gives ears
+// of zero area, so they are left out of the triangulation and put back as fans (see below).
+constexpr double kStraightRelative = 1e-9;
+
+bool straight(const Vec2& a, const Vec2& b, const Vec2& c, double tol) {
+    const double cr = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    const double along = OpenMesh::dot(b - a, c - b);
+    const double ac2 = (c - a).sqrnorm();
+    (void)tol;
+    return along > 0 && std::abs(cr) <= kStraightRelative * ac2;
+}
+
+double plan_area2(const SectionPlan& plan, const Triangle& t) {
+    const Vec2& a = plan.points[t.a].uv;
+    const Vec2& b = plan.points[t.b].uv;
+    const Vec2& c = plan.points[t.c].uv;
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+// Triangulates one cap group (an outer loop and its holes) over the plan's point indices.
+bool triangulate_group(ContextState& s, const std::vector<const PlanLoop*>& loops, std::vector<Triangle>& out) {
+    SectionPlan& plan = s.plan;
+    std::vector<Point2> uv;            // kept points
+    std::vector<std::uint32_t> index;  // kept point -> plan point
+    std::vector<std::span<const Point2>> spans;
+    std::vector<std::size_t> sizes;
+    // Edges (u, w) of the kept loops that have left-out points between u and w.
+    struct Gap {
+        std::uint32_t u, w, first, count;  // plan indices; left-out points first .. (loop order)
+    };
+    std::vector<Gap> gaps;
+    std::vector<std::uint32_t> removed;  // plan indices of left-out points, grouped per gap
+    for (const PlanLoop* l : loops) {
+        const std::size_t before = uv.size();
+        auto pt = [&](std::uint32_t k) { return plan.points[l->first + (k % l->count)].uv; };
+        std::vector<char> keep(l->count, 1);
+        std::uint32_t kept = l->count;
+        for (std::uint32_t k = 0; k < l->count; ++k)
+            if (kept > 3 && straight(pt(k + l->count - 1), pt(k), pt(k + 1), s.tolerance_m)) keep[k] = 0, --kept;
+        std::uint32_t start = 0;
+        while (!keep[start]) ++start;
+        for (std::uint32_t j = 0; j < l->count; ++j) {
+            const std::uint32_t k = (start + j) % l->count;
+            if (!keep[k]) continue;
+            index.push_back(l->first + k);
+            uv.push_back(pt(k));
+            std::uint32_t n = 1;
+            while (!keep[(k + n) % l->count]) ++n;
+            if (n > 1) {
+                gaps.push_back(Gap{l->first + k, l->first + (k + n) % l->count,
+                                   static_cast<std::uint32_t>(removed.size()), n - 1});
+                for (std::uint32_t q = 1; q < n; ++q) removed.push_back(l->first + (k + q) % l->count);
+            }
+        }
+        sizes.push_back(uv.size() - before);
+    }
+    std::size_t offset = 0;
+    for (std::size_t n : sizes) spans.emplace_back(uv.data() + offset, n), offset += n;
+    std::vector<Triangle> tris;
+    if (!s.triangulator.triangulate(spans, tris) || !repair_slivers(uv, tris)) return false;
+    for (Triangle& t : tris) t = Triangle{index[t.a], index[t.b], index[t.c]};
+    // Put the left-out points back: the triangle on kept edge (u, w) becomes a fan from its apex.
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> by_edge;
+    by_edge.reserve(3 * tris.size());
+    auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t{a} << 32) | b; };
+    for (std::uint32_t i = 0; i < tris.size(); ++i) {
+        const Triangle& t = tris[i];
+        by_edge.emplace_back(key(t.a, t.b), i), by_edge.emplace_back(key(t.b, t.c), i),
+            by_edge.emplace_back(key(t.c, t.a), i);
+    }
+    std::sort(by_edge.begin(), by_edge.end());
+    auto find = [&](std::uint64_t k) {
+        auto it = std::lower_bound(by_edge.begin(), by_edge.end(), std::make_pair(k, 0u));
+        return it != by_edge.end() && it->first == k ? it : by_edge.end();
+    };
+    for (const Gap& g : gaps) {
+        const auto it = find(key(g.u, g.w));
+        if (it == by_edge.end()) return false;
+        const std::uint32_t ti = it->second;
+        Triangle t = tris[ti];
+        while (t.a != g.u) t = Triangle{t.b, t.c, t.a};
+        if (t.b != g.w) return false;
+        const std::uint32_t apex = t.c;
+        // (u, p1, x), (p1, p2, x), ..., (pk, w, x): the first keeps slot ti.
+        tris[ti] = Triangle{g.u, removed[g.first], apex};
+        for (std::uint32_t q = 0; q + 1 < g.count; ++q)
+            tris.push_back(Triangle{removed[g.first + q], removed[g.first + q + 1], apex});
+        tris.push_back(Triangle{removed[g.first + g.count - 1], g.w, apex});
+        const std::size_t fan_end = tris.size();
+        if (!(plan_area2(plan, tris[ti]) > 0)) return false;
+        for (std::size_t q = fan_end - g.count; q < fan_end; ++q)
+            if (!(plan_area2(plan, tris[q]) > 0)) return false;
+        const auto wx = find(key(g.w, apex));
+        if (wx != by_edge.end()) wx->second = static_cast<std::uint32_t>(tris.size() - 1);
+    }
+    out.insert(out.end(), tris.begin(), tris.end());
+    return true;
+
+}
+
+}  // namespace
+
+CutStatus plan_caps(ContextState& s, const Vec3& normal) {
+    SectionPlan& plan = s.plan;
+    plan.cap_points.clear();
+    plan.cap_triangles.clear();
+    const std::vector<std::int32_t> parent = cap_groups(plan);
+    std::vector<const PlanLoop*> group;
+    for (std::size_t g = 0; g < plan.loops.size(); ++g) {
+        const PlanLoop& outer = plan.loops[g];
+        if (!outer.selected) continue;
+        if (parent[g] == -2) return CutStatus::kCapTriangulationFailed;
+        if (outer.area_m2 < 0) continue;
+        group.clear();
+        for (std::size_t i = 0; i < plan.loops.size(); ++i)
+            if (i == g || parent[i] == static_cast<std::int32_t>(g)) group.push_back(&plan.loops[i]);
+        if (!triangulate_group(s, group, plan.cap_triangles)) return CutStatus::kCapTriangulationFailed;
+    }
+    // Cap triangles index plan points directly: cap_points is the identity over the plan.
+    plan.cap_points.resize(plan.points.size());
+    for (std::uint32_t i = 0; i < plan.cap_points.size(); ++i) plan.cap_points[i] = i;
+    // Every cap triangle must have a real area and face the way its 2-D orientation says (rim
+    // vertices may sit up to tol off the plane; a triangle thin enough to tilt over is refused).
+    const double min_area = kMinCapRelativeArea * s.scale_m * s.scale_m;
+    for (const Triangle& t : plan.cap_triangles) {
+        const Vec3& a = plan.points[t.a].position;
+        const Vec3& b = plan.points[t.b].position;
+        const Vec3& c = plan.points[t.c].position;
+        const Vec3 n = OpenMesh::cross(b - a, c - a);
+        if (!(0.5 * n.norm() >= min_area) || !(OpenMesh::dot(n, normal) > 0.5 * n.norm()))
+            return CutStatus::kCapTriangulationFailed;
+    }
+    return CutStatus::kOk;
+}
+
+}  // namespace kerf::cut::detail
