@@ -8,14 +8,32 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 
 namespace kerf::firmware_host::test {
 
+namespace {
+
+std::vector<std::string>& created_paths() {
+    static std::vector<std::string> paths;
+    return paths;
+}
+
+void remove_created_paths() {
+    for (const auto& p : created_paths()) ::unlink(p.c_str());
+}
+
+}  // namespace
+
 std::string temp_path(const std::string& stem) {
     static std::atomic<int> counter{0};
-    return "/tmp/kerf-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + "-" +
-           stem;
+    static const bool registered = (created_paths(), std::atexit(remove_created_paths) == 0);
+    (void)registered;
+    std::string path = "/tmp/kerf-test-" + std::to_string(::getpid()) + "-" +
+                       std::to_string(counter++) + "-" + stem;
+    created_paths().push_back(path);  // removed when the test binary exits
+    return path;
 }
 
 HapsimProcess::HapsimProcess(std::vector<std::string> args) : socket_(temp_path("hapsim.sock")) {
