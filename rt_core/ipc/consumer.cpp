@@ -1,11 +1,10 @@
 #include "rt_core/ipc/consumer.hpp"
 
+#include <spdlog/spdlog.h>
 #include <unistd.h>
 
 #include <optional>
 #include <utility>
-
-#include <spdlog/spdlog.h>
 
 #include "rt_core/ipc/journal_reader.hpp"
 #include "rt_core/ipc/record_check.hpp"
@@ -93,8 +92,8 @@ struct Consumer::Impl {
     void bind_rings() {
         ConsumerSlot& s = seg().slots[slot];
         events = SpscConsumerEnd<EventRecord, kEventCapacity>::resume(&s.event_ring, s.events);
-        telemetry = SpscConsumerEnd<TelemetrySample, kTelemetryCapacity>::resume(
-            &s.telemetry_ring, s.telemetry);
+        telemetry = SpscConsumerEnd<TelemetrySample, kTelemetryCapacity>::resume(&s.telemetry_ring,
+                                                                                 s.telemetry);
     }
 
     Status<IpcError> claim() {
@@ -109,8 +108,8 @@ struct Consumer::Impl {
     // Our slot was taken (we looked dead or someone scribbled the claim word): claim again.
     bool ensure_slot() {
         if (control().claim_word.load(std::memory_order_acquire) == word) return true;
-        spdlog::warn("kerf ipc: segment {}: slot {} lost its claim; claiming again",
-                     segment.name(), slot);
+        spdlog::warn("kerf ipc: segment {}: slot {} lost its claim; claiming again", segment.name(),
+                     slot);
         has_pending = false;
         return bool(claim());
     }
@@ -130,8 +129,10 @@ struct Consumer::Impl {
         control().rejected_count.store(stats.rejected_records + stats.rejected_indices,
                                        std::memory_order_relaxed);
         if (log_now(stats.rejected_indices)) {
-            spdlog::warn("kerf ipc: segment {}: slot {}: {} ring write index corrupt, resynced "
-                         "({} so far)", segment.name(), slot, ring, stats.rejected_indices);
+            spdlog::warn(
+                "kerf ipc: segment {}: slot {}: {} ring write index corrupt, resynced "
+                "({} so far)",
+                segment.name(), slot, ring, stats.rejected_indices);
         }
     }
 
@@ -165,13 +166,15 @@ struct Consumer::Impl {
         if (expected >= limit) return Poll::kNothing;  // journal thread has not written it yet
         EventRecord record;
         switch (journal->try_read(expected, record)) {
-            case JournalRead::kNotYet: return Poll::kNothing;
+            case JournalRead::kNotYet:
+                return Poll::kNothing;
             case JournalRead::kCorrupt:
                 reject_record("journal", validate_event(record));
                 ++stats.lost;
                 ++expected;
                 return Poll::kNothing;
-            case JournalRead::kOk: break;
+            case JournalRead::kOk:
+                break;
         }
         if (record.header.sequence > expected) stats.lost += record.header.sequence - expected;
         return deliver(record, out, true);
@@ -298,22 +301,22 @@ Result<Consumer, IpcError> ConsumerBuilder::attach() const {
     const std::string where = "segment " + name_;
     const auto state = impl->seg().header.state.load(std::memory_order_acquire);
     if (state != std::uint32_t(SegmentState::kRunning)) {
-        return Err{make_error(IpcErrc::kProducerGone,
-                              where + ": state " + to_string(SegmentState(state)) +
-                                  ", expected running")};
+        return Err{
+            make_error(IpcErrc::kProducerGone,
+                       where + ": state " + to_string(SegmentState(state)) + ", expected running")};
     }
     const ProducerHealth health = kerf::ipc::producer_health(impl->seg(), stale_after_ns_);
     if (health != ProducerHealth::kAlive) {
-        return Err{make_error(IpcErrc::kProducerGone,
-                              where + ": producer pid " +
-                                  std::to_string(impl->seg().header.producer_pid) + " is " +
-                                  to_string(health))};
+        return Err{
+            make_error(IpcErrc::kProducerGone, where + ": producer pid " +
+                                                   std::to_string(impl->seg().header.producer_pid) +
+                                                   " is " + to_string(health))};
     }
     impl->telemetry_wanted = telemetry_;
     impl->stale_after_ns = stale_after_ns_;
-    impl->expected = from_ == kFromNow ? impl->seg().producer.next_event_sequence.load(
-                                             std::memory_order_acquire)
-                                       : from_;
+    impl->expected = from_ == kFromNow
+                         ? impl->seg().producer.next_event_sequence.load(std::memory_order_acquire)
+                         : from_;
     if (auto claimed = impl->claim(); !claimed) {
         return Err{make_error(claimed.error().code, where + ": " + claimed.error().message)};
     }

@@ -72,8 +72,8 @@ public:
     /// First sequence wanted: 0 (default) replays the whole session from the journal;
     /// kFromNow follows only events published after attach.
     ConsumerBuilder& from_sequence(std::uint64_t sequence);
-    ConsumerBuilder& telemetry(bool wanted);               ///< also subscribe to telemetry
-    ConsumerBuilder& stale_after_ns(std::uint64_t age_ns); ///< heartbeat limit (default 40 ms)
+    ConsumerBuilder& telemetry(bool wanted);                ///< also subscribe to telemetry
+    ConsumerBuilder& stale_after_ns(std::uint64_t age_ns);  ///< heartbeat limit (default 40 ms)
 
     /// Opens + verifies the segment, refuses a dead or stopped producer, claims a free slot
     /// (reclaiming one whose consumer died).
@@ -89,8 +89,7 @@ private:
 };
 
 /// Non-real-time: claims a slot of `layout` for process `pid`; returns its index or an error.
-Result<std::uint32_t, IpcError> claim_slot(SegmentLayout& layout, std::int32_t pid,
-                                           bool telemetry);
+Result<std::uint32_t, IpcError> claim_slot(SegmentLayout& layout, std::int32_t pid, bool telemetry);
 /// Releases a slot claimed by claim_slot (only if it still holds `claim_word`).
 void release_slot(SegmentLayout& layout, std::uint32_t slot, std::uint64_t claim_word) noexcept;
 

@@ -7,20 +7,31 @@ namespace kerf::ipc {
 
 const char* to_string(IpcErrc code) noexcept {
     switch (code) {
-        case IpcErrc::kOsError: return "os_error";
-        case IpcErrc::kNotFound: return "not_found";
-        case IpcErrc::kInUse: return "in_use";
-        case IpcErrc::kBadHeader: return "bad_header";
-        case IpcErrc::kProducerGone: return "producer_gone";
-        case IpcErrc::kNoFreeSlot: return "no_free_slot";
-        case IpcErrc::kBadArgument: return "bad_argument";
-        case IpcErrc::kJournal: return "journal";
-        case IpcErrc::kCorrupt: return "corrupt";
+        case IpcErrc::kOsError:
+            return "os_error";
+        case IpcErrc::kNotFound:
+            return "not_found";
+        case IpcErrc::kInUse:
+            return "in_use";
+        case IpcErrc::kBadHeader:
+            return "bad_header";
+        case IpcErrc::kProducerGone:
+            return "producer_gone";
+        case IpcErrc::kNoFreeSlot:
+            return "no_free_slot";
+        case IpcErrc::kBadArgument:
+            return "bad_argument";
+        case IpcErrc::kJournal:
+            return "journal";
+        case IpcErrc::kCorrupt:
+            return "corrupt";
     }
     return "unknown";
 }
 
-IpcError make_error(IpcErrc code, std::string message) { return IpcError{code, std::move(message)}; }
+IpcError make_error(IpcErrc code, std::string message) {
+    return IpcError{code, std::move(message)};
+}
 
 IpcError os_error(const std::string& what, int errno_value) {
     return IpcError{IpcErrc::kOsError, what + ": " + std::strerror(errno_value)};

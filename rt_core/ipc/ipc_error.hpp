@@ -8,15 +8,15 @@ namespace kerf::ipc {
 
 /// What went wrong, coarse enough for a caller to branch on.
 enum class IpcErrc {
-    kOsError,          ///< a system call failed (message carries errno text)
-    kNotFound,         ///< no segment or journal by that name
-    kInUse,            ///< a live producer already owns the segment
-    kBadHeader,        ///< a header field differs from what this build expects
-    kProducerGone,     ///< producer stopped or its heartbeat is stale
-    kNoFreeSlot,       ///< every consumer slot is held by a live consumer
-    kBadArgument,      ///< caller passed an invalid name, size or option
-    kJournal,          ///< journal file missing, unreadable or corrupt
-    kCorrupt,          ///< segment content failed validation
+    kOsError,       ///< a system call failed (message carries errno text)
+    kNotFound,      ///< no segment or journal by that name
+    kInUse,         ///< a live producer already owns the segment
+    kBadHeader,     ///< a header field differs from what this build expects
+    kProducerGone,  ///< producer stopped or its heartbeat is stale
+    kNoFreeSlot,    ///< every consumer slot is held by a live consumer
+    kBadArgument,   ///< caller passed an invalid name, size or option
+    kJournal,       ///< journal file missing, unreadable or corrupt
+    kCorrupt,       ///< segment content failed validation
 };
 
 /// Stable lower-case name of an error code ("in_use").

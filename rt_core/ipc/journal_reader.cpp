@@ -17,7 +17,8 @@ Result<JournalReader, IpcError> JournalReader::open(const std::string& path,
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
     if (fd < 0) {
         const int e = errno;
-        if (e == ENOENT) return Err{make_error(IpcErrc::kNotFound, "journal " + path + ": missing")};
+        if (e == ENOENT)
+            return Err{make_error(IpcErrc::kNotFound, "journal " + path + ": missing")};
         return Err{os_error("journal " + path + ": open", e)};
     }
     JournalFileHeader h{};
@@ -48,7 +49,9 @@ JournalReader::JournalReader(int fd, std::string path, const JournalFileHeader& 
     : fd_(fd), path_(std::move(path)), header_(header) {}
 
 JournalReader::JournalReader(JournalReader&& other) noexcept
-    : fd_(std::exchange(other.fd_, -1)), path_(std::move(other.path_)), header_(other.header_),
+    : fd_(std::exchange(other.fd_, -1)),
+      path_(std::move(other.path_)),
+      header_(other.header_),
       hint_index_(other.hint_index_) {}
 
 JournalReader::~JournalReader() {
@@ -56,8 +59,9 @@ JournalReader::~JournalReader() {
 }
 
 std::uint64_t JournalReader::record_count() const {
-    struct stat st{};
-    if (fstat(fd_, &st) != 0 || st.st_size < static_cast<off_t>(sizeof(JournalFileHeader))) return 0;
+    struct stat st {};
+    if (fstat(fd_, &st) != 0 || st.st_size < static_cast<off_t>(sizeof(JournalFileHeader)))
+        return 0;
     return (std::uint64_t(st.st_size) - sizeof(JournalFileHeader)) / sizeof(EventRecord);
 }
 
@@ -82,7 +86,10 @@ JournalRead JournalReader::try_read(std::uint64_t sequence, EventRecord& out) {
     while (lo < hi) {
         const std::uint64_t mid = lo + (hi - lo) / 2;
         if (!read_at(mid, out)) return JournalRead::kNotYet;
-        if (out.header.sequence < sequence) lo = mid + 1; else hi = mid;
+        if (out.header.sequence < sequence)
+            lo = mid + 1;
+        else
+            hi = mid;
     }
     if (lo >= count || !read_at(lo, out)) return JournalRead::kNotYet;
     hint_index_ = lo + 1;

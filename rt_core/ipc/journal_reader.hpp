@@ -13,9 +13,9 @@ namespace kerf::ipc {
 
 /// Outcome of JournalReader::try_read.
 enum class JournalRead : std::uint8_t {
-    kOk,        ///< `out` holds the first record with sequence >= the one asked (> means lost)
-    kNotYet,    ///< the file does not reach that far yet
-    kCorrupt,   ///< the record there fails validation (counted; the caller skips it)
+    kOk,       ///< `out` holds the first record with sequence >= the one asked (> means lost)
+    kNotYet,   ///< the file does not reach that far yet
+    kCorrupt,  ///< the record there fails validation (counted; the caller skips it)
 };
 
 class JournalReader {

@@ -62,7 +62,9 @@ Result<std::unique_ptr<JournalWriter>, IpcError> JournalWriter::create(
 }
 
 JournalWriter::JournalWriter(SegmentLayout& segment, int fd, std::uint64_t flush_period_ns)
-    : segment_(segment), fd_(fd), flush_period_ns_(flush_period_ns),
+    : segment_(segment),
+      fd_(fd),
+      flush_period_ns_(flush_period_ns),
       queue_(std::make_unique<Queue>()) {
     queue_->producer = {&queue_->control, queue_->slots};
     queue_->consumer = {&queue_->control, queue_->slots};

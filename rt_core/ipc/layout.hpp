@@ -23,9 +23,9 @@ namespace kerf::ipc {
 
 inline constexpr std::uint64_t kMagic = 0x314D48534652454Bull;  ///< "KERFSHM1" little-endian
 inline constexpr std::uint32_t kLayoutVersion = 1;
-inline constexpr std::uint32_t kSlotCount = 4;                  ///< display, tuning, soak, spare
-inline constexpr std::uint32_t kEventCapacity = 4096;           ///< events per slot ring
-inline constexpr std::uint32_t kTelemetryCapacity = 2048;       ///< samples per slot ring (2 s)
+inline constexpr std::uint32_t kSlotCount = 4;             ///< display, tuning, soak, spare
+inline constexpr std::uint32_t kEventCapacity = 4096;      ///< events per slot ring
+inline constexpr std::uint32_t kTelemetryCapacity = 2048;  ///< samples per slot ring (2 s)
 inline constexpr std::size_t kJournalPathBytes = 128;
 
 /// Segment life, in the header's state word.
@@ -34,32 +34,32 @@ const char* to_string(SegmentState state) noexcept;
 
 /// Written once by the producer before state becomes kRunning. 256 bytes.
 struct SegmentHeader {
-    std::uint64_t magic;                  ///< kMagic
-    std::uint32_t layout_version;         ///< kLayoutVersion
-    std::uint32_t header_bytes;           ///< sizeof(SegmentHeader)
-    std::uint64_t layout_hash;            ///< kLayoutHash of the producer's build
-    std::uint64_t segment_bytes;          ///< sizeof(SegmentLayout)
-    std::uint64_t session_id;             ///< random per session (getrandom), never 0
-    std::uint64_t start_time_unix_ns;     ///< CLOCK_REALTIME at creation, ns
-    std::int32_t producer_pid;            ///< kerf-rt's pid
-    std::uint32_t slot_count;             ///< kSlotCount
-    std::uint32_t event_capacity;         ///< kEventCapacity
-    std::uint32_t telemetry_capacity;     ///< kTelemetryCapacity
-    std::atomic<std::uint32_t> state;     ///< SegmentState (release on change)
-    std::uint32_t mesh_max_bodies;        ///< kMeshMaxBodies
-    std::uint32_t mesh_max_vertices;      ///< kMeshMaxVertices
-    std::uint32_t mesh_max_indices;       ///< kMeshMaxIndices
-    char journal_path[kJournalPathBytes]; ///< absolute path of the event journal, NUL-terminated
-    std::uint8_t reserved[48];            ///< 0
+    std::uint64_t magic;                   ///< kMagic
+    std::uint32_t layout_version;          ///< kLayoutVersion
+    std::uint32_t header_bytes;            ///< sizeof(SegmentHeader)
+    std::uint64_t layout_hash;             ///< kLayoutHash of the producer's build
+    std::uint64_t segment_bytes;           ///< sizeof(SegmentLayout)
+    std::uint64_t session_id;              ///< random per session (getrandom), never 0
+    std::uint64_t start_time_unix_ns;      ///< CLOCK_REALTIME at creation, ns
+    std::int32_t producer_pid;             ///< kerf-rt's pid
+    std::uint32_t slot_count;              ///< kSlotCount
+    std::uint32_t event_capacity;          ///< kEventCapacity
+    std::uint32_t telemetry_capacity;      ///< kTelemetryCapacity
+    std::atomic<std::uint32_t> state;      ///< SegmentState (release on change)
+    std::uint32_t mesh_max_bodies;         ///< kMeshMaxBodies
+    std::uint32_t mesh_max_vertices;       ///< kMeshMaxVertices
+    std::uint32_t mesh_max_indices;        ///< kMeshMaxIndices
+    char journal_path[kJournalPathBytes];  ///< absolute path of the event journal, NUL-terminated
+    std::uint8_t reserved[48];             ///< 0
 };
 
 /// Producer liveness and progress; one line written by the real-time thread.
 struct alignas(kCacheLine) ProducerStatus {
-    std::atomic<std::uint64_t> heartbeat_tick;      ///< loop tick of the last heartbeat
-    std::atomic<std::uint64_t> heartbeat_ns;        ///< CLOCK_MONOTONIC of the last heartbeat, ns
-    std::atomic<std::uint64_t> next_event_sequence; ///< events published so far (= next seq)
-    std::atomic<std::uint64_t> telemetry_dropped;   ///< samples dropped over all slots
-    std::atomic<std::uint64_t> events_dropped;      ///< ring drops over all slots (journal has them)
+    std::atomic<std::uint64_t> heartbeat_tick;       ///< loop tick of the last heartbeat
+    std::atomic<std::uint64_t> heartbeat_ns;         ///< CLOCK_MONOTONIC of the last heartbeat, ns
+    std::atomic<std::uint64_t> next_event_sequence;  ///< events published so far (= next seq)
+    std::atomic<std::uint64_t> telemetry_dropped;    ///< samples dropped over all slots
+    std::atomic<std::uint64_t> events_dropped;  ///< ring drops over all slots (journal has them)
     std::atomic<std::uint64_t> reserved[3];
 };
 
@@ -69,12 +69,12 @@ inline constexpr std::uint32_t kSlotWantsTelemetry = 1u;
 
 /// Per-consumer control line, written by the consumer holding the slot.
 struct alignas(kCacheLine) SlotControl {
-    std::atomic<std::uint64_t> claim_word;     ///< (generation << 2) | SlotState
-    std::atomic<std::uint64_t> heartbeat_ns;   ///< consumer's CLOCK_MONOTONIC at its last poll
-    std::atomic<std::int32_t> consumer_pid;    ///< holder's pid, 0 when free
-    std::atomic<std::uint32_t> flags;          ///< kSlotWantsTelemetry
-    std::atomic<std::uint64_t> rejected_count; ///< records/indices the consumer rejected
-    std::atomic<std::uint64_t> delivered;      ///< events delivered to the application
+    std::atomic<std::uint64_t> claim_word;      ///< (generation << 2) | SlotState
+    std::atomic<std::uint64_t> heartbeat_ns;    ///< consumer's CLOCK_MONOTONIC at its last poll
+    std::atomic<std::int32_t> consumer_pid;     ///< holder's pid, 0 when free
+    std::atomic<std::uint32_t> flags;           ///< kSlotWantsTelemetry
+    std::atomic<std::uint64_t> rejected_count;  ///< records/indices the consumer rejected
+    std::atomic<std::uint64_t> delivered;       ///< events delivered to the application
     std::atomic<std::uint64_t> reserved[3];
 };
 

@@ -1,9 +1,9 @@
 #include "rt_core/ipc/mesh_mailbox.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <cmath>
 #include <cstring>
-
-#include <spdlog/spdlog.h>
 
 namespace kerf::ipc {
 namespace {
@@ -16,13 +16,15 @@ constexpr std::size_t words_for(std::size_t bytes) { return (bytes + 7) / 8; }
 void load_words(void* dst, const void* src, std::size_t bytes) noexcept {
     auto* d = static_cast<std::uint64_t*>(dst);
     const auto* s = static_cast<const std::uint64_t*>(src);
-    for (std::size_t i = 0, n = words_for(bytes); i < n; ++i) d[i] = __atomic_load_n(&s[i], __ATOMIC_ACQUIRE);
+    for (std::size_t i = 0, n = words_for(bytes); i < n; ++i)
+        d[i] = __atomic_load_n(&s[i], __ATOMIC_ACQUIRE);
 }
 
 void store_words(void* dst, const void* src, std::size_t bytes) noexcept {
     auto* d = static_cast<std::uint64_t*>(dst);
     const auto* s = static_cast<const std::uint64_t*>(src);
-    for (std::size_t i = 0, n = words_for(bytes); i < n; ++i) __atomic_store_n(&d[i], s[i], __ATOMIC_RELEASE);
+    for (std::size_t i = 0, n = words_for(bytes); i < n; ++i)
+        __atomic_store_n(&d[i], s[i], __ATOMIC_RELEASE);
 }
 
 bool rigid(const float* m) {
@@ -57,8 +59,8 @@ MeshFault validate_body(const CollisionMesh& mesh, std::uint32_t b, std::string&
     for (std::uint32_t i = 0; i < e.index_count; ++i) {
         const std::uint32_t v = mesh.indices[e.index_offset + i];
         if (v >= e.vertex_count) {
-            where += ": index " + std::to_string(i) + " = " + std::to_string(v) + " >= " +
-                     std::to_string(e.vertex_count) + " vertices";
+            where += ": index " + std::to_string(i) + " = " + std::to_string(v) +
+                     " >= " + std::to_string(e.vertex_count) + " vertices";
             return MeshFault::kBadIndex;
         }
     }
@@ -72,14 +74,22 @@ CollisionMesh::CollisionMesh()
 
 const char* to_string(MeshFault fault) noexcept {
     switch (fault) {
-        case MeshFault::kNone: return "none";
-        case MeshFault::kBadCounts: return "bad_counts";
-        case MeshFault::kBadBodyRange: return "bad_body_range";
-        case MeshFault::kBadIndex: return "bad_index";
-        case MeshFault::kNotFinite: return "not_finite";
-        case MeshFault::kOutOfBounds: return "out_of_bounds";
-        case MeshFault::kBadTransform: return "bad_transform";
-        case MeshFault::kBadGeneration: return "bad_generation";
+        case MeshFault::kNone:
+            return "none";
+        case MeshFault::kBadCounts:
+            return "bad_counts";
+        case MeshFault::kBadBodyRange:
+            return "bad_body_range";
+        case MeshFault::kBadIndex:
+            return "bad_index";
+        case MeshFault::kNotFinite:
+            return "not_finite";
+        case MeshFault::kOutOfBounds:
+            return "out_of_bounds";
+        case MeshFault::kBadTransform:
+            return "bad_transform";
+        case MeshFault::kBadGeneration:
+            return "bad_generation";
     }
     return "unknown";
 }

@@ -21,8 +21,8 @@ struct CollisionMesh {
     CollisionMesh();  ///< allocates capacity for the largest mesh the mailbox holds
     std::uint64_t generation = 0;
     std::uint32_t body_count = 0;
-    std::uint32_t vertex_count = 0;   ///< total vertices (3 floats each)
-    std::uint32_t index_count = 0;    ///< total indices (3 per triangle)
+    std::uint32_t vertex_count = 0;  ///< total vertices (3 floats each)
+    std::uint32_t index_count = 0;   ///< total indices (3 per triangle)
     std::vector<MeshBodyEntry> bodies;
     std::vector<float> vertices_m;
     std::vector<std::uint32_t> indices;
@@ -30,7 +30,13 @@ struct CollisionMesh {
 
 /// Why a published mesh was refused.
 enum class MeshFault : std::uint8_t {
-    kNone, kBadCounts, kBadBodyRange, kBadIndex, kNotFinite, kOutOfBounds, kBadTransform,
+    kNone,
+    kBadCounts,
+    kBadBodyRange,
+    kBadIndex,
+    kNotFinite,
+    kOutOfBounds,
+    kBadTransform,
     kBadGeneration,
 };
 const char* to_string(MeshFault fault) noexcept;
@@ -54,10 +60,10 @@ private:
 
 /// Outcome of MeshMailboxReader::try_take_newest.
 enum class MailboxRead : std::uint8_t {
-    kNew,        ///< `out` holds a newer generation, validated
-    kNothingNew, ///< nothing published since the last take
-    kBusy,       ///< the writer overwrote the buffer during the copy; try again
-    kRejected,   ///< the newest generation failed validation (counted, logged)
+    kNew,         ///< `out` holds a newer generation, validated
+    kNothingNew,  ///< nothing published since the last take
+    kBusy,        ///< the writer overwrote the buffer during the copy; try again
+    kRejected,    ///< the newest generation failed validation (counted, logged)
 };
 
 class MeshMailboxReader {

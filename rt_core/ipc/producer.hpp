@@ -20,10 +20,10 @@ namespace kerf::ipc {
 
 /// What happened to one published event.
 struct PublishOutcome {
-    std::uint64_t sequence = 0;      ///< the sequence number the event received
-    std::uint32_t delivered = 0;     ///< consumer rings it went into
-    std::uint32_t dropped = 0;       ///< consumer rings that were full (counted per slot)
-    bool journalled = false;         ///< false: journal queue full (counted; a real loss)
+    std::uint64_t sequence = 0;   ///< the sequence number the event received
+    std::uint32_t delivered = 0;  ///< consumer rings it went into
+    std::uint32_t dropped = 0;    ///< consumer rings that were full (counted per slot)
+    bool journalled = false;      ///< false: journal queue full (counted; a real loss)
 };
 
 class Producer {
@@ -63,9 +63,9 @@ private:
 
 class ProducerBuilder {
 public:
-    ProducerBuilder& segment_name(std::string name);        ///< e.g. "kerf.demo" (from config)
-    ProducerBuilder& journal_dir(std::string directory);    ///< default /dev/shm
-    ProducerBuilder& group_access(bool enabled);            ///< 0660 instead of 0600
+    ProducerBuilder& segment_name(std::string name);      ///< e.g. "kerf.demo" (from config)
+    ProducerBuilder& journal_dir(std::string directory);  ///< default /dev/shm
+    ProducerBuilder& group_access(bool enabled);          ///< 0660 instead of 0600
     ProducerBuilder& journal_flush_period_ns(std::uint64_t period_ns);  ///< default 20 ms
 
     /// Creates segment + journal, starts the journal thread, marks the segment running.

@@ -36,7 +36,7 @@ bool printable_name(const char* name, std::size_t size) noexcept {
 }
 
 RecordFault validate_cut(const CutPayload& c, EventType type) noexcept {
-    const float scalars[] = {c.blade_length_m, c.blade_depth_m, c.kerf_width_m, c.swept_u_min_m,
+    const float scalars[] = {c.blade_length_m, c.blade_depth_m, c.kerf_width_m,  c.swept_u_min_m,
                              c.swept_u_max_m,  c.swept_v_min_m, c.swept_v_max_m, c.feed_depth_m};
     if (!finite(c.plane_point_m, 3) || !finite(c.plane_normal, 3) || !finite(c.seed_point_m, 3) ||
         !finite(c.plane_u, 3) || !finite(scalars, 8)) {
@@ -59,13 +59,14 @@ RecordFault validate_payload(const EventRecord& r) noexcept {
     switch (r.header.type) {
         case EventType::kCutBegin:
         case EventType::kCutProgress:
-        case EventType::kCutEnd: return validate_cut(r.cut, r.header.type);
+        case EventType::kCutEnd:
+            return validate_cut(r.cut, r.header.type);
         case EventType::kBodyMoved:
             if (!finite(r.body_moved.position_m, 3) || !finite(r.body_moved.orientation_wxyz, 4)) {
                 return RecordFault::kNotFinite;
             }
             return unit_length(r.body_moved.orientation_wxyz, 4, 1e-6) ? RecordFault::kNone
-                                                                        : RecordFault::kOutOfRange;
+                                                                       : RecordFault::kOutOfRange;
         case EventType::kParametersChanged:
             if (!std::isfinite(r.parameters.value) || !std::isfinite(r.parameters.previous_value)) {
                 return RecordFault::kNotFinite;
@@ -80,7 +81,8 @@ RecordFault validate_payload(const EventRecord& r) noexcept {
                        : RecordFault::kOutOfRange;
         case EventType::kSessionReset:
             return r.reset.reason <= 2 ? RecordFault::kNone : RecordFault::kOutOfRange;
-        case EventType::kTelemetry: break;
+        case EventType::kTelemetry:
+            break;
     }
     return RecordFault::kBadType;
 }
@@ -89,36 +91,54 @@ RecordFault validate_payload(const EventRecord& r) noexcept {
 
 const char* to_string(RecordFault fault) noexcept {
     switch (fault) {
-        case RecordFault::kNone: return "none";
-        case RecordFault::kBadType: return "bad_type";
-        case RecordFault::kBadChecksum: return "bad_checksum";
-        case RecordFault::kNotFinite: return "not_finite";
-        case RecordFault::kOutOfRange: return "out_of_range";
+        case RecordFault::kNone:
+            return "none";
+        case RecordFault::kBadType:
+            return "bad_type";
+        case RecordFault::kBadChecksum:
+            return "bad_checksum";
+        case RecordFault::kNotFinite:
+            return "not_finite";
+        case RecordFault::kOutOfRange:
+            return "out_of_range";
     }
     return "unknown";
 }
 
 const char* to_string(EventType type) noexcept {
     switch (type) {
-        case EventType::kCutBegin: return "cut_begin";
-        case EventType::kCutProgress: return "cut_progress";
-        case EventType::kCutEnd: return "cut_end";
-        case EventType::kBodyMoved: return "body_moved";
-        case EventType::kParametersChanged: return "parameters_changed";
-        case EventType::kDeviceStateChanged: return "device_state_changed";
-        case EventType::kSessionReset: return "session_reset";
-        case EventType::kTelemetry: return "telemetry";
+        case EventType::kCutBegin:
+            return "cut_begin";
+        case EventType::kCutProgress:
+            return "cut_progress";
+        case EventType::kCutEnd:
+            return "cut_end";
+        case EventType::kBodyMoved:
+            return "body_moved";
+        case EventType::kParametersChanged:
+            return "parameters_changed";
+        case EventType::kDeviceStateChanged:
+            return "device_state_changed";
+        case EventType::kSessionReset:
+            return "session_reset";
+        case EventType::kTelemetry:
+            return "telemetry";
     }
     return "unknown";
 }
 
 const char* to_string(DeviceState state) noexcept {
     switch (state) {
-        case DeviceState::kDisconnected: return "disconnected";
-        case DeviceState::kConnecting: return "connecting";
-        case DeviceState::kReady: return "ready";
-        case DeviceState::kFault: return "fault";
-        case DeviceState::kSafeStop: return "safe_stop";
+        case DeviceState::kDisconnected:
+            return "disconnected";
+        case DeviceState::kConnecting:
+            return "connecting";
+        case DeviceState::kReady:
+            return "ready";
+        case DeviceState::kFault:
+            return "fault";
+        case DeviceState::kSafeStop:
+            return "safe_stop";
     }
     return "unknown";
 }

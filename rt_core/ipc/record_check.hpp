@@ -11,10 +11,10 @@ namespace kerf::ipc {
 /// Why a record was rejected.
 enum class RecordFault : std::uint8_t {
     kNone,
-    kBadType,        ///< type tag is not a known EventType (or wrong kind for this ring)
-    kBadChecksum,    ///< bytes changed after the producer stamped the record
-    kNotFinite,      ///< a float field is NaN or infinite
-    kOutOfRange,     ///< an enum, unit vector, size or name is out of its range
+    kBadType,      ///< type tag is not a known EventType (or wrong kind for this ring)
+    kBadChecksum,  ///< bytes changed after the producer stamped the record
+    kNotFinite,    ///< a float field is NaN or infinite
+    kOutOfRange,   ///< an enum, unit vector, size or name is out of its range
 };
 const char* to_string(RecordFault fault) noexcept;
 

@@ -23,8 +23,8 @@ template <class T>
 struct SeqlockCell {
     static_assert(std::is_trivially_copyable_v<T> && sizeof(T) % 8 == 0);
     static constexpr std::size_t kWords = sizeof(T) / 8;
-    PaddedCounter sequence;                          ///< even: stable; odd: write in progress
-    std::atomic<std::uint64_t> words[kWords];        ///< the value, word by word
+    PaddedCounter sequence;                    ///< even: stable; odd: write in progress
+    std::atomic<std::uint64_t> words[kWords];  ///< the value, word by word
 };
 
 /// Why try_read gave up.

@@ -22,8 +22,8 @@ std::string shm_path(const std::string& name) { return "/" + name; }
 bool valid_name(const std::string& name) {
     if (name.empty() || name.size() > 64) return false;
     for (char c : name) {
-        const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-                        c == '.' || c == '_' || c == '-';
+        const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+                        (c >= '0' && c <= '9') || c == '.' || c == '_' || c == '-';
         if (!ok) return false;
     }
     return name != "." && name != "..";
@@ -53,7 +53,7 @@ std::uint64_t random_session_id() {
 
 // True when an existing segment may be replaced: garbage, stopped, producer dead or long silent.
 bool existing_is_stale(int fd, std::uint64_t stale_after_ns, std::string& why_in_use) {
-    struct stat st{};
+    struct stat st {};
     if (fstat(fd, &st) != 0 || st.st_size < static_cast<off_t>(sizeof(SegmentLayout))) return true;
     void* p = mmap(nullptr, sizeof(SegmentLayout), PROT_READ, MAP_SHARED, fd, 0);
     if (p == MAP_FAILED) return true;
@@ -98,19 +98,26 @@ void diff(std::string& out, const char* field, T got, T want) {
 
 const char* to_string(ProducerHealth health) noexcept {
     switch (health) {
-        case ProducerHealth::kAlive: return "alive";
-        case ProducerHealth::kStale: return "stale";
-        case ProducerHealth::kDead: return "dead";
-        case ProducerHealth::kStopped: return "stopped";
+        case ProducerHealth::kAlive:
+            return "alive";
+        case ProducerHealth::kStale:
+            return "stale";
+        case ProducerHealth::kDead:
+            return "dead";
+        case ProducerHealth::kStopped:
+            return "stopped";
     }
     return "unknown";
 }
 
 const char* to_string(SegmentState state) noexcept {
     switch (state) {
-        case SegmentState::kStarting: return "starting";
-        case SegmentState::kRunning: return "running";
-        case SegmentState::kStopped: return "stopped";
+        case SegmentState::kStarting:
+            return "starting";
+        case SegmentState::kRunning:
+            return "running";
+        case SegmentState::kStopped:
+            return "stopped";
     }
     return "unknown";
 }
@@ -139,7 +146,8 @@ bool process_alive(std::int32_t pid) noexcept {
 
 ProducerHealth producer_health(const SegmentLayout& layout, std::uint64_t stale_after_ns) noexcept {
     const auto state = layout.header.state.load(std::memory_order_acquire);
-    if (state == static_cast<std::uint32_t>(SegmentState::kStopped)) return ProducerHealth::kStopped;
+    if (state == static_cast<std::uint32_t>(SegmentState::kStopped))
+        return ProducerHealth::kStopped;
     if (!process_alive(layout.header.producer_pid)) return ProducerHealth::kDead;
     const auto beat = layout.producer.heartbeat_ns.load(std::memory_order_acquire);
     const auto now = monotonic_ns();
@@ -147,7 +155,7 @@ ProducerHealth producer_health(const SegmentLayout& layout, std::uint64_t stale_
         return ProducerHealth::kAlive;
     }
     return (now > beat && now - beat > stale_after_ns) ? ProducerHealth::kStale
-                                                        : ProducerHealth::kAlive;
+                                                       : ProducerHealth::kAlive;
 }
 
 std::string journal_path_of(const SegmentHeader& header) {
@@ -175,8 +183,8 @@ Status<IpcError> check_header(const SegmentHeader& h, std::uint64_t mapped_bytes
     diff(out, "mesh max indices", h.mesh_max_indices, kMeshMaxIndices);
     if (h.session_id == 0) out += std::string(out.empty() ? "" : "; ") + "session id 0";
     if (h.producer_pid <= 0) {
-        out += std::string(out.empty() ? "" : "; ") + "producer pid " +
-               std::to_string(h.producer_pid);
+        out +=
+            std::string(out.empty() ? "" : "; ") + "producer pid " + std::to_string(h.producer_pid);
     }
     const auto state = h.state.load(std::memory_order_acquire);
     if (state < 1 || state > 3) {
@@ -191,7 +199,8 @@ ShmSegment::ShmSegment(SegmentLayout* layout, std::string name, bool owner) noex
     : layout_(layout), name_(std::move(name)), owner_(owner) {}
 
 ShmSegment::ShmSegment(ShmSegment&& other) noexcept
-    : layout_(std::exchange(other.layout_, nullptr)), name_(std::move(other.name_)),
+    : layout_(std::exchange(other.layout_, nullptr)),
+      name_(std::move(other.name_)),
       owner_(std::exchange(other.owner_, false)) {}
 
 ShmSegment& ShmSegment::operator=(ShmSegment&& other) noexcept {
@@ -227,13 +236,13 @@ SegmentBuilder& SegmentBuilder::stale_after_ns(std::uint64_t age_ns) {
 
 Result<ShmSegment, IpcError> SegmentBuilder::create() const {
     if (!valid_name(name_)) {
-        return Err{make_error(IpcErrc::kBadArgument, "segment name '" + name_ +
-                                                         "': use 1-64 of [A-Za-z0-9._-]")};
+        return Err{make_error(IpcErrc::kBadArgument,
+                              "segment name '" + name_ + "': use 1-64 of [A-Za-z0-9._-]")};
     }
     const std::string where = "segment " + name_;
     if (journal_dir_.empty() || journal_dir_[0] != '/' || journal_dir_.size() > 80) {
-        return Err{make_error(IpcErrc::kBadArgument,
-                              where + ": journal dir '" + journal_dir_ + "' must be absolute, <= 80 chars")};
+        return Err{make_error(IpcErrc::kBadArgument, where + ": journal dir '" + journal_dir_ +
+                                                         "' must be absolute, <= 80 chars")};
     }
     const int existing = shm_open(shm_path(name_).c_str(), O_RDONLY | O_CLOEXEC, 0);
     if (existing >= 0) {
@@ -282,15 +291,16 @@ Result<ShmSegment, IpcError> SegmentBuilder::open() const {
         if (e == ENOENT) return Err{make_error(IpcErrc::kNotFound, where + ": no such segment")};
         return Err{os_error(where + ": shm_open", e)};
     }
-    struct stat st{};
+    struct stat st {};
     if (fstat(fd, &st) != 0 || st.st_size < static_cast<off_t>(sizeof(SegmentHeader))) {
         close(fd);
-        return Err{make_error(IpcErrc::kBadHeader,
-                              where + ": " + std::to_string(st.st_size) + " bytes, expected " +
-                                  std::to_string(sizeof(SegmentLayout)))};
+        return Err{make_error(IpcErrc::kBadHeader, where + ": " + std::to_string(st.st_size) +
+                                                       " bytes, expected " +
+                                                       std::to_string(sizeof(SegmentLayout)))};
     }
     const std::size_t map_bytes = std::uint64_t(st.st_size) >= sizeof(SegmentLayout)
-                                      ? sizeof(SegmentLayout) : sizeof(SegmentHeader);
+                                      ? sizeof(SegmentLayout)
+                                      : sizeof(SegmentHeader);
     void* p = mmap(nullptr, map_bytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
     const int e = errno;
     close(fd);

@@ -59,7 +59,8 @@ public:
     SpscProducerEnd() = default;
     /// Starts writing at the ring's current write_index (the producer is the only writer of it).
     SpscProducerEnd(RingControl* control, T* slots) noexcept
-        : control_(control), slots_(slots),
+        : control_(control),
+          slots_(slots),
           write_(control->write_index.value.load(std::memory_order_relaxed)),
           cached_read_(control->read_index.value.load(std::memory_order_acquire)) {}
 

@@ -5,22 +5,20 @@
 //
 //   build/bin/bench_ipc --benchmark_counters_tabular=true
 #include <benchmark/benchmark.h>
-
-#include <sys/mman.h>
 #include <sched.h>
+#include <sys/mman.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
+#include <boost/lockfree/spsc_queue.hpp>
 #include <chrono>
 #include <cstdio>
 #include <map>
 #include <new>
 #include <string>
 #include <vector>
-
-#include <boost/lockfree/spsc_queue.hpp>
 
 #include "rt_core/ipc/consumer.hpp"
 #include "rt_core/ipc/producer.hpp"
@@ -56,7 +54,8 @@ struct Shared {
 
 Shared* shared() {
     static Shared* s = [] {
-        void* p = mmap(nullptr, sizeof(Shared), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+        void* p = mmap(nullptr, sizeof(Shared), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS,
+                       -1, 0);
         if (p == MAP_FAILED) std::abort();
         return static_cast<Shared*>(p);
     }();
@@ -76,7 +75,9 @@ struct KerfRing {
     static constexpr const char* kName = "kerf";
     SpscProducerEnd<Rec64, kCap> producer{&shared()->ring, shared()->slots};
     bool push(const Rec64& r) { return producer.try_push(r); }  // full: drop counted, retried
-    static bool pop(SpscConsumerEnd<Rec64, kCap>& c, Rec64& out) { return c.try_pop(out) == PopResult::kOk; }
+    static bool pop(SpscConsumerEnd<Rec64, kCap>& c, Rec64& out) {
+        return c.try_pop(out) == PopResult::kOk;
+    }
 };
 
 struct BoostRing {
@@ -96,14 +97,17 @@ pid_t start_consumer(std::uint64_t count, bool latency) {
     std::uint64_t got = 0, sum = 0;
     while (got < count) {
         bool ok;
-        if constexpr (std::is_same_v<Ring, KerfRing>) ok = KerfRing::pop(kerf_end, r);
-        else ok = s->boost_queue.pop(r);
+        if constexpr (std::is_same_v<Ring, KerfRing>)
+            ok = KerfRing::pop(kerf_end, r);
+        else
+            ok = s->boost_queue.pop(r);
         if (!ok) {
             if (!latency) sched_yield();  // 2 shared cores: let the producer run
             continue;
         }
         if (latency && got < kMaxLatencySamples) {
-            s->latency_ns[got] = std::uint32_t(std::min<std::uint64_t>(monotonic_ns() - r.stamp_ns, ~0u));
+            s->latency_ns[got] =
+                std::uint32_t(std::min<std::uint64_t>(monotonic_ns() - r.stamp_ns, ~0u));
         }
         if (r.seq != got) _exit(3);
         sum += r.payload[0];
@@ -167,9 +171,13 @@ void BM_Latency64(benchmark::State& state) {
         }
         waitpid(child, nullptr, 0);
     }
-    std::vector<std::uint32_t> v(shared()->latency_ns, shared()->latency_ns + std::min<std::uint64_t>(n, kMaxLatencySamples));
+    std::vector<std::uint32_t> v(
+        shared()->latency_ns,
+        shared()->latency_ns + std::min<std::uint64_t>(n, kMaxLatencySamples));
     std::sort(v.begin(), v.end());
-    auto pct = [&](double p) { return double(v[std::min(v.size() - 1, std::size_t(p * double(v.size())))]); };
+    auto pct = [&](double p) {
+        return double(v[std::min(v.size() - 1, std::size_t(p * double(v.size())))]);
+    };
     state.counters["p50_ns"] = pct(0.5);
     state.counters["p99_ns"] = pct(0.99);
     state.counters["p999_ns"] = pct(0.999);
@@ -190,7 +198,8 @@ void BM_ProducerPublishEvent(benchmark::State& state) {
     p->heartbeat(0, monotonic_ns());
     const pid_t child = fork();
     if (child == 0) {
-        auto c = ConsumerBuilder().segment_name(name).from_sequence(ConsumerBuilder::kFromNow).attach();
+        auto c =
+            ConsumerBuilder().segment_name(name).from_sequence(ConsumerBuilder::kFromNow).attach();
         if (!c) _exit(2);
         EventRecord r;
         for (;;) {
@@ -198,7 +207,8 @@ void BM_ProducerPublishEvent(benchmark::State& state) {
             if (c->producer_health() == ProducerHealth::kStopped) _exit(0);
         }
     }
-    for (int i = 0; i < 2000 && (p->layout().slots[0].control.claim_word.load() & 3u) != 2u; ++i) usleep(1000);
+    for (int i = 0; i < 2000 && (p->layout().slots[0].control.claim_word.load() & 3u) != 2u; ++i)
+        usleep(1000);
     std::vector<double> ns;
     ns.reserve(1 << 20);
     EventRecord r = kerf::ipc::test::make_event(1);
@@ -230,7 +240,8 @@ void BM_ProducerPublishEvent(benchmark::State& state) {
 // consumer process (no journal, no fan-out).
 void BM_BoostPush128(benchmark::State& state) {
     using Q = boost::lockfree::spsc_queue<EventRecord, boost::lockfree::capacity<kCap>>;
-    void* mem = mmap(nullptr, sizeof(Q) + 64, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+    void* mem =
+        mmap(nullptr, sizeof(Q) + 64, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
     auto* q = new (mem) Q();
     auto* stop = new (static_cast<char*>(mem) + sizeof(Q)) std::atomic<int>(0);
     const pid_t child = fork();
@@ -269,7 +280,8 @@ public:
                 !r.error_occurred && r.run_type == Run::RT_Iteration) {
                 const auto it = r.counters.find("items_per_second");
                 if (it != r.counters.end()) {
-                    const bool kerf = r.run_name.function_name.find("KerfRing") != std::string::npos;
+                    const bool kerf =
+                        r.run_name.function_name.find("KerfRing") != std::string::npos;
                     g_runs[kerf ? "kerf_mps" : "boost_mps"].push_back(double(it->second) / 1e6);
                 }
             }
@@ -295,20 +307,26 @@ int main(int argc, char** argv) {
         std::sort(v.begin(), v.end());
         g_results[k] = v[v.size() / 2];
     }
-    auto get = [](const char* k) { auto it = g_results.find(k); return it == g_results.end() ? 0.0 : it->second; };
+    auto get = [](const char* k) {
+        auto it = g_results.find(k);
+        return it == g_results.end() ? 0.0 : it->second;
+    };
     auto ratio = [&](const char* a, const char* b) { return get(b) > 0 ? get(a) / get(b) : 0.0; };
     std::printf("\n== kerf vs boost::lockfree::spsc_queue, same run, same harness ==\n");
-    std::printf("throughput 64 B (median of %zu runs): kerf %.1f M/s, boost %.1f M/s, "
-                "kerf/boost = %.2f\n", g_runs["kerf_mps"].size(),
-                get("kerf_mps"), get("boost_mps"), ratio("kerf_mps", "boost_mps"));
+    std::printf(
+        "throughput 64 B (median of %zu runs): kerf %.1f M/s, boost %.1f M/s, "
+        "kerf/boost = %.2f\n",
+        g_runs["kerf_mps"].size(), get("kerf_mps"), get("boost_mps"),
+        ratio("kerf_mps", "boost_mps"));
     for (const char* p : {"p50", "p99", "p999"}) {
         const std::string k = std::string("kerf_lat_") + p, b = std::string("boost_lat_") + p;
         std::printf("one-way latency %-4s: kerf %.0f ns, boost %.0f ns, kerf/boost = %.2f\n", p,
                     get(k.c_str()), get(b.c_str()), ratio(k.c_str(), b.c_str()));
     }
-    std::printf("push median: kerf Producer::publish_event (128 B, journal+drops on) %.0f ns, "
-                "boost push 128 B %.0f ns, kerf/boost = %.2f\n",
-                get("kerf_push_median"), get("boost_push_median"),
-                ratio("kerf_push_median", "boost_push_median"));
+    std::printf(
+        "push median: kerf Producer::publish_event (128 B, journal+drops on) %.0f ns, "
+        "boost push 128 B %.0f ns, kerf/boost = %.2f\n",
+        get("kerf_push_median"), get("boost_push_median"),
+        ratio("kerf_push_median", "boost_push_median"));
     return 0;
 }

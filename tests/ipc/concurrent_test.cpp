@@ -43,8 +43,10 @@ TEST(ConcurrentRing, TwoThreadsPassAMillionRecordsWithoutLossOrCorruption) {
         SpscProducerEnd<Rec64, kCap> producer(control.get(), slots.get());
         for (std::uint64_t i = 0; i < n;) {
             Rec64 r{i, {i, i * 3, i ^ 0x55, i + 7, i * i, ~i}, i * 0x9E3779B97F4A7C15ull};
-            if (producer.try_push(r)) ++i;  // test harness retries; the ring itself never waits
-            else std::this_thread::yield();
+            if (producer.try_push(r))
+                ++i;  // test harness retries; the ring itself never waits
+            else
+                std::this_thread::yield();
         }
     });
     std::uint64_t expected = 0;
@@ -96,8 +98,11 @@ TEST(ConcurrentSeqlock, ReadersNeverSeeATornValue) {
 TEST(ConcurrentSession, ConsumersOnThreadsSeeTheIdenticalSequenceDespiteDrops) {
     test::ScratchDir dir;
     const auto name = test::unique_segment_name("conc");
-    auto producer = ProducerBuilder().segment_name(name).journal_dir(dir.path)
-                        .journal_flush_period_ns(2'000'000).create();
+    auto producer = ProducerBuilder()
+                        .segment_name(name)
+                        .journal_dir(dir.path)
+                        .journal_flush_period_ns(2'000'000)
+                        .create();
     ASSERT_TRUE(producer) << producer.error().message;
     producer->heartbeat(0, monotonic_ns());
     const std::uint64_t n = 40'000 / kScale;
@@ -116,7 +121,10 @@ TEST(ConcurrentSession, ConsumersOnThreadsSeeTheIdenticalSequenceDespiteDrops) {
             EventRecord want = test::make_event(got);
             want.header.sequence = got;
             stamp_checksum(want);
-            if (std::memcmp(&want, &r, sizeof r) != 0) { ok = false; return; }
+            if (std::memcmp(&want, &r, sizeof r) != 0) {
+                ok = false;
+                return;
+            }
             ++got;
             if (slow && got % 2000 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
         }

@@ -28,13 +28,13 @@ struct Region {
 constexpr std::size_t kSlot0 = offsetof(SegmentLayout, slots);
 constexpr std::size_t kMailbox = offsetof(SegmentLayout, mailbox);
 constexpr Region kRegions[] = {
-    {0, offsetof(SegmentLayout, slots)},                          // header, producer, seqlock
-    {kSlot0, 576},                                                // slot 0 control + ring indices
-    {kSlot0 + offsetof(ConsumerSlot, events), 128 * 8},           // first event records
-    {kSlot0 + offsetof(ConsumerSlot, telemetry), 128 * 8},        // first telemetry samples
-    {kMailbox, 64 + 64 + sizeof(MeshBufferHeader)},               // latest word + buffer 0 header
-    {kMailbox + 64 + offsetof(MeshBuffer, vertices_m), 256},      // some coordinates
-    {kMailbox + 64 + offsetof(MeshBuffer, indices), 256},         // some indices
+    {0, offsetof(SegmentLayout, slots)},                      // header, producer, seqlock
+    {kSlot0, 576},                                            // slot 0 control + ring indices
+    {kSlot0 + offsetof(ConsumerSlot, events), 128 * 8},       // first event records
+    {kSlot0 + offsetof(ConsumerSlot, telemetry), 128 * 8},    // first telemetry samples
+    {kMailbox, 64 + 64 + sizeof(MeshBufferHeader)},           // latest word + buffer 0 header
+    {kMailbox + 64 + offsetof(MeshBuffer, vertices_m), 256},  // some coordinates
+    {kMailbox + 64 + offsetof(MeshBuffer, indices), 256},     // some indices
 };
 
 SegmentLayout* image() {
@@ -59,11 +59,12 @@ void load_image(const std::uint8_t* data, std::size_t size) {
 
 void read_rings(SegmentLayout& s) {
     ConsumerSlot& slot = s.slots[0];
-    auto events = SpscConsumerEnd<EventRecord, kEventCapacity>::resume(&slot.event_ring, slot.events);
+    auto events =
+        SpscConsumerEnd<EventRecord, kEventCapacity>::resume(&slot.event_ring, slot.events);
     EventRecord r;
     for (int i = 0; i < 16 && events.try_pop(r) != PopResult::kEmpty; ++i) (void)validate_event(r);
     auto tel = SpscConsumerEnd<TelemetrySample, kTelemetryCapacity>::resume(&slot.telemetry_ring,
-                                                                          slot.telemetry);
+                                                                            slot.telemetry);
     TelemetrySample t;
     for (int i = 0; i < 16 && tel.try_pop(t) != PopResult::kEmpty; ++i) (void)validate_telemetry(t);
 }

@@ -8,8 +8,10 @@
 //   telemetry-consumer --name N --count C [--slow-every K]
 //   scribbler         --name N --ms T --seed S
 //   mesh-writer       --name N --ms T
-#include <signal.h>
 #include <fcntl.h>
+#include <signal.h>
+#include <spdlog/sinks/stdout_sinks.h>
+#include <spdlog/spdlog.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -25,9 +27,6 @@
 #include <random>
 #include <string>
 #include <vector>
-
-#include <spdlog/sinks/stdout_sinks.h>
-#include <spdlog/spdlog.h>
 
 #include "rt_core/ipc/consumer.hpp"
 #include "rt_core/ipc/mesh_mailbox.hpp"
@@ -88,8 +87,11 @@ void hold(Producer& p, std::uint64_t hold_ms, std::uint64_t& tick) {
 }
 
 int run_producer(const Args& a) {
-    auto p = ProducerBuilder().segment_name(a.get("--name")).journal_dir(a.get("--journal-dir", "/dev/shm"))
-                 .journal_flush_period_ns(5'000'000).create();
+    auto p = ProducerBuilder()
+                 .segment_name(a.get("--name"))
+                 .journal_dir(a.get("--journal-dir", "/dev/shm"))
+                 .journal_flush_period_ns(5'000'000)
+                 .create();
     if (!p) return std::printf("error=%s\n", p.error().message.c_str()), 2;
     const std::uint64_t events = a.num("--events"), per_tick = a.num("--per-tick", 10);
     std::optional<MeshMailboxReader> mailbox;
@@ -121,7 +123,8 @@ int run_producer(const Args& a) {
     }
     hold(*p, a.num("--hold-ms", 0), tick);
     p->stop();
-    const std::uint64_t max_ns = push_ns.empty() ? 0 : *std::max_element(push_ns.begin(), push_ns.end());
+    const std::uint64_t max_ns =
+        push_ns.empty() ? 0 : *std::max_element(push_ns.begin(), push_ns.end());
     const std::uint64_t p50 = percentile(push_ns, 0.5), p999 = percentile(push_ns, 0.999);
     std::printf("published=%" PRIu64 " push_p50_ns=%" PRIu64 " push_p999_ns=%" PRIu64
                 " push_max_ns=%" PRIu64 " events_dropped=%" PRIu64 " journal_dropped=%" PRIu64
@@ -134,7 +137,10 @@ int run_producer(const Args& a) {
 }
 
 int run_telemetry_producer(const Args& a) {
-    auto p = ProducerBuilder().segment_name(a.get("--name")).journal_dir(a.get("--journal-dir", "/dev/shm")).create();
+    auto p = ProducerBuilder()
+                 .segment_name(a.get("--name"))
+                 .journal_dir(a.get("--journal-dir", "/dev/shm"))
+                 .create();
     if (!p) return std::printf("error=%s\n", p.error().message.c_str()), 2;
     const std::uint64_t count = a.num("--count");
     const bool pace = a.flag("--pace");
@@ -154,9 +160,12 @@ int run_telemetry_producer(const Args& a) {
             for (;;) {
                 bool roomy = true;
                 for (const auto& s : p->layout().slots) {
-                    const auto w = s.telemetry_ring.write_index.value.load(std::memory_order_acquire);
-                    const auto r = s.telemetry_ring.read_index.value.load(std::memory_order_acquire);
-                    if ((s.control.claim_word.load() & 3u) == 2u && w - r > kTelemetryCapacity / 2) roomy = false;
+                    const auto w =
+                        s.telemetry_ring.write_index.value.load(std::memory_order_acquire);
+                    const auto r =
+                        s.telemetry_ring.read_index.value.load(std::memory_order_acquire);
+                    if ((s.control.claim_word.load() & 3u) == 2u && w - r > kTelemetryCapacity / 2)
+                        roomy = false;
                 }
                 if (roomy || g_stop) break;
                 sched_yield();
@@ -178,7 +187,7 @@ int run_consumer(const Args& a) {
     const std::string out_path = a.get("--out");
     const int fd = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0600);
     if (fd < 0) return fail("open out");
-    struct stat st{};
+    struct stat st {};
     fstat(fd, &st);
     const std::uint64_t from = std::uint64_t(st.st_size) / 16;  // resume after what we have
     const std::uint64_t events = a.num("--events");
@@ -186,9 +195,16 @@ int run_consumer(const Args& a) {
     std::optional<Consumer> c;
     const std::uint64_t deadline = monotonic_ns() + a.num("--max-ms", 60'000) * 1'000'000u;
     while (!c && monotonic_ns() < deadline) {
-        auto attached = ConsumerBuilder().segment_name(a.get("--name")).from_sequence(from)
-                            .telemetry(true).stale_after_ns(1'000'000'000).attach();
-        if (attached) c.emplace(std::move(*attached)); else sleep_ns(2'000'000);
+        auto attached = ConsumerBuilder()
+                            .segment_name(a.get("--name"))
+                            .from_sequence(from)
+                            .telemetry(true)
+                            .stale_after_ns(1'000'000'000)
+                            .attach();
+        if (attached)
+            c.emplace(std::move(*attached));
+        else
+            sleep_ns(2'000'000);
     }
     if (!c) return fail("attach");
     std::uint64_t next = from, mismatches = 0, telemetry = 0, states = 0;
@@ -226,8 +242,11 @@ int run_consumer(const Args& a) {
 }
 
 int run_telemetry_consumer(const Args& a) {
-    auto c = ConsumerBuilder().segment_name(a.get("--name")).telemetry(true)
-                 .stale_after_ns(2'000'000'000).attach();
+    auto c = ConsumerBuilder()
+                 .segment_name(a.get("--name"))
+                 .telemetry(true)
+                 .stale_after_ns(2'000'000'000)
+                 .attach();
     if (!c) return std::printf("error=%s\n", c.error().message.c_str()), 2;
     const std::uint64_t count = a.num("--count"), slow_every = a.num("--slow-every", 0);
     std::uint64_t received = 0, last = 0, bad = 0;
@@ -266,25 +285,32 @@ int run_scribbler(const Args& a) {
     const std::uint64_t deadline = monotonic_ns() + a.num("--ms", 1000) * 1'000'000u;
     while (!seg && monotonic_ns() < deadline) {
         auto s = SegmentBuilder().name(a.get("--name")).open();
-        if (s) seg.emplace(std::move(*s)); else sleep_ns(2'000'000);
+        if (s)
+            seg.emplace(std::move(*s));
+        else
+            sleep_ns(2'000'000);
     }
     if (!seg) return fail("open");
     auto* base = reinterpret_cast<unsigned char*>(&seg->layout());
     std::mt19937_64 rng(a.num("--seed", 1));
     // Regions: header+producer+journal counters+seqlock, each slot's control/rings/records,
     // the mailbox's latest word and buffer headers/indices.
-    struct Region { std::size_t offset, bytes; };
+    struct Region {
+        std::size_t offset, bytes;
+    };
     std::vector<Region> regions = {{0, offsetof(SegmentLayout, slots)}};
     for (std::uint32_t i = 0; i < kSlotCount; ++i) {
         const std::size_t slot = offsetof(SegmentLayout, slots) + i * sizeof(ConsumerSlot);
-        regions.push_back({slot, 576});                           // control + ring indices
-        regions.push_back({slot + 576, 128 * 64});                // first event records
+        regions.push_back({slot, 576});                                    // control + ring indices
+        regions.push_back({slot + 576, 128 * 64});                         // first event records
         regions.push_back({slot + 576 + 128 * kEventCapacity, 128 * 64});  // telemetry records
     }
     const std::size_t mbox = offsetof(SegmentLayout, mailbox);
     regions.push_back({mbox, 64 + 64 + sizeof(MeshBufferHeader)});
-    regions.push_back({mbox + offsetof(MeshMailbox, buffers) + offsetof(MeshBuffer, indices), 4096});
-    regions.push_back({mbox + offsetof(MeshMailbox, buffers) + sizeof(MeshBuffer), 64 + sizeof(MeshBufferHeader)});
+    regions.push_back(
+        {mbox + offsetof(MeshMailbox, buffers) + offsetof(MeshBuffer, indices), 4096});
+    regions.push_back({mbox + offsetof(MeshMailbox, buffers) + sizeof(MeshBuffer),
+                       64 + sizeof(MeshBufferHeader)});
     std::uint64_t writes = 0;
     while (monotonic_ns() < deadline && !g_stop) {
         const Region& r = regions[rng() % regions.size()];
@@ -305,7 +331,10 @@ int run_mesh_writer(const Args& a) {
     const std::uint64_t deadline = monotonic_ns() + a.num("--ms", 1000) * 1'000'000u;
     while (!seg && monotonic_ns() < deadline) {
         auto s = SegmentBuilder().name(a.get("--name")).open();
-        if (s) seg.emplace(std::move(*s)); else sleep_ns(2'000'000);
+        if (s)
+            seg.emplace(std::move(*s));
+        else
+            sleep_ns(2'000'000);
     }
     if (!seg) return fail("open");
     MeshMailboxWriter w(seg->layout());
@@ -313,10 +342,13 @@ int run_mesh_writer(const Args& a) {
     m->body_count = 1;
     m->vertex_count = 300;
     m->index_count = 3 * 298;
-    m->bodies[0] = MeshBodyEntry{0, 300, 0, 3 * 298, {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}};
+    m->bodies[0] =
+        MeshBodyEntry{0, 300, 0, 3 * 298, {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}};
     for (std::uint32_t v = 0; v < 900; ++v) m->vertices_m[v] = 0.0001f * float(v);
     for (std::uint32_t t = 0; t < 298; ++t) {
-        m->indices[3 * t] = 0; m->indices[3 * t + 1] = t + 1; m->indices[3 * t + 2] = t + 2;
+        m->indices[3 * t] = 0;
+        m->indices[3 * t + 1] = t + 1;
+        m->indices[3 * t + 2] = t + 2;
     }
     std::uint64_t published = 0;
     while (monotonic_ns() < deadline && !g_stop) {
@@ -335,8 +367,10 @@ int main(int argc, char** argv) {
     Args a;
     for (int i = 2; i < argc; ++i) {
         std::string k = argv[i];
-        if (i + 1 < argc && std::strncmp(argv[i + 1], "--", 2) != 0) a.kv[k] = argv[++i];
-        else a.kv[k] = "1";
+        if (i + 1 < argc && std::strncmp(argv[i + 1], "--", 2) != 0)
+            a.kv[k] = argv[++i];
+        else
+            a.kv[k] = "1";
     }
     const std::string role = argv[1];
     setvbuf(stdout, nullptr, _IOLBF, 0);

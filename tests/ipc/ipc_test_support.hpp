@@ -43,8 +43,9 @@ inline EventRecord make_event(std::uint64_t i) {
         case 0:
         case 1:
         case 2: {
-            r.header.type = i % 5 == 0 ? EventType::kCutBegin
-                          : i % 5 == 1 ? EventType::kCutProgress : EventType::kCutEnd;
+            r.header.type = i % 5 == 0   ? EventType::kCutBegin
+                            : i % 5 == 1 ? EventType::kCutProgress
+                                         : EventType::kCutEnd;
             CutPayload& c = r.cut;
             c.cut_id = std::uint32_t(i / 5);
             c.body_id = std::uint32_t(i % 7);

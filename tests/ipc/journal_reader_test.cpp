@@ -1,13 +1,13 @@
 // JournalReader over files that are not what they claim: each bad input is refused with a
 // message naming the file and the field, or a bad record is reported corrupt, never a crash.
-#include <gtest/gtest.h>
+#include "rt_core/ipc/journal_reader.hpp"
 
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <fstream>
 
-#include "rt_core/ipc/journal_reader.hpp"
 #include "rt_core/ipc/layout.hpp"
 #include "rt_core/ipc/record_check.hpp"
 #include "tests/ipc/ipc_test_support.hpp"
@@ -49,7 +49,10 @@ std::vector<EventRecord> records(std::initializer_list<std::uint64_t> seqs) {
 
 TEST(JournalReader, BadHeadersAreRefusedNamingTheField) {
     test::ScratchDir dir;
-    struct Case { const char* field; void (*edit)(JournalFileHeader&); };
+    struct Case {
+        const char* field;
+        void (*edit)(JournalFileHeader&);
+    };
     const Case cases[] = {
         {"magic", [](JournalFileHeader& h) { h.magic = 1; }},
         {"version", [](JournalFileHeader& h) { h.version = 9; }},

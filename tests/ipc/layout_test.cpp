@@ -1,18 +1,20 @@
 // Pins the binary layout of everything two processes (or a process and a journal file) share.
 // If any of these fails, you changed the layout: bump kLayoutVersion in rt_core/ipc/layout.hpp
 // and update the expected numbers here.
+#include "rt_core/ipc/layout.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cstddef>
 
 #include "rt_core/ipc/journal_format.hpp"
-#include "rt_core/ipc/layout.hpp"
 
 namespace kerf::ipc {
 namespace {
 
-#define KERF_PIN(type, field, offset) EXPECT_EQ(offsetof(type, field), std::size_t{offset}) \
-    << #type "::" #field " moved: bump kLayoutVersion"
+#define KERF_PIN(type, field, offset)                     \
+    EXPECT_EQ(offsetof(type, field), std::size_t{offset}) \
+        << #type "::" #field " moved: bump kLayoutVersion"
 
 TEST(Layout, RecordHeaderOffsetsArePinned) {
     EXPECT_EQ(sizeof(RecordHeader), 24u);

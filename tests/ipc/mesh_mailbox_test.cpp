@@ -1,5 +1,7 @@
 // The geometry mailbox: newest complete generation wins, the writer refuses a bad mesh, and the
 // reader refuses anything a scribbler left in shared memory, naming what is wrong.
+#include "rt_core/ipc/mesh_mailbox.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,7 +9,6 @@
 #include <memory>
 #include <optional>
 
-#include "rt_core/ipc/mesh_mailbox.hpp"
 #include "rt_core/ipc/shm_segment.hpp"
 #include "tests/ipc/ipc_test_support.hpp"
 
@@ -97,7 +98,10 @@ TEST(MeshMailbox, ReaderRejectsScribbledContentAndCountsIt) {
     MeshMailboxReader reader(box.seg->layout());
     auto out = std::make_unique<CollisionMesh>();
     ASSERT_TRUE(writer.publish(*tetrahedra(2)));
-    struct Scribble { const char* expect; void (*edit)(MeshBuffer&); };
+    struct Scribble {
+        const char* expect;
+        void (*edit)(MeshBuffer&);
+    };
     const Scribble cases[] = {
         {"bad_counts", [](MeshBuffer& b) { b.header.vertex_count = 0xFFFFFFF0u; }},
         {"bad_counts", [](MeshBuffer& b) { b.header.body_count = 1000; }},
@@ -111,8 +115,8 @@ TEST(MeshMailbox, ReaderRejectsScribbledContentAndCountsIt) {
     std::uint64_t expected_rejections = 0;
     for (const Scribble& s : cases) {
         ASSERT_TRUE(writer.publish(*tetrahedra(2)));  // fresh generation lands in buffer 1 or 0
-        MeshBuffer& target = box.seg->layout().mailbox.buffers[
-            box.seg->layout().mailbox.latest.value.load() & 1u];
+        MeshBuffer& target =
+            box.seg->layout().mailbox.buffers[box.seg->layout().mailbox.latest.value.load() & 1u];
         s.edit(target);
         ASSERT_EQ(reader.try_take_newest(*out), MailboxRead::kRejected) << s.expect;
         EXPECT_EQ(reader.rejected(), ++expected_rejections);

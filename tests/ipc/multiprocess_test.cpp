@@ -1,8 +1,7 @@
 // Multi-process tests: real processes (ipc_test_peer, fork/exec from KERF_BIN_DIR) on a real
 // POSIX shared-memory segment and journal. Label `integration`.
-#include <gtest/gtest.h>
-
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
@@ -82,7 +81,8 @@ public:
         std::string tok;
         while (in >> tok) {
             const auto eq = tok.find('=');
-            if (eq != std::string::npos) out[tok.substr(0, eq)] = std::strtoull(tok.c_str() + eq + 1, nullptr, 10);
+            if (eq != std::string::npos)
+                out[tok.substr(0, eq)] = std::strtoull(tok.c_str() + eq + 1, nullptr, 10);
         }
         return out;
     }
@@ -96,7 +96,8 @@ private:
 bool wait_for_segment(const std::string& name, int ms = 10'000) {
     for (int i = 0; i < ms / 2; ++i) {
         auto s = SegmentBuilder().name(name).open();
-        if (s && s->layout().header.state.load() == std::uint32_t(SegmentState::kRunning)) return true;
+        if (s && s->layout().header.state.load() == std::uint32_t(SegmentState::kRunning))
+            return true;
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
     }
     return false;
@@ -125,8 +126,8 @@ TEST(MultiProcess, ConsumerThatKeepsUpGetsEveryEventIdentically) {
     Peer producer(dir.path, {"producer", "--name", name, "--journal-dir", dir.path, "--events",
                              std::to_string(n), "--per-tick", "50", "--hold-ms", "100"});
     ASSERT_TRUE(wait_for_segment(name));
-    Peer consumer(dir.path, {"consumer", "--name", name, "--out", dir.path + "/seq.bin",
-                             "--events", std::to_string(n)});
+    Peer consumer(dir.path, {"consumer", "--name", name, "--out", dir.path + "/seq.bin", "--events",
+                             std::to_string(n)});
     ASSERT_EQ(consumer.wait(), 0) << consumer.output();
     ASSERT_EQ(producer.wait(), 0) << producer.output();
     expect_identical_sequence(dir.path + "/seq.bin", n);
@@ -153,8 +154,8 @@ TEST(MultiProcess, ConsumerKilledAtRandomMomentsReconstructsTheIdenticalSequence
     std::mt19937 rng(12345);
     int kills = 0;
     for (;;) {
-        Peer consumer(dir.path, {"consumer", "--name", name, "--out", out, "--events",
-                                 std::to_string(n)});
+        Peer consumer(dir.path,
+                      {"consumer", "--name", name, "--out", out, "--events", std::to_string(n)});
         if (kills < 8) {
             std::this_thread::sleep_for(std::chrono::milliseconds(50 + rng() % 250));
             consumer.kill_now(SIGKILL);
@@ -163,7 +164,7 @@ TEST(MultiProcess, ConsumerKilledAtRandomMomentsReconstructsTheIdenticalSequence
             ASSERT_EQ(code, 128 + SIGKILL) << consumer.output();
             ++kills;
             // A kill can land mid-write of an entry: drop a torn tail, as a real consumer would.
-            struct stat st{};
+            struct stat st {};
             ASSERT_EQ(stat(out.c_str(), &st), 0);
             ASSERT_EQ(truncate(out.c_str(), st.st_size - st.st_size % 16), 0);
             continue;
@@ -182,11 +183,11 @@ TEST(MultiProcess, ConsumerDetectsAKilledProducerThroughItsHeartbeatWithin100ms)
     for (int sig : {SIGKILL, SIGSTOP}) {
         test::ScratchDir dir;
         const auto name = test::unique_segment_name("hb");
-        Peer producer(dir.path, {"producer", "--name", name, "--journal-dir", dir.path,
-                                 "--events", "100000000", "--per-tick", "1"});
+        Peer producer(dir.path, {"producer", "--name", name, "--journal-dir", dir.path, "--events",
+                                 "100000000", "--per-tick", "1"});
         ASSERT_TRUE(wait_for_segment(name));
-        auto c = ConsumerBuilder().segment_name(name).from_sequence(ConsumerBuilder::kFromNow)
-                     .attach();
+        auto c =
+            ConsumerBuilder().segment_name(name).from_sequence(ConsumerBuilder::kFromNow).attach();
         ASSERT_TRUE(c) << c.error().message;
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
         ASSERT_EQ(c->producer_health(), ProducerHealth::kAlive);
@@ -198,7 +199,9 @@ TEST(MultiProcess, ConsumerDetectsAKilledProducerThroughItsHeartbeatWithin100ms)
             std::this_thread::sleep_for(std::chrono::milliseconds(1));
             h = c->producer_health();
         }
-        const auto ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        const auto ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                .count();
         std::printf("signal %d: producer reported %s after %.1f ms\n", sig, to_string(h), ms);
         EXPECT_NE(h, ProducerHealth::kAlive);
         EXPECT_LT(ms, 100.0);
@@ -218,13 +221,14 @@ struct TelemetryRun {
 TelemetryRun run_telemetry(std::uint64_t count, bool pace, std::uint64_t slow_every) {
     test::ScratchDir dir;
     const auto name = test::unique_segment_name("tel");
-    std::vector<std::string> pargs = {"telemetry-producer", "--name", name, "--journal-dir",
-                                      dir.path, "--count", std::to_string(count)};
+    std::vector<std::string> pargs = {"telemetry-producer", "--name", name,
+                                      "--journal-dir",      dir.path, "--count",
+                                      std::to_string(count)};
     if (pace) pargs.push_back("--pace");
     Peer producer(dir.path, pargs);
     EXPECT_TRUE(wait_for_segment(name));
-    Peer consumer(dir.path, {"telemetry-consumer", "--name", name, "--count",
-                             std::to_string(count), "--slow-every", std::to_string(slow_every)});
+    Peer consumer(dir.path, {"telemetry-consumer", "--name", name, "--count", std::to_string(count),
+                             "--slow-every", std::to_string(slow_every)});
     EXPECT_EQ(consumer.wait(), 0) << consumer.output();
     producer.kill_now(SIGTERM);
     EXPECT_EQ(producer.wait(), 0) << producer.output();
@@ -240,8 +244,8 @@ TEST(MultiProcess, MillionRecordsWithChecksumsAndZeroLossWhenTheConsumerKeepsUp)
     EXPECT_EQ(r.consumer.at("bad"), 0u);
     EXPECT_EQ(r.consumer.at("gaps"), 0u);
     EXPECT_EQ(r.producer.at("telemetry_dropped"), 0u);
-    std::printf("%llu records in %.2f s (%.1f M/s incl. process start)\n",
-                (unsigned long long)n, s, double(n) / s / 1e6);
+    std::printf("%llu records in %.2f s (%.1f M/s incl. process start)\n", (unsigned long long)n, s,
+                double(n) / s / 1e6);
 }
 
 TEST(MultiProcess, DISABLED_HundredMillionRecordsWithChecksumsAndZeroLoss) {  // label manual
@@ -274,9 +278,9 @@ TEST(MultiProcess, ScribblerOverHeaderRingsAndMailboxCausesCountedRejectionsNeve
     test::ScratchDir dir;
     const auto name = test::unique_segment_name("scrib");
     const std::uint64_t n = 3000;
-    Peer producer(dir.path, {"producer", "--name", name, "--journal-dir", dir.path, "--events",
-                             std::to_string(n), "--per-tick", "2", "--read-mailbox",
-                             "--linger-ms", "200"});
+    Peer producer(dir.path,
+                  {"producer", "--name", name, "--journal-dir", dir.path, "--events",
+                   std::to_string(n), "--per-tick", "2", "--read-mailbox", "--linger-ms", "200"});
     ASSERT_TRUE(wait_for_segment(name));
     Peer c1(dir.path, {"consumer", "--name", name, "--out", dir.path + "/a.bin", "--events",
                        std::to_string(n), "--tolerant", "--max-ms", "20000"});
@@ -293,8 +297,8 @@ TEST(MultiProcess, ScribblerOverHeaderRingsAndMailboxCausesCountedRejectionsNeve
     EXPECT_EQ(r1, 0) << c1.output();
     EXPECT_EQ(r2, 0) << c2.output();
     auto p = producer.values(), a = c1.values(), b = c2.values();
-    const auto rejections = a["rejected_records"] + a["rejected_indices"] +
-                            b["rejected_records"] + b["rejected_indices"] + p["mesh_rejected"];
+    const auto rejections = a["rejected_records"] + a["rejected_indices"] + b["rejected_records"] +
+                            b["rejected_indices"] + p["mesh_rejected"];
     std::printf("scribbler writes %s; producer: %s; consumers:\n  %s  %s",
                 scribbler.output().c_str(), producer.output().c_str(), c1.output().c_str(),
                 c2.output().c_str());
@@ -338,7 +342,9 @@ TEST(KerfShmCommand, MissingSessionIsAClearErrorWithExitCode1) {
     const std::string out = run_kerf("shm stats kerf.no-such-session", code);
     EXPECT_EQ(code, 1);
     EXPECT_NE(out.find("kerf shm stats: cannot open segment: segment kerf.no-such-session: no such "
-                       "segment"), std::string::npos) << out;
+                       "segment"),
+              std::string::npos)
+        << out;
     const std::string bad = run_kerf("shm tail 'bad/name'", code);
     EXPECT_EQ(code, 1);
     EXPECT_NE(bad.find("invalid"), std::string::npos) << bad;

@@ -23,8 +23,11 @@ struct Session {
     std::string name = test::unique_segment_name("pc");
     std::optional<Producer> producer;
     Session() {
-        auto p = ProducerBuilder().segment_name(name).journal_dir(dir.path)
-                     .journal_flush_period_ns(1'000'000).create();
+        auto p = ProducerBuilder()
+                     .segment_name(name)
+                     .journal_dir(dir.path)
+                     .journal_flush_period_ns(1'000'000)
+                     .create();
         EXPECT_TRUE(p) << (p ? "" : p.error().message);
         if (p) producer.emplace(std::move(*p));
         producer->heartbeat(0, monotonic_ns());
@@ -64,8 +67,8 @@ void expect_contiguous(const std::vector<std::uint64_t>& seqs, std::uint64_t fir
 
 TEST(ProducerConsumer, EventsArriveInSequenceThroughTheRing) {
     Session s;
-    auto c = ConsumerBuilder().segment_name(s.name).from_sequence(ConsumerBuilder::kFromNow)
-                 .attach();
+    auto c =
+        ConsumerBuilder().segment_name(s.name).from_sequence(ConsumerBuilder::kFromNow).attach();
     ASSERT_TRUE(c) << c.error().message;
     s.publish(0, 1000);  // < ring capacity: no drops
     expect_contiguous(drain(*c, 1000), 0, 1000);
@@ -93,7 +96,7 @@ TEST(ProducerConsumer, OverflowDropsAreFilledFromTheJournalExactly) {
     EXPECT_EQ(ring.dropped_count.value.load(), 1000u);
     EXPECT_EQ(ring.pushed_count.value.load(), kEventCapacity);
     EXPECT_EQ(s.producer->layout().producer.events_dropped.load(), 1000u);
-    expect_contiguous(drain(*c, 10), 0, 10);              // frees 10 ring slots
+    expect_contiguous(drain(*c, 10), 0, 10);                  // frees 10 ring slots
     s.publish(kEventCapacity + 1000, kEventCapacity + 1005);  // these fit: ring shows a gap
     expect_contiguous(drain(*c, kEventCapacity + 995), 10, kEventCapacity + 995);
     EXPECT_EQ(c->stats().ring_gaps, 1u);

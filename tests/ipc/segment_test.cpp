@@ -1,8 +1,7 @@
 // ShmSegment / SegmentBuilder: creation, header verification with a message per differing field,
 // stale-segment replacement, refusal of a live owner, bad names, permissions.
-#include <gtest/gtest.h>
-
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -39,7 +38,7 @@ TEST(ShmSegment, OwnerOnlyPermissionsByDefaultGroupOnRequest) {
         const auto name = unique_segment_name("perm");
         auto seg = SegmentBuilder().name(name).group_access(group).create();
         ASSERT_TRUE(seg);
-        struct stat st{};
+        struct stat st {};
         ASSERT_EQ(stat(("/dev/shm/" + name).c_str(), &st), 0);
         EXPECT_EQ(st.st_mode & 0777, group ? 0660u : 0600u);
     }

@@ -1,4 +1,6 @@
 // SpscRing, Seqlock and record validation, single-threaded: the rules, one at a time.
+#include "rt_core/ipc/spsc_ring.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,7 +9,6 @@
 
 #include "rt_core/ipc/record_check.hpp"
 #include "rt_core/ipc/seqlock.hpp"
-#include "rt_core/ipc/spsc_ring.hpp"
 #include "tests/ipc/ipc_test_support.hpp"
 
 namespace kerf::ipc {

@@ -83,8 +83,10 @@ void run_ls(bool json) {
         if (json) std::cout << (first ? "" : ",") << "\n  {\"name\": \"" << name << "\"";
         first = false;
         if (!seg) {
-            if (json) std::cout << ", \"error\": \"" << to_string(seg.error().code) << "\"}";
-            else std::cout << name << "  unreadable: " << seg.error().message << "\n";
+            if (json)
+                std::cout << ", \"error\": \"" << to_string(seg.error().code) << "\"}";
+            else
+                std::cout << name << "  unreadable: " << seg.error().message << "\n";
             continue;
         }
         const SegmentLayout& s = seg->layout();
@@ -92,21 +94,26 @@ void run_ls(bool json) {
         const char* health = to_string(producer_health(s));
         const double beat = age_ms(s.producer.heartbeat_ns.load());
         if (json) {
-            std::printf(", \"session_id\": \"%016" PRIx64 "\", \"producer_pid\": %d, \"health\": "
+            std::printf(", \"session_id\": \"%016" PRIx64
+                        "\", \"producer_pid\": %d, \"health\": "
                         "\"%s\", \"heartbeat_age_ms\": %.1f, \"consumers\": %zu}",
                         s.header.session_id, s.header.producer_pid, health, beat, slots.size());
             std::fflush(stdout);
             continue;
         }
-        std::printf("%s  session %016" PRIx64 "  producer pid %d %s  heartbeat %.1f ms ago  "
-                    "events %" PRIu64 "  consumers %zu:", name.c_str(), s.header.session_id,
-                    s.header.producer_pid, health, beat, s.producer.next_event_sequence.load(),
-                    slots.size());
-        for (const auto& v : slots) std::printf(" [slot %u pid %d%s]", v.index, v.pid, v.alive ? "" : " dead");
+        std::printf("%s  session %016" PRIx64
+                    "  producer pid %d %s  heartbeat %.1f ms ago  "
+                    "events %" PRIu64 "  consumers %zu:",
+                    name.c_str(), s.header.session_id, s.header.producer_pid, health, beat,
+                    s.producer.next_event_sequence.load(), slots.size());
+        for (const auto& v : slots)
+            std::printf(" [slot %u pid %d%s]", v.index, v.pid, v.alive ? "" : " dead");
         std::printf("\n");
     }
-    if (json) std::cout << (names.empty() ? "]\n" : "\n]\n");
-    else if (names.empty()) std::cout << "no Kerf sessions in /dev/shm\n";
+    if (json)
+        std::cout << (names.empty() ? "]\n" : "\n]\n");
+    else if (names.empty())
+        std::cout << "no Kerf sessions in /dev/shm\n";
     std::cout.flush();
 }
 
@@ -117,23 +124,25 @@ void run_stats(const std::string& name, bool json) {
     const auto slots = active_slots(s);
     const ProducerStatus& p = s.producer;
     if (json) {
-        std::printf("{\"name\": \"%s\", \"health\": \"%s\", \"heartbeat_age_ms\": %.1f, "
-                    "\"tick\": %" PRIu64 ", \"events\": %" PRIu64 ", \"journal_next\": %" PRIu64
-                    ", \"journal_dropped\": %" PRIu64 ", \"events_dropped\": %" PRIu64
-                    ", \"telemetry_dropped\": %" PRIu64 ", \"mesh_latest\": %" PRIu64 ", \"slots\": [",
-                    name.c_str(), to_string(producer_health(s)), age_ms(p.heartbeat_ns.load()),
-                    p.heartbeat_tick.load(), p.next_event_sequence.load(),
-                    s.journal_next_sequence.value.load(), s.journal_dropped.value.load(),
-                    p.events_dropped.load(), p.telemetry_dropped.load(),
-                    s.mailbox.latest.value.load() >> 1);
+        std::printf(
+            "{\"name\": \"%s\", \"health\": \"%s\", \"heartbeat_age_ms\": %.1f, "
+            "\"tick\": %" PRIu64 ", \"events\": %" PRIu64 ", \"journal_next\": %" PRIu64
+            ", \"journal_dropped\": %" PRIu64 ", \"events_dropped\": %" PRIu64
+            ", \"telemetry_dropped\": %" PRIu64 ", \"mesh_latest\": %" PRIu64 ", \"slots\": [",
+            name.c_str(), to_string(producer_health(s)), age_ms(p.heartbeat_ns.load()),
+            p.heartbeat_tick.load(), p.next_event_sequence.load(),
+            s.journal_next_sequence.value.load(), s.journal_dropped.value.load(),
+            p.events_dropped.load(), p.telemetry_dropped.load(),
+            s.mailbox.latest.value.load() >> 1);
         for (std::size_t i = 0; i < slots.size(); ++i) {
             const auto& v = slots[i];
             std::printf("%s{\"slot\": %u, \"pid\": %d, \"alive\": %s, \"event_lag\": %" PRIu64
                         ", \"event_dropped\": %" PRIu64 ", \"telemetry_lag\": %" PRIu64
                         ", \"telemetry_dropped\": %" PRIu64 ", \"delivered\": %" PRIu64
-                        ", \"rejected\": %" PRIu64 "}", i ? ", " : "", v.index, v.pid,
-                        v.alive ? "true" : "false", v.event_lag, v.event_dropped, v.telemetry_lag,
-                        v.telemetry_dropped, v.delivered, v.rejected);
+                        ", \"rejected\": %" PRIu64 "}",
+                        i ? ", " : "", v.index, v.pid, v.alive ? "true" : "false", v.event_lag,
+                        v.event_dropped, v.telemetry_lag, v.telemetry_dropped, v.delivered,
+                        v.rejected);
         }
         std::printf("]}\n");
         return;
@@ -146,12 +155,14 @@ void run_stats(const std::string& name, bool json) {
                 p.next_event_sequence.load(), s.journal_next_sequence.value.load(),
                 journal_path_of(s.header).c_str(), s.journal_dropped.value.load(),
                 p.events_dropped.load(), p.telemetry_dropped.load());
-    std::printf("slot  pid       alive  event lag  event drops  telem lag  telem drops  delivered  rejected\n");
+    std::printf(
+        "slot  pid       alive  event lag  event drops  telem lag  telem drops  delivered  "
+        "rejected\n");
     for (const auto& v : slots) {
         std::printf("%-5u %-9d %-6s %-10" PRIu64 " %-12" PRIu64 " %-10" PRIu64 " %-12" PRIu64
-                    " %-10" PRIu64 " %" PRIu64 "\n", v.index, v.pid, v.alive ? "yes" : "no",
-                    v.event_lag, v.event_dropped, v.telemetry_lag, v.telemetry_dropped,
-                    v.delivered, v.rejected);
+                    " %-10" PRIu64 " %" PRIu64 "\n",
+                    v.index, v.pid, v.alive ? "yes" : "no", v.event_lag, v.event_dropped,
+                    v.telemetry_lag, v.telemetry_dropped, v.delivered, v.rejected);
     }
 }
 
@@ -169,12 +180,12 @@ void print_event(const EventRecord& r, bool json) {
         case EventType::kCutProgress:
         case EventType::kCutEnd: {
             const CutPayload& c = r.cut;
-            std::printf(json ? ", \"cut_id\": %u, \"body_id\": %u, \"plane_point_m\": [%g, %g, %g], "
-                               "\"plane_normal\": [%g, %g, %g], \"feed_depth_m\": %g}\n"
-                             : "cut %u body %u point (%g %g %g) m normal (%g %g %g) feed %g m\n",
-                        c.cut_id, c.body_id, c.plane_point_m[0], c.plane_point_m[1],
-                        c.plane_point_m[2], c.plane_normal[0], c.plane_normal[1],
-                        c.plane_normal[2], c.feed_depth_m);
+            std::printf(
+                json ? ", \"cut_id\": %u, \"body_id\": %u, \"plane_point_m\": [%g, %g, %g], "
+                       "\"plane_normal\": [%g, %g, %g], \"feed_depth_m\": %g}\n"
+                     : "cut %u body %u point (%g %g %g) m normal (%g %g %g) feed %g m\n",
+                c.cut_id, c.body_id, c.plane_point_m[0], c.plane_point_m[1], c.plane_point_m[2],
+                c.plane_normal[0], c.plane_normal[1], c.plane_normal[2], c.feed_depth_m);
             break;
         }
         case EventType::kBodyMoved:
@@ -203,8 +214,10 @@ void print_event(const EventRecord& r, bool json) {
 
 void run_tail(const std::string& name, std::optional<std::uint64_t> from, std::uint64_t count,
               bool json) {
-    auto c = ConsumerBuilder().segment_name(name)
-                 .from_sequence(from ? *from : ConsumerBuilder::kFromNow).attach();
+    auto c = ConsumerBuilder()
+                 .segment_name(name)
+                 .from_sequence(from ? *from : ConsumerBuilder::kFromNow)
+                 .attach();
     if (!c) fail("tail", "cannot attach to segment", c.error().message);
     std::signal(SIGINT, [](int) { std::_Exit(0); });  // the slot is reclaimed once we are gone
     EventRecord r;
