@@ -93,12 +93,15 @@ namespace {
 // of zero area, so they are left out of the triangulation and put back as fans (see below).
 constexpr double kStraightRelative = 1e-9;
 
-bool straight(const Vec2& a, const Vec2& b, const Vec2& c, double tol) {
+// b is straight between a and c when it lies on their line up to rounding, or, for on-plane
+// vertices kept where they are (up to tol off the plane), when its 2-D offset from the line is
+// within twice the points' distance from the plane: a triangle that thin could tilt over in 3-D.
+bool straight(const Vec2& a, const Vec2& b, const Vec2& c, double off_plane_m) {
     const double cr = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
     const double along = OpenMesh::dot(b - a, c - b);
     const double ac2 = (c - a).sqrnorm();
-    (void)tol;
-    return along > 0 && std::abs(cr) <= kStraightRelative * ac2;
+    const double noise = 2.0 * off_plane_m;
+    return along > 0 && (std::abs(cr) <= kStraightRelative * ac2 || cr * cr <= noise * noise * ac2);
 }
 
 double plan_area2(const SectionPlan& plan, const Triangle& t) {
@@ -109,7 +112,8 @@ double plan_area2(const SectionPlan& plan, const Triangle& t) {
 }
 
 // Triangulates one cap group (an outer loop and its holes) over the plan's point indices.
-bool triangulate_group(ContextState& s, const std::vector<const PlanLoop*>& loops, std::vector<Triangle>& out) {
+bool triangulate_group(ContextState& s, const Plane& plane, const std::vector<const PlanLoop*>& loops,
+                       std::vector<Triangle>& out) {
     SectionPlan& plan = s.plan;
     std::vector<Point2> uv;            // kept points
     std::vector<std::uint32_t> index;  // kept point -> plan point
@@ -126,8 +130,14 @@ bool triangulate_group(ContextState& s, const std::vector<const PlanLoop*>& loop
         auto pt = [&](std::uint32_t k) { return plan.points[l->first + (k % l->count)].uv; };
         std::vector<char> keep(l->count, 1);
         std::uint32_t kept = l->count;
-        for (std::uint32_t k = 0; k < l->count; ++k)
-            if (kept > 3 && straight(pt(k + l->count - 1), pt(k), pt(k + 1), s.tolerance_m)) keep[k] = 0, --kept;
+        auto off = [&](std::uint32_t k) {
+            return std::abs(plane.signed_distance(plan.points[l->first + (k % l->count)].position));
+        };
+        for (std::uint32_t k = 0; k < l->count; ++k) {
+            const std::uint32_t prev = k + l->count - 1;
+            const double off_plane = std::max({off(prev), off(k), off(k + 1)});
+            if (kept > 3 && straight(pt(prev), pt(k), pt(k + 1), off_plane)) keep[k] = 0, --kept;
+        }
         std::uint32_t start = 0;
         while (!keep[start]) ++start;
         for (std::uint32_t j = 0; j < l->count; ++j) {
@@ -191,7 +201,8 @@ bool triangulate_group(ContextState& s, const std::vector<const PlanLoop*>& loop
 
 }  // namespace
 
-CutStatus plan_caps(ContextState& s, const Vec3& normal) {
+CutStatus plan_caps(ContextState& s, const Plane& plane) {
+    const Vec3& normal = plane.normal();
     SectionPlan& plan = s.plan;
     plan.cap_points.clear();
     plan.cap_triangles.clear();
@@ -205,7 +216,7 @@ CutStatus plan_caps(ContextState& s, const Vec3& normal) {
         group.clear();
         for (std::size_t i = 0; i < plan.loops.size(); ++i)
             if (i == g || parent[i] == static_cast<std::int32_t>(g)) group.push_back(&plan.loops[i]);
-        if (!triangulate_group(s, group, plan.cap_triangles)) return CutStatus::kCapTriangulationFailed;
+        if (!triangulate_group(s, plane, group, plan.cap_triangles)) return CutStatus::kCapTriangulationFailed;
     }
     // Cap triangles index plan points directly: cap_points is the identity over the plan.
     plan.cap_points.resize(plan.points.size());

@@ -65,9 +65,9 @@ CutStatus plan_localised(ContextState& s, const Plane& plane, const Seed& seed);
 CutStatus plan_from_faces(ContextState& s, const Plane& plane,
                           const std::vector<mesh::FaceHandle>& faces);
 
-/// Triangulates the selected loops into plan.cap_triangles, counter-clockwise about `normal`
+/// Triangulates the selected loops into plan.cap_triangles, counter-clockwise about the normal
 /// (kCapTriangulationFailed if a loop cannot be capped without slivers or tilted triangles).
-CutStatus plan_caps(ContextState& s, const Vec3& normal);
+CutStatus plan_caps(ContextState& s, const Plane& plane);
 
 /// Whether loop `inner` lies inside loop `outer` (a majority of up to 9 of its points does).
 bool loop_nested(const SectionPlan& plan, const PlanLoop& inner, const PlanLoop& outer);
