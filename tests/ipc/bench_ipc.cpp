@@ -292,10 +292,10 @@ public:
 
 BENCHMARK_TEMPLATE(BM_Throughput64, KerfRing)->MinTime(0.5)->UseRealTime();
 BENCHMARK_TEMPLATE(BM_Throughput64, BoostRing)->MinTime(0.5)->UseRealTime();
-BENCHMARK_TEMPLATE(BM_Latency64, KerfRing)->Arg(50'000)->Iterations(1)->UseRealTime();
-BENCHMARK_TEMPLATE(BM_Latency64, BoostRing)->Arg(50'000)->Iterations(1)->UseRealTime();
-BENCHMARK(BM_ProducerPublishEvent)->Iterations(20'000)->UseRealTime();
-BENCHMARK(BM_BoostPush128)->Iterations(20'000)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Latency64, KerfRing)->Arg(20'000)->Iterations(1)->UseRealTime();
+BENCHMARK_TEMPLATE(BM_Latency64, BoostRing)->Arg(20'000)->Iterations(1)->UseRealTime();
+BENCHMARK(BM_ProducerPublishEvent)->Iterations(10'000)->UseRealTime();
+BENCHMARK(BM_BoostPush128)->Iterations(10'000)->UseRealTime();
 
 }  // namespace
 
