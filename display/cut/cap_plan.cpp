@@ -96,12 +96,13 @@ constexpr double kStraightRelative = 1e-9;
 // b is straight between a and c when it lies on their line up to rounding, or, for on-plane
 // vertices kept where they are (up to tol off the plane), when its 2-D offset from the line is
 // within twice the points' distance from the plane: a triangle that thin could tilt over in 3-D.
-bool straight(const Vec2& a, const Vec2& b, const Vec2& c, double off_plane_m) {
+bool straight(const Vec2& a, const Vec2& b, const Vec2& c, double off_plane_m, double min_cross) {
     const double cr = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
     const double along = OpenMesh::dot(b - a, c - b);
     const double ac2 = (c - a).sqrnorm();
     const double noise = 2.0 * off_plane_m;
-    return along > 0 && (std::abs(cr) <= kStraightRelative * ac2 || cr * cr <= noise * noise * ac2);
+    return along > 0 && (std::abs(cr) <= kStraightRelative * ac2 || std::abs(cr) <= min_cross ||
+                         cr * cr <= noise * noise * ac2);
 }
 
 double plan_area2(const SectionPlan& plan, const Triangle& t) {
@@ -112,9 +113,15 @@ double plan_area2(const SectionPlan& plan, const Triangle& t) {
 }
 
 // Triangulates one cap group (an outer loop and its holes) over the plan's point indices.
-bool triangulate_group(ContextState& s, const Plane& plane, const std::vector<const PlanLoop*>& loops,
-                       std::vector<Triangle>& out) {
+enum class GroupResult { kOk, kFailed, kRetry };
+
+// One attempt; a fan that would fold (its apex too close to the kept edge) forces that gap's
+// points to be kept (`forced`) and asks for another attempt.
+GroupResult try_triangulate_group(ContextState& s, const Plane& plane,
+                                  const std::vector<const PlanLoop*>& loops, std::vector<char>& forced,
+                                  std::vector<Triangle>& out) {
     SectionPlan& plan = s.plan;
+    const double min_cross = 4.0 * kMinCapRelativeArea * s.scale_m * s.scale_m;
     std::vector<Point2> uv;            // kept points
     std::vector<std::uint32_t> index;  // kept point -> plan point
     std::vector<std::span<const Point2>> spans;
@@ -136,7 +143,9 @@ bool triangulate_group(ContextState& s, const Plane& plane, const std::vector<co
         for (std::uint32_t k = 0; k < l->count; ++k) {
             const std::uint32_t prev = k + l->count - 1;
             const double off_plane = std::max({off(prev), off(k), off(k + 1)});
-            if (kept > 3 && straight(pt(prev), pt(k), pt(k + 1), off_plane)) keep[k] = 0, --kept;
+            if (kept > 3 && !forced[l->first + k] &&
+                straight(pt(prev), pt(k), pt(k + 1), off_plane, min_cross))
+                keep[k] = 0, --kept;
         }
         std::uint32_t start = 0;
         while (!keep[start]) ++start;
@@ -158,7 +167,7 @@ bool triangulate_group(ContextState& s, const Plane& plane, const std::vector<co
     std::size_t offset = 0;
     for (std::size_t n : sizes) spans.emplace_back(uv.data() + offset, n), offset += n;
     std::vector<Triangle> tris;
-    if (!s.triangulator.triangulate(spans, tris) || !repair_slivers(uv, tris)) return false;
+    if (!s.triangulator.triangulate(spans, tris) || !repair_slivers(uv, tris)) return GroupResult::kFailed;
     for (Triangle& t : tris) t = Triangle{index[t.a], index[t.b], index[t.c]};
     // Put the left-out points back: the triangle on kept edge (u, w) becomes a fan from its apex.
     std::vector<std::pair<std::uint64_t, std::uint32_t>> by_edge;
@@ -176,11 +185,11 @@ bool triangulate_group(ContextState& s, const Plane& plane, const std::vector<co
     };
     for (const Gap& g : gaps) {
         const auto it = find(key(g.u, g.w));
-        if (it == by_edge.end()) return false;
+        if (it == by_edge.end()) return GroupResult::kFailed;
         const std::uint32_t ti = it->second;
         Triangle t = tris[ti];
         while (t.a != g.u) t = Triangle{t.b, t.c, t.a};
-        if (t.b != g.w) return false;
+        if (t.b != g.w) return GroupResult::kFailed;
         const std::uint32_t apex = t.c;
         // (u, p1, x), (p1, p2, x), ..., (pk, w, x): the first keeps slot ti.
         tris[ti] = Triangle{g.u, removed[g.first], apex};
@@ -188,15 +197,26 @@ bool triangulate_group(ContextState& s, const Plane& plane, const std::vector<co
             tris.push_back(Triangle{removed[g.first + q], removed[g.first + q + 1], apex});
         tris.push_back(Triangle{removed[g.first + g.count - 1], g.w, apex});
         const std::size_t fan_end = tris.size();
-        if (!(plan_area2(plan, tris[ti]) > 0)) return false;
-        for (std::size_t q = fan_end - g.count; q < fan_end; ++q)
-            if (!(plan_area2(plan, tris[q]) > 0)) return false;
+        bool folded = !(plan_area2(plan, tris[ti]) > 0);
+        for (std::size_t q = fan_end - g.count; q < fan_end; ++q) folded |= !(plan_area2(plan, tris[q]) > 0);
+        if (folded) {
+            for (std::uint32_t q = 0; q < g.count; ++q) forced[removed[g.first + q]] = 1;
+            return GroupResult::kRetry;
+        }
         const auto wx = find(key(g.w, apex));
         if (wx != by_edge.end()) wx->second = static_cast<std::uint32_t>(tris.size() - 1);
     }
     out.insert(out.end(), tris.begin(), tris.end());
-    return true;
+    return GroupResult::kOk;
+}
 
+bool triangulate_group(ContextState& s, const Plane& plane, const std::vector<const PlanLoop*>& loops,
+                       std::vector<char>& forced, std::vector<Triangle>& out) {
+    for (int attempt = 0; attempt < 4; ++attempt) {
+        const GroupResult r = try_triangulate_group(s, plane, loops, forced, out);
+        if (r != GroupResult::kRetry) return r == GroupResult::kOk;
+    }
+    return false;
 }
 
 }  // namespace
@@ -208,6 +228,7 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
     plan.cap_triangles.clear();
     const std::vector<std::int32_t> parent = cap_groups(plan);
     std::vector<const PlanLoop*> group;
+    std::vector<char> forced(plan.points.size(), 0);
     for (std::size_t g = 0; g < plan.loops.size(); ++g) {
         const PlanLoop& outer = plan.loops[g];
         if (!outer.selected) continue;
@@ -216,7 +237,7 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
         group.clear();
         for (std::size_t i = 0; i < plan.loops.size(); ++i)
             if (i == g || parent[i] == static_cast<std::int32_t>(g)) group.push_back(&plan.loops[i]);
-        if (!triangulate_group(s, plane, group, plan.cap_triangles)) return CutStatus::kCapTriangulationFailed;
+        if (!triangulate_group(s, plane, group, forced, plan.cap_triangles)) return CutStatus::kCapTriangulationFailed;
     }
     // Cap triangles index plan points directly: cap_points is the identity over the plan.
     plan.cap_points.resize(plan.points.size());
