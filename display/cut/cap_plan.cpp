@@ -243,16 +243,38 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
     plan.cap_points.resize(plan.points.size());
     for (std::uint32_t i = 0; i < plan.cap_points.size(); ++i) plan.cap_points[i] = i;
     // Every cap triangle must have a real area and face the way its 2-D orientation says (rim
-    // vertices may sit up to tol off the plane; a triangle thin enough to tilt over is refused).
+    // vertices may sit up to tol off the plane, so a long thin triangle can tilt over). A bad one
+    // is flipped with its neighbour across its longest edge when both new triangles are good;
+    // one that stays bad is refused.
     const double min_area = kMinCapRelativeArea * s.scale_m * s.scale_m;
-    for (const Triangle& t : plan.cap_triangles) {
+    auto good = [&](const Triangle& t) {
         const Vec3& a = plan.points[t.a].position;
         const Vec3& b = plan.points[t.b].position;
         const Vec3& c = plan.points[t.c].position;
         const Vec3 n = OpenMesh::cross(b - a, c - a);
-        if (!(0.5 * n.norm() >= min_area) || !(OpenMesh::dot(n, normal) > 0.5 * n.norm()))
-            return CutStatus::kCapTriangulationFailed;
+        return 0.5 * n.norm() >= min_area && OpenMesh::dot(n, normal) > 0.5 * n.norm();
+    };
+    auto len2 = [&](std::uint32_t a, std::uint32_t b) { return (plan.points[a].position - plan.points[b].position).sqrnorm(); };
+    std::vector<Triangle>& tris = plan.cap_triangles;
+    for (std::size_t i = 0; i < tris.size(); ++i) {
+        if (good(tris[i])) continue;
+        Triangle t = tris[i];
+        for (int r = 0; r < 3 && len2(t.c, t.a) < std::max(len2(t.a, t.b), len2(t.b, t.c)); ++r)
+            t = Triangle{t.b, t.c, t.a};
+        bool fixed = false;
+        for (std::size_t k = 0; k < tris.size() && !fixed; ++k) {
+            const std::uint32_t v[3] = {tris[k].a, tris[k].b, tris[k].c};
+            for (int e = 0; e < 3 && !fixed; ++e) {
+                if (v[e] != t.a || v[(e + 1) % 3] != t.c) continue;
+                const std::uint32_t d = v[(e + 2) % 3];
+                const Triangle n1{t.a, t.b, d}, n2{t.b, t.c, d};
+                if (good(n1) && good(n2)) tris[i] = n1, tris[k] = n2, fixed = true;
+            }
+        }
+        if (!fixed) return CutStatus::kCapTriangulationFailed;
     }
+    for (const Triangle& t : tris)
+        if (!good(t)) return CutStatus::kCapTriangulationFailed;
     return CutStatus::kOk;
 }
 
