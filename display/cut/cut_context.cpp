@@ -51,10 +51,11 @@ void ContextState::rebuild() {
     for (auto e : mesh.all_edges()) mesh.property(e_stamp, e) = 0;
     for (auto f : mesh.all_faces()) mesh.property(f_stamp, f) = 0;
     generation = 1;
-    // Headroom for the cuts to come: a quarter more of everything, reserved once here.
-    reserved_vertices = mesh.n_vertices() + mesh.n_vertices() / 4 + 1024;
-    reserved_edges = mesh.n_edges() + mesh.n_edges() / 4 + 3072;
-    reserved_faces = mesh.n_faces() + mesh.n_faces() / 4 + 2048;
+    // Headroom for the cuts to come: as much again of everything, reserved once here. Capacity
+    // that no cut uses is never touched, so it costs address space, not resident memory.
+    reserved_vertices = 2 * mesh.n_vertices() + 4096;
+    reserved_edges = 2 * mesh.n_edges() + 12288;
+    reserved_faces = 2 * mesh.n_faces() + 8192;
     mesh.reserve(reserved_vertices, reserved_edges, reserved_faces);
 }
 
