@@ -24,9 +24,9 @@
 //  - A cross-section that pinches at an on-plane vertex (two loops touching) is refused with
 //    kDegenerateCrossSection; an open edge where the cut passes gives kNonManifoldInput.
 //  - Cuts through earlier caps are ordinary: a cap is surface like any other.
-//  - Caps never contain a sliver: rim points straight up to rounding are fanned, and a cap that
-//    would still need a near-zero-area or tilted triangle is refused (kCapTriangulationFailed;
-//    rare: once in ~200 random cuts on real bones, never on generated shapes).
+//  - Caps never contain a sliver: rim points straight up to rounding are fanned, bad triangles
+//    are flipped away, and a cap that would still need a near-zero-area or tilted triangle is
+//    refused (kCapTriangulationFailed; rare, bounded by the sweeps, never on generated shapes).
 //  Every check runs before the first edit, so any failure leaves the mesh unchanged.
 //
 // Localised statuses: kSeedNotOnSurface (no triangle within the seed tolerance), kSeedFarFromCut
