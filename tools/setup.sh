@@ -64,6 +64,8 @@ cmake_args=(-S "$here" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE="$build_type"
             -DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 if [[ $fuzz == ON ]]; then
   cmake_args+=(-DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DKERF_BENCH=OFF)
+elif [[ -n $sanitize ]]; then
+  cmake_args+=(-DKERF_BENCH=OFF)  # sanitizer builds run tests, never benchmarks
 fi
 cmake "${cmake_args[@]}"
 cmake --build "$build_dir" -j "$(nproc)" "${targets[@]}"
