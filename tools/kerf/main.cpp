@@ -14,6 +14,14 @@ int main(int argc, char** argv) {
     kerf::cli::add_shm_commands(app);
     kerf::cli::add_devices_command(app);
     kerf::cli::add_demo_command(app);
-    CLI11_PARSE(app, argc, argv);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::RuntimeError& e) {
+        return e.get_exit_code();  // a command ran and failed; it has said why
+    } catch (const CLI::ParseError& e) {
+        // --help and --version exit 0; every command-line error is a usage error (exit 2), whatever
+        // CLI11's own code for it, so scripts can tell a bad command line from a failed operation.
+        return app.exit(e) == 0 ? kerf::cli::kExitOk : kerf::cli::kExitUsage;
+    }
     return kerf::cli::kExitOk;
 }
