@@ -17,8 +17,8 @@ const std::vector<std::string_view> kSourceNames = {"file", "builtin_foot"};
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kQuaternionTolerance = 1e-3;
-constexpr std::int64_t kMinTriangles = 1'000;
-constexpr std::int64_t kMaxTriangles = 4'000'000;
+constexpr auto kMinTriangles = static_cast<std::int64_t>(kBuiltinFootMinTriangles);
+constexpr auto kMaxTriangles = static_cast<std::int64_t>(kBuiltinFootMaxTriangles);
 
 void read_mesh(TableReader m, MeshSource& out) {
     auto source = m.choice("source", kSourceNames);

@@ -38,6 +38,11 @@ std::string_view to_string(BodyMaterial material) noexcept;
 enum class MeshSourceKind : std::uint8_t { kFile, kBuiltinFoot };
 std::string_view to_string(MeshSourceKind kind) noexcept;
 
+/// Size range of the built-in forefoot generator (display/mesh/foot_generator.hpp uses these
+/// too, so a scene that loads is a scene the generator builds).
+inline constexpr std::uint64_t kBuiltinFootMinTriangles = 10'000;
+inline constexpr std::uint64_t kBuiltinFootMaxTriangles = 4'000'000;
+
 /// A body's mesh source.
 struct MeshSource {
     MeshSourceKind kind = MeshSourceKind::kBuiltinFoot;

@@ -22,12 +22,13 @@
 #include <vector>
 
 #include "config/result.hpp"
+#include "config/scene.hpp"
 #include "display/mesh/tri_mesh.hpp"
 
 namespace kerf::mesh {
 
-inline constexpr std::size_t kFootMinTriangles = 10'000;
-inline constexpr std::size_t kFootMaxTriangles = 4'000'000;
+inline constexpr std::size_t kFootMinTriangles = config::kBuiltinFootMinTriangles;
+inline constexpr std::size_t kFootMaxTriangles = config::kBuiltinFootMaxTriangles;
 
 struct FootParams {
     std::size_t target_triangles =

@@ -103,7 +103,7 @@ TEST(SceneParse, AxisWithoutAngleIsAMissingKey) {
 TEST(SceneParse, TooFewTrianglesIsOutOfRange) {
     auto e = parse_error(edit(kBuiltin, "target_triangles = 200_000", "target_triangles = 12"));
     EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
-    EXPECT_EQ(e.expected, "an integer, 1000 <= value <= 4000000");
+    EXPECT_EQ(e.expected, "an integer, 10000 <= value <= 4000000");
 }
 
 TEST(SceneParse, FileKeysOnABuiltinMeshAreBadValues) {
