@@ -55,6 +55,7 @@ struct Separator::State {
     std::vector<std::uint32_t> live;
     std::vector<std::uint32_t> items;
     std::vector<Vec2> poly;  // scratch: the polygon being swept, counter-clockwise
+    std::vector<mesh::VertexHandle> moved;  // vertices moved by the last call
     SeparationStats stats;
 
     mesh::TriMesh& mesh() { return ctx->mesh(); }
@@ -149,7 +150,7 @@ void Separator::State::apply(BandVertex& b, double m) {
     b.m = m;
     mesh::TriMesh& mm = mesh();
     mm.set_point(b.v, b.origin + plane.normal() * (b.lift * m));
-    for (const auto f : mm.vf_range(b.v)) mm.set_normal(f, mm.calc_face_normal(f));
+    moved.push_back(b.v);
 }
 
 /// Removes a fully swept vertex from its cell (swap with the cell's last live item).
@@ -190,9 +191,14 @@ Separator::~Separator() = default;
 
 const SeparationStats& Separator::stats() const noexcept { return s_->stats; }
 
+std::span<const mesh::VertexHandle> Separator::moved_vertices() const noexcept {
+    return s_->moved;
+}
+
 bool Separator::sweep(std::span<const Vec2> polygon) {
     State& s = *s_;
     s.stats.moved_last_sweep = 0;
+    s.moved.clear();
     if (polygon.size() < 3) return false;
     s.poly.assign(polygon.begin(), polygon.end());
     double twice_area = 0.0;
@@ -236,6 +242,7 @@ bool Separator::sweep(std::span<const Vec2> polygon) {
 void Separator::sweep_all() {
     State& s = *s_;
     s.stats.moved_last_sweep = 0;
+    s.moved.clear();
     for (std::uint32_t i = 0; i < s.band.size(); ++i) {
         BandVertex& b = s.band[i];
         if (b.slot == kNoCell) continue;

@@ -71,6 +71,10 @@ public:
     /// Statistics so far.
     const SeparationStats& stats() const noexcept;
 
+    /// The vertices the last sweep()/sweep_all() moved. Normals are NOT updated here (that would
+    /// triple a step's cost): whoever draws the mesh refreshes the faces around these.
+    std::span<const mesh::VertexHandle> moved_vertices() const noexcept;
+
 private:
     struct State;
     explicit Separator(std::unique_ptr<State> s) noexcept;

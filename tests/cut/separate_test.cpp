@@ -106,6 +106,7 @@ TEST(Separate, ABladeAdvancingStepByStepNeverFlipsOrFlattensATriangle) {
                                       Vec2(x - 0.01, 0.0015)};
         ASSERT_TRUE(sep->sweep(blade));
         EXPECT_LT(sep->stats().moved_last_sweep, sep->stats().band_vertices / 4);
+        EXPECT_EQ(sep->moved_vertices().size(), sep->stats().moved_last_sweep);
     }
     testing::expect_closed_2_manifold(t.mesh);
     expect_no_flip(t.mesh, before);

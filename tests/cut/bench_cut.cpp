@@ -1,0 +1,373 @@
+// Cutting benchmarks. Figures are reported as ratios measured in the same run (the table printed
+// after Google Benchmark's own): localised slice + caps flat in mesh size, full-plane slice + caps
+// against VTK's vtkClipClosedSurface (two calls, one per half) and CGAL's PMP::clip with
+// clip_volume (two calls), a streaming pass over every vertex position as the physical floor, one
+// gradual-separation step, caps alone, and a real bone refined to ~1M triangles by Loop
+// subdivision. VTK and CGAL are optional (tools/setup.sh --bench-peers).
+//
+//   build/bin/bench_cut                       # everything, then the ratio table
+//   build/bin/bench_cut --benchmark_filter=Localised
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <OpenMesh/Tools/Subdivider/Uniform/LoopT.hh>
+
+#include "display/cut/cut_context.hpp"
+#include "display/cut/separate.hpp"
+#include "display/cut/slice_by_plane.hpp"
+#include "display/cut/triangulate.hpp"
+#include "display/mesh/mesh_io.hpp"
+#include "display/mesh/shapes.hpp"
+
+#ifdef KERF_BENCH_HAVE_VTK
+#include <vtkCellArray.h>
+#include <vtkClipClosedSurface.h>
+#include <vtkNew.h>
+#include <vtkPlane.h>
+#include <vtkPlaneCollection.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#endif
+#ifdef KERF_BENCH_HAVE_CGAL
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/clip.h>
+#include <CGAL/Surface_mesh.h>
+#endif
+
+namespace {
+
+using kerf::cut::CrossSection;
+using kerf::cut::CutContext;
+using kerf::cut::Plane;
+using kerf::cut::Seed;
+using kerf::cut::Vec2;
+using kerf::cut::Vec3;
+using kerf::mesh::TriMesh;
+
+constexpr double kTubeLength = 0.05, kTubeOuter = 0.006, kTubeInner = 0.003;
+constexpr int kTubeSegments = 512;  // 1,024 rim points per side at every size
+
+/// Hollow tube with `triangles` triangles; every cross-section is the same 512-gon annulus.
+TriMesh tube_with(std::size_t triangles) {
+    const int rings = static_cast<int>((triangles - 4 * kTubeSegments) / (4 * kTubeSegments));
+    return kerf::mesh::make_hollow_tube(kTubeLength, kTubeOuter, kTubeInner, kTubeSegments, rings);
+}
+
+/// Plane i of n: across the tube in the middle of its own ring band (never an earlier cut).
+Plane tube_plane(int i, int n) {
+    const double z = kTubeLength * (0.1 + 0.8 * (i + 0.5) / n) + 1.234e-6;
+    return *Plane::make(Vec3(0, 0, z), Vec3(0, 0, 1));
+}
+
+// ---- localised slice + caps, flat in mesh size --------------------------------------------------
+
+void BM_LocalisedSliceCaps(benchmark::State& state) {
+    TriMesh m = tube_with(static_cast<std::size_t>(state.range(0)));
+    CutContext ctx(m);
+    CrossSection cs;
+    int i = 0;
+    int refused = 0;
+    const int n = static_cast<int>(state.max_iterations);
+    for (auto _ : state) {
+        const Plane p = tube_plane(i++, n);
+        const Seed seed{Vec3(kTubeOuter, 0, p.point()[2]), kerf::mesh::FaceHandle(), -1.0};
+        const auto r = kerf::cut::slice_by_plane(ctx, p, seed, cs);
+        refused += r.ok() ? 0 : 1;
+        benchmark::DoNotOptimize(cs.positive.cap_faces.data());
+    }
+    state.counters["refused"] = refused;  // cuts the library refused (timed all the same)
+    state.counters["triangles"] = static_cast<double>(state.range(0));
+    state.counters["rim_points"] = 2.0 * kTubeSegments;
+}
+BENCHMARK(BM_LocalisedSliceCaps)->Arg(100'000)->Arg(1'000'000)->Arg(4'000'000)
+    ->Iterations(40)->Unit(benchmark::kMicrosecond);
+
+// ---- full-plane slice + caps of a 1M sphere, its peers and the floor ----------------------------
+
+const TriMesh& sphere_1m() {
+    static const TriMesh s = kerf::mesh::make_uv_sphere(0.01, 1'000'000);
+    return s;
+}
+
+Plane sphere_plane(int i) {
+    const double z = 0.01 * (-0.2 + 0.037 * i) + 1.234e-7;
+    return *Plane::make(Vec3(0, 0, z), Vec3(0.05, 0.02, 1));
+}
+
+void BM_FullSliceCaps_Sphere1M(benchmark::State& state) {
+    TriMesh m = sphere_1m();
+    CutContext ctx(m);
+    CrossSection cs;
+    int i = 0;
+    int refused = 0;
+    for (auto _ : state) {
+        const auto r = kerf::cut::slice_by_plane(ctx, sphere_plane(i++), cs);
+        refused += r.ok() ? 0 : 1;
+    }
+    state.counters["refused"] = refused;  // cuts the library refused (timed all the same)
+}
+BENCHMARK(BM_FullSliceCaps_Sphere1M)->Iterations(10)->Unit(benchmark::kMillisecond);
+
+void BM_StreamingPass_Sphere1M(benchmark::State& state) {
+    const TriMesh& m = sphere_1m();
+    const Plane p = sphere_plane(0);
+    for (auto _ : state) {
+        std::size_t above = 0;
+        for (const auto v : m.vertices()) above += p.signed_distance(m.point(v)) > 0 ? 1 : 0;
+        benchmark::DoNotOptimize(above);
+    }
+}
+BENCHMARK(BM_StreamingPass_Sphere1M)->Unit(benchmark::kMillisecond);
+
+#ifdef KERF_BENCH_HAVE_VTK
+void BM_VtkClipClosedSurfaceTwoHalves_Sphere1M(benchmark::State& state) {
+    const TriMesh& m = sphere_1m();
+    vtkNew<vtkPoints> points;
+    points->SetDataTypeToDouble();
+    for (const auto v : m.vertices()) {
+        const auto& p = m.point(v);
+        points->InsertNextPoint(p[0], p[1], p[2]);
+    }
+    vtkNew<vtkCellArray> polys;
+    for (const auto f : m.faces()) {
+        vtkIdType ids[3];
+        int k = 0;
+        for (const auto v : m.fv_range(f)) ids[k++] = v.idx();
+        polys->InsertNextCell(3, ids);
+    }
+    vtkNew<vtkPolyData> input;
+    input->SetPoints(points);
+    input->SetPolys(polys);
+    const Plane p = sphere_plane(0);
+    for (auto _ : state) {
+        for (const double side : {1.0, -1.0}) {
+            vtkNew<vtkPlane> plane;
+            plane->SetOrigin(p.point()[0], p.point()[1], p.point()[2]);
+            plane->SetNormal(side * p.normal()[0], side * p.normal()[1], side * p.normal()[2]);
+            vtkNew<vtkPlaneCollection> planes;
+            planes->AddItem(plane);
+            vtkNew<vtkClipClosedSurface> clip;
+            clip->SetInputData(input);
+            clip->SetClippingPlanes(planes);
+            clip->Update();
+            benchmark::DoNotOptimize(clip->GetOutput()->GetNumberOfCells());
+        }
+    }
+}
+BENCHMARK(BM_VtkClipClosedSurfaceTwoHalves_Sphere1M)->Iterations(2)->Unit(benchmark::kMillisecond);
+#endif
+
+#ifdef KERF_BENCH_HAVE_CGAL
+void BM_CgalClipVolumeTwoHalves_Sphere1M(benchmark::State& state) {
+    using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+    using SM = CGAL::Surface_mesh<K::Point_3>;
+    const TriMesh& m = sphere_1m();
+    SM input;
+    std::vector<SM::Vertex_index> vi;
+    for (const auto v : m.vertices()) {
+        const auto& p = m.point(v);
+        vi.push_back(input.add_vertex(K::Point_3(p[0], p[1], p[2])));
+    }
+    for (const auto f : m.faces()) {
+        std::vector<SM::Vertex_index> c;
+        for (const auto v : m.fv_range(f)) c.push_back(vi[static_cast<std::size_t>(v.idx())]);
+        input.add_face(c[0], c[1], c[2]);
+    }
+    const Plane p = sphere_plane(0);
+    for (auto _ : state) {
+        for (const double side : {1.0, -1.0}) {
+            state.PauseTiming();
+            SM half = input;
+            state.ResumeTiming();
+            // CGAL keeps the part on the negative side of the plane.
+            const K::Plane_3 plane(K::Point_3(p.point()[0], p.point()[1], p.point()[2]),
+                                   K::Vector_3(side * p.normal()[0], side * p.normal()[1],
+                                               side * p.normal()[2]));
+            CGAL::Polygon_mesh_processing::clip(
+                half, plane, CGAL::parameters::clip_volume(true));
+            benchmark::DoNotOptimize(half.number_of_faces());
+        }
+    }
+}
+BENCHMARK(BM_CgalClipVolumeTwoHalves_Sphere1M)->Iterations(1)->Unit(benchmark::kMillisecond);
+#endif
+
+// ---- one gradual-separation step ----------------------------------------------------------------
+
+void BM_SeparationStep_Tube1M(benchmark::State& state) {
+    TriMesh m = tube_with(1'000'000);
+    CutContext ctx(m);
+    CrossSection cs;
+    const Plane p = tube_plane(3, 7);
+    const Seed seed{Vec3(kTubeOuter, 0, p.point()[2]), kerf::mesh::FaceHandle(), -1.0};
+    if (!kerf::cut::slice_by_plane(ctx, p, seed, cs).ok()) return state.SkipWithError("slice failed");
+    auto sep = kerf::cut::Separator::make(ctx, cs, 1.0e-3);
+    if (!sep) return state.SkipWithError("separator refused");
+    double front = -kTubeOuter - 0.001;
+    for (auto _ : state) {
+        front += 0.0002;  // the blade advances 0.2 mm per progress event
+        const std::vector<Vec2> blade{Vec2(front - 0.01, -0.0065), Vec2(front, -0.0065),
+                                      Vec2(front, 0.0065), Vec2(front - 0.01, 0.0065)};
+        sep->sweep(blade);
+    }
+    state.counters["band_vertices"] = sep->stats().band_vertices;
+}
+BENCHMARK(BM_SeparationStep_Tube1M)->Iterations(60)->Unit(benchmark::kMicrosecond);
+
+// ---- caps alone ---------------------------------------------------------------------------------
+
+void BM_TriangulateBoneAnnulus(benchmark::State& state) {
+    const int n = static_cast<int>(state.range(0));
+    std::vector<Vec2> outer, inner;
+    for (int k = 0; k < n; ++k) {
+        const double a = 2 * M_PI * k / n;
+        const double r = 0.01 * (1 + 0.15 * std::sin(3 * a) + 0.05 * std::sin(7 * a));
+        outer.emplace_back(r * std::cos(a), r * std::sin(a));
+    }
+    for (int k = 0; k < n / 2; ++k) {
+        const double a = -2 * M_PI * k / (n / 2);
+        const double r = 0.004 * (1 + 0.1 * std::sin(2 * a + 1));
+        inner.emplace_back(0.001 + r * std::cos(a), r * std::sin(a));
+    }
+    const std::vector<std::span<const Vec2>> loops{outer, inner};
+    kerf::cut::Triangulator t;
+    std::vector<kerf::cut::Triangle> tris;
+    for (auto _ : state) {
+        if (!t.triangulate(loops, tris)) {
+            state.SkipWithError("refused");
+            break;
+        }
+        benchmark::DoNotOptimize(tris.data());
+    }
+    state.counters["points"] = 1.5 * n;
+}
+BENCHMARK(BM_TriangulateBoneAnnulus)->Arg(1000)->Arg(3000)->Unit(benchmark::kMicrosecond);
+
+// ---- a real bone refined to ~1M triangles -------------------------------------------------------
+
+const TriMesh* refined_bone() {
+    static std::unique_ptr<TriMesh> bone = [] {
+        const char* dir = std::getenv("KERF_SHARED_MESHES_DIR");  // e.g. on another machine
+        const auto path = std::filesystem::path(dir != nullptr ? dir : KERF_SHARED_MESHES) /
+                          "jma_norm01_calcaneus_right.stl";
+        auto loaded = kerf::mesh::load_mesh(path, kerf::mesh::Units::kMillimetres);
+        if (!loaded) return std::unique_ptr<TriMesh>();
+        auto m = std::make_unique<TriMesh>(std::move(*loaded));
+        OpenMesh::Subdivider::Uniform::LoopT<TriMesh, double> loop;
+        loop.attach(*m);
+        loop(2);  // 58,334 -> 933,344 triangles
+        loop.detach();
+        m->update_face_normals();
+        return m;
+    }();
+    return bone.get();
+}
+
+void BM_LocalisedSliceCaps_RealBone1M(benchmark::State& state) {
+    const TriMesh* source = refined_bone();
+    if (source == nullptr) return state.SkipWithError("shared meshes absent");
+    TriMesh m = *source;
+    CutContext ctx(m);
+    CrossSection cs;
+    // Planes across the bone's long (x) extent; the seed is where an edge crosses the plane.
+    OpenMesh::Vec3d lo(1e9, 1e9, 1e9), hi(-1e9, -1e9, -1e9);
+    for (const auto v : m.vertices()) lo.minimize(m.point(v)), hi.maximize(m.point(v));
+    int i = 0;
+    int refused = 0;
+    for (auto _ : state) {
+        state.PauseTiming();
+        const double x = lo[0] + (hi[0] - lo[0]) * (0.3 + 0.04 * i++) + 1.234e-7;
+        const Plane p = *Plane::make(Vec3(x, 0, 0), Vec3(1, 0, 0));
+        Vec3 seed_point(0, 0, 0);
+        for (const auto e : m.edges()) {
+            const auto a = m.point(m.from_vertex_handle(m.halfedge_handle(e, 0)));
+            const auto b = m.point(m.to_vertex_handle(m.halfedge_handle(e, 0)));
+            const double da = p.signed_distance(a), db = p.signed_distance(b);
+            if ((da < 0) != (db < 0)) {
+                seed_point = a + (b - a) * (da / (da - db));
+                break;
+            }
+        }
+        state.ResumeTiming();
+        const auto r =
+            kerf::cut::slice_by_plane(ctx, p, Seed{seed_point, kerf::mesh::FaceHandle(), -1.0}, cs);
+        refused += r.ok() ? 0 : 1;
+    }
+    state.counters["refused"] = refused;
+    state.counters["triangles"] = static_cast<double>(source->n_faces());
+}
+BENCHMARK(BM_LocalisedSliceCaps_RealBone1M)->Iterations(10)->Unit(benchmark::kMicrosecond);
+
+// ---- ratio table ---------------------------------------------------------------------------------
+
+/// Console output as usual, plus each benchmark's real time per iteration kept for the ratios.
+class RatioReporter : public benchmark::ConsoleReporter {
+public:
+    void ReportRuns(const std::vector<Run>& runs) override {
+        ConsoleReporter::ReportRuns(runs);
+        for (const Run& r : runs) {
+            if (r.error_occurred) continue;
+            seconds_[r.benchmark_name()] = r.GetAdjustedRealTime() /
+                                           benchmark::GetTimeUnitMultiplier(r.time_unit);
+        }
+    }
+    void print_ratios() const {
+        std::printf("\nRatios (same run):\n");
+        ratio("localised 1M / 100k (flat = 1)", "BM_LocalisedSliceCaps/1000000/iterations:40",
+              "BM_LocalisedSliceCaps/100000/iterations:40");
+        ratio("localised 4M / 100k (flat = 1)", "BM_LocalisedSliceCaps/4000000/iterations:40",
+              "BM_LocalisedSliceCaps/100000/iterations:40");
+        ratio("VTK two halves / ours, 1M sphere",
+              "BM_VtkClipClosedSurfaceTwoHalves_Sphere1M/iterations:2",
+              "BM_FullSliceCaps_Sphere1M/iterations:10");
+        ratio("CGAL clip_volume two halves / ours, 1M sphere",
+              "BM_CgalClipVolumeTwoHalves_Sphere1M/iterations:1",
+              "BM_FullSliceCaps_Sphere1M/iterations:10");
+        ratio("ours full plane / streaming floor, 1M sphere",
+              "BM_FullSliceCaps_Sphere1M/iterations:10", "BM_StreamingPass_Sphere1M");
+        ratio("localised 1M tube / streaming floor 1M sphere",
+              "BM_LocalisedSliceCaps/1000000/iterations:40", "BM_StreamingPass_Sphere1M");
+        ratio("separation step / streaming floor", "BM_SeparationStep_Tube1M/iterations:60",
+              "BM_StreamingPass_Sphere1M");
+        ratio("real bone 1M localised / streaming floor",
+              "BM_LocalisedSliceCaps_RealBone1M/iterations:10", "BM_StreamingPass_Sphere1M");
+        absolute("localised slice + caps, 1M tube", "BM_LocalisedSliceCaps/1000000/iterations:40");
+        absolute("separation step, 1M tube", "BM_SeparationStep_Tube1M/iterations:60");
+    }
+
+private:
+    void ratio(const char* what, const std::string& a, const std::string& b) const {
+        const auto ia = seconds_.find(a), ib = seconds_.find(b);
+        if (ia == seconds_.end() || ib == seconds_.end()) {
+            std::printf("  %-48s (not measured in this run)\n", what);
+            return;
+        }
+        std::printf("  %-48s %10.2f\n", what, ia->second / ib->second);
+    }
+    void absolute(const char* what, const std::string& a) const {
+        const auto it = seconds_.find(a);
+        if (it != seconds_.end()) std::printf("  %-48s %10.3f ms\n", what, it->second * 1e3);
+    }
+    std::map<std::string, double> seconds_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    benchmark::Initialize(&argc, argv);
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+    RatioReporter reporter;
+    benchmark::RunSpecifiedBenchmarks(&reporter);
+    reporter.print_ratios();
+    benchmark::Shutdown();
+    return 0;
+}
