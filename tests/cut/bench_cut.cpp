@@ -25,6 +25,7 @@
 #include "display/cut/separate.hpp"
 #include "display/cut/slice_by_plane.hpp"
 #include "display/cut/triangulate.hpp"
+#include "display/mesh/foot_generator.hpp"
 #include "display/mesh/mesh_io.hpp"
 #include "display/mesh/shapes.hpp"
 
@@ -307,6 +308,56 @@ void BM_LocalisedSliceCaps_RealBone1M(benchmark::State& state) {
 }
 BENCHMARK(BM_LocalisedSliceCaps_RealBone1M)->Iterations(10)->Unit(benchmark::kMicrosecond);
 
+// ---- the built-in foot at 1M triangles: a bone-sized cross-section -----------------------------
+
+/// Localised slice + caps across the first metatarsal's shaft (cortex + canal: an annulus), at
+/// successive stations along its axis; the other 18 bones cross nothing or stay untouched.
+void BM_LocalisedSliceCaps_Foot1M(benchmark::State& state) {
+    kerf::mesh::FootParams params;
+    params.target_triangles = 1'000'000;
+    auto foot = kerf::mesh::generate_foot(params);
+    if (!foot) return state.SkipWithError(foot.error().c_str());
+    TriMesh& m = foot->mesh;
+    const kerf::mesh::BoneInfo bone = foot->first_metatarsal();
+    const Vec3 axis = (bone.head_m - bone.base_m).normalized();
+    CutContext ctx(m);
+    CrossSection cs;
+    int i = 0;
+    int refused = 0;
+    double faces_split = 0;
+    for (auto _ : state) {
+        state.PauseTiming();
+        // Station along the shaft, between the canal's ends; seed: the crossing of the bone's
+        // outer shell farthest from the axis (never the canal wall).
+        const double s = bone.canal_start_m + (bone.canal_end_m - bone.canal_start_m) *
+                                                  (0.15 + 0.7 * (i++ + 0.5) / 40.0);
+        const Vec3 at = bone.base_m + axis * s;
+        const Plane p = *Plane::make(at + axis * 1.234e-7, axis);
+        Vec3 seed_point = at;
+        double farthest = -1.0;
+        for (std::size_t f = bone.first_triangle; f < bone.first_triangle + bone.triangle_count; ++f) {
+            for (const auto h : m.fh_range(kerf::mesh::FaceHandle(static_cast<int>(f)))) {
+                const auto a = m.point(m.from_vertex_handle(h));
+                const auto b = m.point(m.to_vertex_handle(h));
+                const double da = p.signed_distance(a), db = p.signed_distance(b);
+                if ((da < 0) == (db < 0)) continue;
+                const Vec3 x = a + (b - a) * (da / (da - db));
+                const double r = (x - at - axis * OpenMesh::dot(x - at, axis)).norm();
+                if (r > farthest) farthest = r, seed_point = x;
+            }
+        }
+        state.ResumeTiming();
+        const auto r =
+            kerf::cut::slice_by_plane(ctx, p, Seed{seed_point, kerf::mesh::FaceHandle(), -1.0}, cs);
+        refused += r.ok() ? 0 : 1;
+        faces_split += r.stats.faces_split;
+    }
+    state.counters["refused"] = refused;
+    state.counters["faces_split"] = faces_split / static_cast<double>(state.iterations());
+    state.counters["triangles"] = static_cast<double>(m.n_faces());
+}
+BENCHMARK(BM_LocalisedSliceCaps_Foot1M)->Iterations(40)->Unit(benchmark::kMicrosecond);
+
 // ---- ratio table ---------------------------------------------------------------------------------
 
 /// Console output as usual, plus each benchmark's real time per iteration kept for the ratios.
@@ -340,7 +391,11 @@ public:
               "BM_StreamingPass_Sphere1M");
         ratio("real bone 1M localised / streaming floor",
               "BM_LocalisedSliceCaps_RealBone1M/iterations:10", "BM_StreamingPass_Sphere1M");
+        ratio("foot 1M metatarsal localised / streaming floor",
+              "BM_LocalisedSliceCaps_Foot1M/iterations:40", "BM_StreamingPass_Sphere1M");
         absolute("localised slice + caps, 1M tube", "BM_LocalisedSliceCaps/1000000/iterations:40");
+        absolute("localised slice + caps, foot 1M metatarsal",
+                 "BM_LocalisedSliceCaps_Foot1M/iterations:40");
         absolute("separation step, 1M tube", "BM_SeparationStep_Tube1M/iterations:60");
     }
 
