@@ -69,22 +69,29 @@ TEST(ConcurrentRing, TwoThreadsPassAMillionRecordsWithoutLossOrCorruption) {
 TEST(ConcurrentSeqlock, ReadersNeverSeeATornValue) {
     auto cell = std::make_unique<SeqlockCell<LatestState>>();
     std::atomic<bool> done{false};
+    std::atomic<std::uint64_t> reads{0};
+    // The writer goes on until the reader has had its share of successful reads, however the
+    // scheduler treats the two threads (on a loaded 2-core machine the writer can otherwise
+    // finish before the reader first runs).
+    constexpr std::uint64_t kMinWrites = 200'000 / kScale, kMinReads = 1'000;
     std::thread writer([&] {
         LatestState s{};
-        for (std::uint64_t t = 1; t <= 200'000 / kScale; ++t) {
+        for (std::uint64_t t = 1;
+             t <= kMinWrites || (reads.load() < kMinReads && t <= 1000 * kMinWrites); ++t) {
             s.tick = t;
             s.time_ns = t * 1000;
             for (int k = 0; k < 3; ++k) s.force_n[k] = double(t) + k;
             s.compute_ns_max = std::uint32_t(t);
             seqlock_write(*cell, s);
+            if (t % 4096 == 0) std::this_thread::yield();
         }
         done.store(true);
     });
-    std::uint64_t reads = 0, last_tick = 0;
+    std::uint64_t last_tick = 0;
     LatestState out{};
     while (!done.load()) {
         if (try_seqlock_read(*cell, out) != SeqlockRead::kOk) continue;
-        ++reads;
+        reads.fetch_add(1);
         ASSERT_EQ(out.time_ns, out.tick * 1000);
         ASSERT_EQ(out.force_n[2], double(out.tick) + 2);
         ASSERT_EQ(out.compute_ns_max, std::uint32_t(out.tick));
@@ -92,7 +99,7 @@ TEST(ConcurrentSeqlock, ReadersNeverSeeATornValue) {
         last_tick = out.tick;
     }
     writer.join();
-    EXPECT_GT(reads, 0u);
+    EXPECT_GE(reads.load(), kMinReads);
 }
 
 TEST(ConcurrentSession, ConsumersOnThreadsSeeTheIdenticalSequenceDespiteDrops) {
