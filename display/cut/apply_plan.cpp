@@ -117,7 +117,11 @@ bool separate_loop(TriMesh& m, const std::vector<VertexHandle>& r, const std::ve
 // (OpenMesh's add_face would scan a fan vertex's whole one-ring for every triangle).
 bool add_cap(TriMesh& m, const std::vector<std::array<VertexHandle, 3>>& tris, RimEdges& rim,
              std::vector<FaceHandle>& faces) {
-    std::sort(rim.begin(), rim.end());
+    // Keys are unique (one rim halfedge per directed edge): order and search by key alone.
+    const auto by_key = [](const RimEdges::value_type& a, const RimEdges::value_type& b) {
+        return a.first < b.first;
+    };
+    std::sort(rim.begin(), rim.end(), by_key);
     const std::size_t n = tris.size();
     std::vector<HalfedgeHandle> he(3 * n);
     struct Inner {
@@ -130,7 +134,8 @@ bool add_cap(TriMesh& m, const std::vector<std::array<VertexHandle, 3>>& tris, R
     for (std::size_t t = 0; t < n; ++t)
         for (int k = 0; k < 3; ++k) {
             const VertexHandle u = tris[t][k], v = tris[t][(k + 1) % 3];
-            const auto it = std::lower_bound(rim.begin(), rim.end(), std::make_pair(edge_key(u, v), HalfedgeHandle()));
+            const auto it = std::lower_bound(rim.begin(), rim.end(),
+                                             std::make_pair(edge_key(u, v), HalfedgeHandle()), by_key);
             if (it != rim.end() && it->first == edge_key(u, v)) {
                 if (!m.is_boundary(it->second)) return false;  // used twice
                 he[3 * t + k] = it->second;

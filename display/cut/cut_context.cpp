@@ -51,12 +51,22 @@ void ContextState::rebuild() {
     for (auto e : mesh.all_edges()) mesh.property(e_stamp, e) = 0;
     for (auto f : mesh.all_faces()) mesh.property(f_stamp, f) = 0;
     generation = 1;
-    // Headroom for the cuts to come: as much again of everything, reserved once here. Capacity
-    // that no cut uses is never touched, so it costs address space, not resident memory.
+    // Headroom for the cuts to come: as much again of everything, reserved and made resident
+    // once here, so no cut reallocates or page-faults.
     reserved_vertices = 2 * mesh.n_vertices() + 4096;
     reserved_edges = 2 * mesh.n_edges() + 12288;
     reserved_faces = 2 * mesh.n_faces() + 8192;
+    reserve_resident();
+}
+
+void ContextState::reserve_resident() {
     mesh.reserve(reserved_vertices, reserved_edges, reserved_faces);
+    const std::size_t nv = mesh.n_vertices(), ne = mesh.n_edges(), nf = mesh.n_faces();
+    // Every connectivity array and property grows into its capacity (constructing, hence
+    // writing, each element) and shrinks back: std::vector keeps the capacity, the kernel keeps
+    // the pages. Nothing observes the intermediate size.
+    mesh.resize(reserved_vertices, reserved_edges, reserved_faces);
+    mesh.resize(nv, ne, nf);
 }
 
 void ContextState::ensure_capacity(std::size_t vertices, std::size_t edges, std::size_t faces) {
@@ -65,7 +75,7 @@ void ContextState::ensure_capacity(std::size_t vertices, std::size_t edges, std:
     reserved_vertices = std::max(nv, 2 * reserved_vertices);
     reserved_edges = std::max(ne, 2 * reserved_edges);
     reserved_faces = std::max(nf, 2 * reserved_faces);
-    mesh.reserve(reserved_vertices, reserved_edges, reserved_faces);
+    reserve_resident();
 }
 
 void ContextState::next_generation() {
