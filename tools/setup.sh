@@ -5,7 +5,7 @@
 #   bash tools/setup.sh                       # Release-ish build in ./build
 #   bash tools/setup.sh --werror              # warnings are errors (CI)
 #   bash tools/setup.sh --build-dir build-asan --sanitize address,undefined
-#   bash tools/setup.sh --fuzz --build-dir build-fuzz    # clang + libFuzzer targets
+#   bash tools/setup.sh --fuzz --build-dir build-asan    # clang, ASan+UBSan: tests + fuzz targets
 #   bash tools/setup.sh --bench-peers         # also VTK and CGAL, for the cutting benchmark
 #   bash tools/setup.sh --no-build            # packages only
 set -euo pipefail
@@ -63,9 +63,13 @@ cmake_args=(-S "$here" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE="$build_type"
             -DKERF_WERROR="$werror" -DKERF_SANITIZE="$sanitize" -DKERF_FUZZ="$fuzz"
             -DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 if [[ $fuzz == ON ]]; then
-  cmake_args+=(-DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DKERF_BENCH=OFF)
-elif [[ -n $sanitize ]]; then
-  cmake_args+=(-DKERF_BENCH=OFF)  # sanitizer builds run tests, never benchmarks
+  cmake_args+=(-DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++)
+fi
+if [[ $fuzz == ON || -n $sanitize ]]; then
+  # Sanitizer builds run tests, never benchmarks; -O1 and line tables only keep them quick to
+  # build on 2 cores while reports still name file and line.
+  cmake_args+=(-DKERF_BENCH=OFF -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG"
+               -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG")
 fi
 cmake "${cmake_args[@]}"
 cmake --build "$build_dir" -j "$(nproc)" "${targets[@]}"
