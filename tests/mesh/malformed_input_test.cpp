@@ -70,6 +70,20 @@ std::string ply_binary_nan() {
     return s;
 }
 
+// A face whose third index is a float beyond any integer (or NaN): refused by name, never
+// converted to an integer (out-of-range float-to-int conversion is undefined; the fuzzer found it).
+std::string ply_binary_float_index(float third) {
+    std::string s =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float "
+        "y\n"
+        "property float z\nelement face 1\nproperty list uchar float vertex_indices\nend_header\n";
+    s += std::string(36, '\0');
+    s.push_back(3);
+    const float idx[3] = {0.0f, 1.0f, third};
+    s.append(reinterpret_cast<const char*>(idx), sizeof idx);  // little-endian host (x86-64)
+    return s;
+}
+
 const Bad kBad[] = {
     {"StlEmpty", Format::kStl, "", MeshErrorKind::kEmpty, 0, "empty"},
     {"StlTooShortForAHeader", Format::kStl, std::string(50, 'x'), MeshErrorKind::kTruncated, 0,
@@ -136,6 +150,10 @@ const Bad kBad[] = {
     {"PlyFaceListRunsPastEnd", Format::kPly, ply_binary_long_face_list(), MeshErrorKind::kTruncated,
      0, "255 entries"},
     {"PlyBinaryNaN", Format::kPly, ply_binary_nan(), MeshErrorKind::kNonFinite, 0, "vertex 0"},
+    {"PlyHugeFloatIndex", Format::kPly, ply_binary_float_index(3.0e38f),
+     MeshErrorKind::kIndexOutOfRange, 0, "vertex index 3e+38"},
+    {"PlyNaNIndex", Format::kPly, ply_binary_float_index(std::numeric_limits<float>::quiet_NaN()),
+     MeshErrorKind::kIndexOutOfRange, 0, "vertex index nan"},
     {"PlyMissingZ", Format::kPly,
      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nend_header\n0 "
      "0\n",

@@ -4,7 +4,9 @@
 // before anything is reserved.
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
+#include <string>
 
 #include "display/mesh/detail/formats.hpp"
 
@@ -237,19 +239,28 @@ std::optional<MeshError> PlyParser::check_room(const PlyElement& e) {
     return std::nullopt;
 }
 
+// A number read from the file, for an error message: an integer when it is one and fits, else as
+// written by %g (never a float-to-integer conversion out of range: that is undefined).
+std::string number_text(double x) {
+    if (std::isfinite(x) && std::abs(x) < 9.0e15 && x == std::floor(x))
+        return std::to_string(static_cast<long long>(x));
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", x);
+    return buf;
+}
+
 // Reads one face's index list of `n` entries and appends its fan of triangles.
 std::optional<MeshError> PlyParser::face(const PlyProperty& p) {
     double count = 0;
     if (auto e = value(p.count_type, count)) return e;
-    if (count < 3)
-        return fail(MeshErrorKind::kSyntax,
-                    "face with " + std::to_string(static_cast<long long>(count)) + " vertices");
+    if (!(count >= 3))  // NaN too
+        return fail(MeshErrorKind::kSyntax, "face with " + number_text(count) + " vertices");
     const std::size_t per = encoding_ == PlyEncoding::kAscii ? 2 : size_of(p.type);
     const std::size_t left =
         encoding_ == PlyEncoding::kAscii ? s_.remaining() + 1 : bytes_.size() - pos_;
     if (count > static_cast<double>(left / per)) {
         return fail(MeshErrorKind::kTruncated,
-                    "face list of " + std::to_string(static_cast<long long>(count)) +
+                    "face list of " + number_text(count) +
                         " entries but only " + std::to_string(left) + " bytes left");
     }
     const auto n = static_cast<std::size_t>(count);
@@ -259,7 +270,7 @@ std::optional<MeshError> PlyParser::face(const PlyProperty& p) {
         if (auto e = value(p.type, raw)) return e;
         if (raw < 0 || raw > 4294967294.0 || raw != std::floor(raw)) {
             return fail(MeshErrorKind::kIndexOutOfRange,
-                        "vertex index " + std::to_string(static_cast<long long>(raw)));
+                        "vertex index " + number_text(raw));
         }
         const auto v = static_cast<std::uint32_t>(raw);
         if (k == 0) first = v;
@@ -315,7 +326,7 @@ std::optional<MeshError> PlyParser::element(const PlyElement& e) {
                 const std::size_t per = encoding_ == PlyEncoding::kAscii ? 2 : size_of(p.type);
                 const std::size_t left =
                     encoding_ == PlyEncoding::kAscii ? s_.remaining() + 1 : bytes_.size() - pos_;
-                if (n < 0 || n > static_cast<double>(left / per))
+                if (!(n >= 0) || n > static_cast<double>(left / per))  // NaN too
                     return fail(MeshErrorKind::kTruncated, "list longer than the data left");
                 for (auto k = static_cast<std::size_t>(n); k > 0; --k) {
                     if (auto err = value(p.type, ignored)) return err;
@@ -331,7 +342,7 @@ std::optional<MeshError> PlyParser::element(const PlyElement& e) {
             if (!pt)
                 return fail(MeshErrorKind::kNonFinite,
                             "vertex " + std::to_string(item) + " has a NaN or infinite coordinate");
-            if (c[3] < 0 || c[3] > 2)
+            if (!(c[3] >= 0 && c[3] <= 2))  // NaN too
                 return fail(MeshErrorKind::kSyntax, "material must be 0, 1 or 2");
             if (raw_.size() >= 0xFFFFFFFEu)
                 return fail(MeshErrorKind::kTooLarge, "more than 2^32 - 2 vertices");
