@@ -219,6 +219,29 @@ bool triangulate_group(ContextState& s, const Plane& plane, const std::vector<co
     return false;
 }
 
+// A cap edge between two on-plane vertices that are not neighbours on their loop, where the mesh
+// already has an edge: the surface touches the plane along that edge from one side (e.g. a plane
+// through two vertices of a torus's inner ring), so the cross-section pinches along it and the
+// side that keeps the edge would have it three times (its two faces and the cap): refused like
+// a pinch at a vertex. O(cap triangles x valence).
+bool pinched_along_an_edge(const ContextState& s) {
+    const SectionPlan& plan = s.plan;
+    std::vector<std::uint32_t> next(plan.points.size(), 0);
+    for (const PlanLoop& l : plan.loops)
+        for (std::uint32_t i = 0; i < l.count; ++i) next[l.first + i] = l.first + (i + 1) % l.count;
+    auto existing_chord = [&](std::uint32_t p, std::uint32_t q) {
+        const PlanPoint& a = plan.points[p];
+        const PlanPoint& b = plan.points[q];
+        if (a.key.edge || b.key.edge || next[p] == q || next[q] == p) return false;
+        return s.mesh.find_halfedge(mesh::VertexHandle(a.key.id), mesh::VertexHandle(b.key.id))
+            .is_valid();
+    };
+    for (const Triangle& t : plan.cap_triangles)
+        if (existing_chord(t.a, t.b) || existing_chord(t.b, t.c) || existing_chord(t.c, t.a))
+            return true;
+    return false;
+}
+
 }  // namespace
 
 CutStatus plan_caps(ContextState& s, const Plane& plane) {
@@ -275,7 +298,7 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
     }
     for (const Triangle& t : tris)
         if (!good(t)) return CutStatus::kCapTriangulationFailed;
-    return CutStatus::kOk;
+    return pinched_along_an_edge(s) ? CutStatus::kDegenerateCrossSection : CutStatus::kOk;
 }
 
 }  // namespace kerf::cut::detail

@@ -17,7 +17,7 @@ enum class CutStatus : std::uint8_t {
     kNonManifoldInput,        ///< an open edge or broken fan where the cut passes
     kInvalidPlane,            ///< non-finite point or normal, or a zero normal
     kInvalidArgument,         ///< e.g. a non-positive or non-finite kerf width
-    kDegenerateCrossSection,  ///< the cross-section pinches at a vertex (loops touch)
+    kDegenerateCrossSection,  ///< the cross-section pinches at a vertex or along an edge
     kCapTriangulationFailed,  ///< a cap polygon could not be triangulated without slivers
     kInternalError,           ///< an invariant broke; please report (mesh may have been edited)
 };

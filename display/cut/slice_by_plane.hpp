@@ -21,7 +21,9 @@
 //    earlier cap leaves that cap on its piece and does not cut it again.
 //  - A plane that only touches the mesh (vertices, edges or faces on it, nothing crossing) is
 //    kPlaneMissesMesh: nothing to separate, the mesh is unchanged.
-//  - A cross-section that pinches at an on-plane vertex (two loops touching) is refused with
+//  - A cross-section that pinches at an on-plane vertex (two loops touching) or along an
+//    on-plane edge (the surface touches the plane along an edge joining two non-neighbouring rim
+//    vertices: the cap would need that edge a third time) is refused with
 //    kDegenerateCrossSection; an open edge where the cut passes gives kNonManifoldInput.
 //  - Cuts through earlier caps are ordinary: a cap is surface like any other.
 //  - Caps never contain a sliver: rim points straight up to rounding are fanned, bad triangles

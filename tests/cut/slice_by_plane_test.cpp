@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "display/mesh/shapes.hpp"
 #include "tests/cut/cut_test_util.hpp"
 #include "tests/cut/mesh_checks.hpp"
 #include "tests/cut/test_shapes.hpp"
@@ -155,6 +156,27 @@ TEST(SliceByPlane, ACrossSectionPinchingAtASaddleVertexIsRefusedUnchanged) {
     EXPECT_EQ(slice_by_plane(ctx, plane_of(Vec3(0, 0, 0), Vec3(0, 0, 1)), cs).status,
               CutStatus::kDegenerateCrossSection);
     EXPECT_TRUE(snapshot(m) == before);
+}
+
+TEST(SliceByPlane, ACrossSectionPinchingAlongAnEdgeIsRefusedUnchanged) {
+    // Found by fuzz_slice: a 12 x 7 torus cut by x = x(v3). Vertices 3 and 4 of the first minor
+    // ring sit at the same x, so the plane holds the edge 3-4, whose faces both lie on the -x side:
+    // the cross-section is two lobes touching along that edge, and the -x cap would need the edge
+    // a third time. Refused, mesh unchanged; a plane a hair away cuts normally.
+    auto m = mesh::make_torus(0.03, 0.01, 12, 7);
+    const TriMesh::Point p3 = m.point(mesh::VertexHandle(3));
+    ASSERT_EQ(p3[0], m.point(mesh::VertexHandle(4))[0]);
+    const auto before = snapshot(m);
+    const double v0 = signed_volume(m);
+    CutContext ctx(m);
+    CrossSection cs;
+    EXPECT_EQ(slice_by_plane(ctx, plane_of(p3, Vec3(1, 0, 0)), cs).status,
+              CutStatus::kDegenerateCrossSection);
+    EXPECT_TRUE(snapshot(m) == before);
+    const auto r = slice_by_plane(ctx, plane_of(p3 + Vec3(1e-4, 0, 0), Vec3(1, 0, 0)), cs);
+    ASSERT_TRUE(r.ok()) << to_string(r.status);
+    const auto rep = expect_closed_2_manifold(m);
+    EXPECT_NEAR(rep.total_volume_m3, v0, 1e-9 * v0);
 }
 
 TEST(SliceByPlane, ALocalisedCutCoplanarWithAnEarlierCapIsAMiss) {
