@@ -14,7 +14,7 @@ namespace kerf::cut::detail {
 
 namespace {
 
-constexpr double kMinCapRelativeArea = 2e-15;
+constexpr double kMinCapRelativeArea = kMinTriangleRelativeArea;
 
 double area2(const std::vector<Point2>& uv, const Triangle& t) {
     const Point2& a = uv[t.a];

@@ -14,6 +14,7 @@ std::string_view to_string(CutStatus s) noexcept {
         case CutStatus::kInvalidArgument: return "invalid_argument";
         case CutStatus::kDegenerateCrossSection: return "degenerate_cross_section";
         case CutStatus::kCapTriangulationFailed: return "cap_triangulation_failed";
+        case CutStatus::kSliverSplit: return "sliver_split";
         case CutStatus::kInternalError: return "internal_error";
     }
     return "unknown";

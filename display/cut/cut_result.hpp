@@ -19,6 +19,8 @@ enum class CutStatus : std::uint8_t {
     kInvalidArgument,         ///< e.g. a non-positive or non-finite kerf width
     kDegenerateCrossSection,  ///< the cross-section pinches at a vertex or along an edge
     kCapTriangulationFailed,  ///< a cap polygon could not be triangulated without slivers
+    kSliverSplit,             ///< the plane passes so near a vertex of a thin triangle that a split
+                              ///< part would have near-zero area: a plane moved by a hair cuts
     kInternalError,           ///< an invariant broke; please report (mesh may have been edited)
 };
 

@@ -344,6 +344,54 @@ void SectionPlan::clear() {
     cap_triangles.clear();
 }
 
+CutStatus check_split_areas(const ContextState& s) {
+    const SectionPlan& plan = s.plan;
+    const TriMesh& m = s.mesh;
+    const double min_area = kMinTriangleRelativeArea * s.scale_m * s.scale_m;
+    auto small = [&](const Vec3& a, const Vec3& b, const Vec3& c) {
+        return !(0.5 * OpenMesh::cross(b - a, c - a).norm() >= min_area);
+    };
+    for (const PlanLoop& l : plan.loops) {
+        if (!l.selected) continue;
+        for (std::uint32_t i = 0; i < l.count; ++i) {
+            const PlanPoint& p = plan.points[l.first + i];
+            const PlanPoint& q = plan.points[l.first + (i + 1) % l.count];
+            if (!p.key.edge && !q.key.edge) continue;  // along an in-plane edge: no face split
+            const PlanPoint& e = p.key.edge ? p : q;   // a crossing edge's point
+            const PlanPoint& o = p.key.edge ? q : p;   // the face's other cut point
+            for (int k = 0; k < 2; ++k) {
+                // Face x -> y -> z with e's point P on edge x-y.
+                const HalfedgeHandle h = m.halfedge_handle(EdgeHandle(e.key.id), k);
+                const FaceHandle f = m.face_handle(h);
+                if (!f.is_valid()) continue;
+                const HalfedgeHandle hn = m.next_halfedge_handle(h);
+                const Vec3& x = m.point(m.from_vertex_handle(h));
+                const Vec3& y = m.point(m.to_vertex_handle(h));
+                const Vec3& z = m.point(m.to_vertex_handle(hn));
+                const Vec3& pp = e.position;
+                const Vec3& qq = o.position;
+                bool bad = false;
+                if (!o.key.edge) {
+                    if (o.key.id != m.to_vertex_handle(hn).idx()) continue;
+                    bad = small(x, pp, z) || small(pp, y, z);  // split through on-plane z
+                } else if (o.key.id == m.edge_handle(hn).idx()) {
+                    // Q on y-z: lone vertex y; the quad x, P, Q, z takes either diagonal.
+                    bad = small(pp, y, qq) || small(x, pp, z) || small(pp, qq, z) ||
+                          small(x, pp, qq) || small(x, qq, z);
+                } else if (o.key.id == m.edge_handle(m.next_halfedge_handle(hn)).idx()) {
+                    // Q on z-x: lone vertex x; the quad P, y, z, Q takes either diagonal.
+                    bad = small(x, pp, qq) || small(pp, y, z) || small(pp, z, qq) ||
+                          small(pp, y, qq) || small(qq, y, z);
+                } else {
+                    continue;
+                }
+                if (bad) return CutStatus::kSliverSplit;
+            }
+        }
+    }
+    return CutStatus::kOk;
+}
+
 double distance_to_face(const TriMesh& m, FaceHandle f, const Vec3& p) {
     auto it = m.cfv_iter(f);
     const Vec3 a = m.point(*it++), b = m.point(*it++), c = m.point(*it);

@@ -65,6 +65,17 @@ CutStatus plan_localised(ContextState& s, const Plane& plane, const Seed& seed);
 CutStatus plan_from_faces(ContextState& s, const Plane& plane,
                           const std::vector<mesh::FaceHandle>& faces);
 
+/// Smallest triangle a cut may create (split parts and cap triangles), relative to the squared
+/// mesh scale.
+inline constexpr double kMinTriangleRelativeArea = 2e-15;
+
+/// Checks that splitting every face the selected loops cross leaves no triangle smaller than
+/// kMinTriangleRelativeArea (either diagonal OpenMesh may choose for the quad part): a plane a
+/// little beyond the tolerance from a vertex of an already thin triangle (e.g. the band an earlier
+/// cut left just above a vertex ring) would otherwise leave a sliver. kSliverSplit if not.
+/// O(points in the selected loops).
+CutStatus check_split_areas(const ContextState& s);
+
 /// Triangulates the selected loops into plan.cap_triangles, counter-clockwise about the normal
 /// (kCapTriangulationFailed if a loop cannot be capped without slivers or tilted triangles).
 CutStatus plan_caps(ContextState& s, const Plane& plane);

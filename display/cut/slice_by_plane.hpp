@@ -24,7 +24,10 @@
 //  - A cross-section that pinches at an on-plane vertex (two loops touching) or along an
 //    on-plane edge (the surface touches the plane along an edge joining two non-neighbouring rim
 //    vertices: the cap would need that edge a third time) is refused with
-//    kDegenerateCrossSection; an open edge where the cut passes gives kNonManifoldInput.
+//    kDegenerateCrossSection;
+//  - A plane a little beyond tol from a vertex of an already thin triangle (the band an earlier
+//    cut left just beside a vertex ring) would split off a triangle of near-zero area: checked
+//    before any edit (either diagonal of the split quad), refused with kSliverSplit. an open edge where the cut passes gives kNonManifoldInput.
 //  - Cuts through earlier caps are ordinary: a cap is surface like any other.
 //  - Caps never contain a sliver: rim points straight up to rounding are fanned, bad triangles
 //    are flipped away, and a cap that would still need a near-zero-area or tilted triangle is

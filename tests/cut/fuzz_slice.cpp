@@ -92,6 +92,8 @@ void check_mesh(const TriMesh& mesh, const char* after) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    // KERF_FUZZ_VERBOSE=1 prints each operation (to turn a crash input into a unit test).
+    static const bool verbose = std::getenv("KERF_FUZZ_VERBOSE") != nullptr;
     Reader in{data, size};
     TriMesh mesh = make_shape(in.byte(), in.byte());
     kerf::cut::CutContext ctx(mesh);
@@ -125,6 +127,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const auto plane = kerf::cut::Plane::make(point, normal);
         if (!plane) continue;  // zero normal: refused by make(), nothing to cut
 
+        if (verbose)
+            std::fprintf(stderr,
+                         "op %d: mode %d, shape %zu vertices, point (%.17g, %.17g, %.17g), normal "
+                         "(%.17g, %.17g, %.17g), seed vertex %d, kerf byte %d\n",
+                         op, mode % 3, n_vertices, point[0], point[1], point[2], normal[0],
+                         normal[1], normal[2], seed_vertex.idx(), kerf_byte);
         const double volume_before = kerf::cut::testing::signed_volume(mesh);
         const std::uint64_t hash_before = kerf::cut::mesh_hash(mesh);
         const kerf::cut::Seed seed{mesh.point(seed_vertex), kerf::mesh::FaceHandle(), -1.0};
@@ -144,6 +152,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 r = kerf::cut::subtract_slab(ctx, *plane, 1e-4 * (1 + kerf_byte % 40), seed, slab);
                 break;
         }
+        if (verbose) std::fprintf(stderr, "  -> %s\n", std::string(to_string(r.status)).c_str());
         if (r.status == CutStatus::kInternalError) fail(std::string(what) + ": internal error");
         if (!r.ok()) {
             if (kerf::cut::mesh_hash(mesh) != hash_before)

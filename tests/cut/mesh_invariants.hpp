@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <numeric>
 #include <string>
 #include <vector>
@@ -109,8 +110,12 @@ inline MeshReport check_closed_2_manifold(const kerf::mesh::TriMesh& mesh) {
         const double area = 0.5 * OpenMesh::cross(p[1] - p[0], p[2] - p[0]).norm();
         if (!std::isfinite(area) || !std::isfinite(p[0].sqrnorm() + p[1].sqrnorm() + p[2].sqrnorm()))
             fail("face " + std::to_string(f.idx()) + " is not finite");
-        else if (area < min_area)
-            fail("face " + std::to_string(f.idx()) + " has near-zero area " + std::to_string(area));
+        else if (area < min_area) {
+            char text[160];
+            std::snprintf(text, sizeof text, "face %d has near-zero area %.3g m^2 (limit %.3g)",
+                          f.idx(), area, min_area);
+            fail(text);
+        }
         r.min_area_m2 = std::min(r.min_area_m2, area);
     }
     std::sort(directed.begin(), directed.end());
