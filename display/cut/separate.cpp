@@ -23,18 +23,18 @@ struct BandVertex {
 /// Distance from q to a counter-clockwise convex polygon (0 inside).
 double distance_to_convex(const Vec2& q, std::span<const Vec2> poly) {
     bool inside = true;
-    double best = 1e300;
-    for (std::size_t i = 0; i < poly.size(); ++i) {
-        const Vec2& a = poly[i];
-        const Vec2& b = poly[(i + 1) % poly.size()];
-        const Vec2 ab = b - a;
-        const Vec2 aq = q - a;
+    double best2 = 1e300;  // squared: one square root per query, not one per edge
+    const Vec2* a = &poly.back();
+    for (const Vec2& b : poly) {
+        const Vec2 ab = b - *a;
+        const Vec2 aq = q - *a;
         if (ab[0] * aq[1] - ab[1] * aq[0] < 0) inside = false;
         const double len2 = ab | ab;
         const double t = len2 > 0 ? std::clamp((aq | ab) / len2, 0.0, 1.0) : 0.0;
-        best = std::min(best, (aq - ab * t).norm());
+        best2 = std::min(best2, (aq - ab * t).sqrnorm());
+        a = &b;
     }
-    return inside ? 0.0 : best;
+    return inside ? 0.0 : std::sqrt(best2);
 }
 
 }  // namespace
@@ -180,6 +180,7 @@ Result<Separator, CutStatus> Separator::make(CutContext& ctx, const CrossSection
     s->ramp = kerf_width_m;
     s->collect_band(cut);
     s->build_grid();
+    s->moved.reserve(s->band.size());  // sweeps never allocate
     ctx.note_vertices_moved(0.5 * kerf_width_m);
     return Separator(std::move(s));
 }
