@@ -62,10 +62,23 @@ void ContextState::rebuild() {
 void ContextState::reserve_resident() {
     mesh.reserve(reserved_vertices, reserved_edges, reserved_faces);
     const std::size_t nv = mesh.n_vertices(), ne = mesh.n_edges(), nf = mesh.n_faces();
-    // Every connectivity array and property grows into its capacity (constructing, hence
-    // writing, each element) and shrinks back: std::vector keeps the capacity, the kernel keeps
-    // the pages. Nothing observes the intermediate size.
+    // Every connectivity array and property grows into its capacity and shrinks back: std::vector
+    // keeps the capacity, the kernel keeps the pages. Default construction writes nothing for
+    // OpenMesh's vector types (points, normals), so every element of every property is also
+    // written explicitly (a copy of element 0). Nothing observes the intermediate size.
     mesh.resize(reserved_vertices, reserved_edges, reserved_faces);
+    if (nv > 0)
+        for (std::size_t i = nv; i < reserved_vertices; ++i)
+            mesh.copy_all_properties(mesh::VertexHandle(0), mesh::VertexHandle(static_cast<int>(i)), true);
+    if (ne > 0) {
+        for (std::size_t i = ne; i < reserved_edges; ++i)
+            mesh.copy_all_properties(mesh::EdgeHandle(0), mesh::EdgeHandle(static_cast<int>(i)), true);
+        for (std::size_t i = 2 * ne; i < 2 * reserved_edges; ++i)
+            mesh.copy_all_properties(mesh::HalfedgeHandle(0), mesh::HalfedgeHandle(static_cast<int>(i)), true);
+    }
+    if (nf > 0)
+        for (std::size_t i = nf; i < reserved_faces; ++i)
+            mesh.copy_all_properties(mesh::FaceHandle(0), mesh::FaceHandle(static_cast<int>(i)), true);
     mesh.resize(nv, ne, nf);
 }
 
