@@ -67,18 +67,17 @@ void ContextState::reserve_resident() {
     // OpenMesh's vector types (points, normals), so every element of every property is also
     // written explicitly (a copy of element 0). Nothing observes the intermediate size.
     mesh.resize(reserved_vertices, reserved_edges, reserved_faces);
-    if (nv > 0)
-        for (std::size_t i = nv; i < reserved_vertices; ++i)
-            mesh.copy_all_properties(mesh::VertexHandle(0), mesh::VertexHandle(static_cast<int>(i)), true);
+    auto write_each = [this](auto first, std::size_t from, std::size_t to) {
+        using Handle = decltype(first);
+        for (std::size_t i = from; i < to; ++i)
+            mesh.copy_all_properties(first, Handle(static_cast<int>(i)), true);
+    };
+    if (nv > 0) write_each(mesh::VertexHandle(0), nv, reserved_vertices);
     if (ne > 0) {
-        for (std::size_t i = ne; i < reserved_edges; ++i)
-            mesh.copy_all_properties(mesh::EdgeHandle(0), mesh::EdgeHandle(static_cast<int>(i)), true);
-        for (std::size_t i = 2 * ne; i < 2 * reserved_edges; ++i)
-            mesh.copy_all_properties(mesh::HalfedgeHandle(0), mesh::HalfedgeHandle(static_cast<int>(i)), true);
+        write_each(mesh::EdgeHandle(0), ne, reserved_edges);
+        write_each(mesh::HalfedgeHandle(0), 2 * ne, 2 * reserved_edges);
     }
-    if (nf > 0)
-        for (std::size_t i = nf; i < reserved_faces; ++i)
-            mesh.copy_all_properties(mesh::FaceHandle(0), mesh::FaceHandle(static_cast<int>(i)), true);
+    if (nf > 0) write_each(mesh::FaceHandle(0), nf, reserved_faces);
     mesh.resize(nv, ne, nf);
 }
 
