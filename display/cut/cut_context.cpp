@@ -78,6 +78,7 @@ void ContextState::reserve_resident() {
         write_each(mesh::HalfedgeHandle(0), 2 * ne, 2 * reserved_edges);
     }
     if (nf > 0) write_each(mesh::FaceHandle(0), nf, reserved_faces);
+    grid.reserve_resident(reserved_faces - nf);
     mesh.resize(nv, ne, nf);
 }
 
@@ -114,5 +115,18 @@ void CutContext::note_vertices_moved(double max_distance_m) noexcept {
 }
 
 void CutContext::rebuild() { state_->rebuild(); }
+
+std::size_t CutContext::spare_faces() const noexcept {
+    const std::size_t used = state_->mesh.n_faces();
+    return state_->reserved_faces > used ? state_->reserved_faces - used : 0;
+}
+
+void CutContext::grow_capacity() {
+    detail::ContextState& s = *state_;
+    s.reserved_vertices = std::max(s.reserved_vertices, s.mesh.n_vertices()) * 2;
+    s.reserved_edges = std::max(s.reserved_edges, s.mesh.n_edges()) * 2;
+    s.reserved_faces = std::max(s.reserved_faces, s.mesh.n_faces()) * 2;
+    s.reserve_resident();
+}
 
 }  // namespace kerf::cut

@@ -94,6 +94,12 @@ void FaceGrid::build(const mesh::TriMesh& mesh) {
     extra_.clear();
 }
 
+void FaceGrid::reserve_resident(std::size_t faces) {
+    const std::size_t n = extra_.size();
+    extra_.resize(n + 2 * faces);  // value-initialised: every page written
+    extra_.resize(n);
+}
+
 void FaceGrid::insert(const mesh::TriMesh& mesh, mesh::FaceHandle f) {
     if (offsets_.empty()) return;
     Vec3 a, b;

@@ -22,6 +22,10 @@ public:
     /// Indexes every non-deleted face of `mesh` (O(n)); cells of about 3 mean face sizes.
     void build(const mesh::TriMesh& mesh);
 
+    /// Makes room for `faces` more inserted faces (about two cells each) and writes it once,
+    /// so inserts during a cut neither reallocate nor page-fault.
+    void reserve_resident(std::size_t faces);
+
     /// Adds face `f` (a face created by a cut) to the cells its bounding box overlaps.
     void insert(const mesh::TriMesh& mesh, mesh::FaceHandle f);
 

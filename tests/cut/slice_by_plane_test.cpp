@@ -217,5 +217,24 @@ TEST(SliceByPlane, ALocalisedCutCoplanarWithAnEarlierCapIsAMiss) {
     EXPECT_TRUE(snapshot(m) == after_first);
 }
 
+TEST(CutContext, CapacityGrowsFromIdleTimeAndCutsKeepWorking) {
+    auto m = mesh::make_hollow_tube(0.05, 0.01, 0.006, 48, 20);
+    const double v0 = signed_volume(m);
+    CutContext ctx(m);
+    const std::size_t spare = ctx.spare_faces();
+    EXPECT_GE(spare, m.n_faces());  // as much again, at least
+    ctx.grow_capacity();
+    EXPECT_GE(ctx.spare_faces(), 2 * spare);
+    CrossSection cs;
+    for (int i = 0; i < 5; ++i) {
+        const double z = 0.005 + 0.008 * i + 1.234e-6;
+        const Seed seed{Vec3(0.01, 0, z), mesh::FaceHandle(), -1.0};
+        ASSERT_TRUE(slice_by_plane(ctx, plane_of(Vec3(0, 0, z), Vec3(0, 0, 1)), seed, cs).ok());
+    }
+    const auto rep = expect_closed_2_manifold(m);
+    EXPECT_EQ(rep.piece_volumes_m3.size(), 6u);
+    EXPECT_NEAR(rep.total_volume_m3, v0, 1e-9 * v0);
+}
+
 }  // namespace
 }  // namespace kerf::cut
