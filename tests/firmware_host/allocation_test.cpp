@@ -7,7 +7,7 @@
 #include "firmware_host/device/kerf_hid_device.hpp"
 #include "firmware_host/transport/socket_report_transport.hpp"
 #include "firmware_host/transport/socket_usb_link.hpp"
-#include "tests/firmware_host/allocation_counter.hpp"
+#include "tests/allocation_counter.hpp"
 #include "tests/firmware_host/device_loop.hpp"
 #include "tests/firmware_host/hapsim_process.hpp"
 
@@ -18,19 +18,19 @@ std::uint64_t count_allocations(Device& dev, int ticks) {
     test::DeviceLoop loop(dev);
     loop.desired = {0, 0, 0};
     for (int i = 0; i < 100; ++i) loop.tick();  // homing, engagement: same code path anyway
-    test::arm_allocation_counter();
+    kerf::test::arm_allocation_counter();
     for (int i = 0; i < ticks; ++i) {
         loop.desired = {0.5 * (i % 7), 0, 1.0};
         loop.tick();
     }
-    return test::disarm_allocation_counter();
+    return kerf::test::disarm_allocation_counter();
 }
 
 TEST(AllocationCounter, CountsAnAllocationOnThisThread) {
-    test::arm_allocation_counter();
+    kerf::test::arm_allocation_counter();
     int* volatile p = new int(3);  // volatile: the compiler may not elide this allocation
     delete p;
-    EXPECT_EQ(test::disarm_allocation_counter(), 1U);
+    EXPECT_EQ(kerf::test::disarm_allocation_counter(), 1U);
 }
 
 TEST(ZeroAllocation, KerfHidDeviceTicksTenThousandTimesWithoutAllocating) {

@@ -1,5 +1,6 @@
 // The producer's per-tick API allocates nothing: global operator new/delete are replaced in this
-// test binary and counted across 10,000 ticks of heartbeat + event + telemetry + state publishes,
+// test binary (tests/allocation_counter.cpp) and the calling thread's allocations counted across
+// 10,000 ticks of heartbeat + event + telemetry + state publishes,
 // with two consumers attached (one of them never reading, so its rings overflow and drop).
 #include <gtest/gtest.h>
 
@@ -8,14 +9,8 @@
 
 #include "rt_core/ipc/consumer.hpp"
 #include "rt_core/ipc/producer.hpp"
+#include "tests/allocation_counter.hpp"
 #include "tests/ipc/ipc_test_support.hpp"
-
-namespace kerf::ipc::test {
-/// Heap allocations made by this process so far (global operator new is replaced in
-/// counting_new.cpp, a separate translation unit so that GCC never sees a replaced operator
-/// inlined next to the library's own new-expressions).
-std::uint64_t allocations_so_far() noexcept;
-}  // namespace kerf::ipc::test
 
 namespace kerf::ipc {
 namespace {
@@ -34,7 +29,7 @@ TEST(ProducerAllocations, TenThousandTicksOfPublishingAllocateNothing) {
     LatestState state{};
     state.tool_orientation_wxyz[0] = 1.0;
 
-    const auto before = test::allocations_so_far();
+    kerf::test::arm_allocation_counter();
     for (std::uint64_t tick = 1; tick <= 10'000; ++tick) {
         producer->heartbeat(tick, monotonic_ns());
         producer->publish_event(event);
@@ -42,8 +37,8 @@ TEST(ProducerAllocations, TenThousandTicksOfPublishingAllocateNothing) {
         state.tick = tick;
         producer->publish_state(state);
     }
-    const auto after = test::allocations_so_far();
-    EXPECT_EQ(after - before, 0u) << "the producer allocated on the real-time path";
+    EXPECT_EQ(kerf::test::disarm_allocation_counter(), 0u)
+        << "the producer allocated on the real-time path";
     // The sleeper's rings overflowed (drop path exercised), the journal took everything.
     EXPECT_GT(producer->layout().producer.events_dropped.load(), 0u);
     EXPECT_GT(producer->layout().producer.telemetry_dropped.load(), 0u);

@@ -1,4 +1,4 @@
-#include "tests/firmware_host/allocation_counter.hpp"
+#include "tests/allocation_counter.hpp"
 
 #include <cstddef>
 #include <cstdlib>
@@ -18,7 +18,7 @@ void* counted(std::size_t n, std::size_t align = 0) {
 }
 }  // namespace
 
-namespace kerf::firmware_host::test {
+namespace kerf::test {
 void arm_allocation_counter() noexcept {
     t_count = 0;
     t_armed = true;
@@ -27,7 +27,7 @@ std::uint64_t disarm_allocation_counter() noexcept {
     t_armed = false;
     return t_count;
 }
-}  // namespace kerf::firmware_host::test
+}  // namespace kerf::test
 
 void* operator new(std::size_t n) { return counted(n); }
 void* operator new[](std::size_t n) { return counted(n); }
