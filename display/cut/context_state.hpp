@@ -25,6 +25,8 @@ struct ContextState {
     /// Makes room for `vertices`, `edges`, `faces` more elements without reallocating during the
     /// edit (capacity doubles when it runs out, so growth is amortised and cuts stay cheap).
     void ensure_capacity(std::size_t vertices, std::size_t edges, std::size_t faces);
+    /// Doubles the capacity (at least room for that many more) and makes it resident.
+    void grow(std::size_t vertices, std::size_t edges, std::size_t faces);
     /// Reserves the capacity recorded in reserved_* and writes every element of it once (grow
     /// to it, shrink back), so that the pages are resident before a cut needs them: a cut that
     /// first-touches fresh memory spends a third of its time in page faults (measured on the

@@ -83,11 +83,16 @@ void ContextState::reserve_resident() {
 }
 
 void ContextState::ensure_capacity(std::size_t vertices, std::size_t edges, std::size_t faces) {
-    const std::size_t nv = mesh.n_vertices() + vertices, ne = mesh.n_edges() + edges, nf = mesh.n_faces() + faces;
-    if (nv <= reserved_vertices && ne <= reserved_edges && nf <= reserved_faces) return;
-    reserved_vertices = std::max(nv, 2 * reserved_vertices);
-    reserved_edges = std::max(ne, 2 * reserved_edges);
-    reserved_faces = std::max(nf, 2 * reserved_faces);
+    const bool room = mesh.n_vertices() + vertices <= reserved_vertices &&
+                      mesh.n_edges() + edges <= reserved_edges &&
+                      mesh.n_faces() + faces <= reserved_faces;
+    if (!room) grow(vertices, edges, faces);
+}
+
+void ContextState::grow(std::size_t vertices, std::size_t edges, std::size_t faces) {
+    reserved_vertices = std::max(mesh.n_vertices() + vertices, 2 * reserved_vertices);
+    reserved_edges = std::max(mesh.n_edges() + edges, 2 * reserved_edges);
+    reserved_faces = std::max(mesh.n_faces() + faces, 2 * reserved_faces);
     reserve_resident();
 }
 
@@ -121,12 +126,6 @@ std::size_t CutContext::spare_faces() const noexcept {
     return state_->reserved_faces > used ? state_->reserved_faces - used : 0;
 }
 
-void CutContext::grow_capacity() {
-    detail::ContextState& s = *state_;
-    s.reserved_vertices = std::max(s.reserved_vertices, s.mesh.n_vertices()) * 2;
-    s.reserved_edges = std::max(s.reserved_edges, s.mesh.n_edges()) * 2;
-    s.reserved_faces = std::max(s.reserved_faces, s.mesh.n_faces()) * 2;
-    s.reserve_resident();
-}
+void CutContext::grow_capacity() { state_->grow(0, 0, 0); }
 
 }  // namespace kerf::cut

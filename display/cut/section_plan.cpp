@@ -344,6 +344,11 @@ void SectionPlan::clear() {
     cap_triangles.clear();
 }
 
+CutStatus finish_plan(ContextState& s, const Plane& plane) {
+    const CutStatus st = check_split_areas(s);
+    return st == CutStatus::kOk ? plan_caps(s, plane) : st;
+}
+
 CutStatus check_split_areas(const ContextState& s) {
     const SectionPlan& plan = s.plan;
     const TriMesh& m = s.mesh;

@@ -76,6 +76,10 @@ inline constexpr double kMinTriangleRelativeArea = 2e-15;
 /// O(points in the selected loops).
 CutStatus check_split_areas(const ContextState& s);
 
+/// What every plan needs before its edit: check_split_areas(), then plan_caps(). Each status of
+/// either is returned as is.
+CutStatus finish_plan(ContextState& s, const Plane& plane);
+
 /// Triangulates the selected loops into plan.cap_triangles, counter-clockwise about the normal
 /// (kCapTriangulationFailed if a loop cannot be capped without slivers or tilted triangles).
 CutStatus plan_caps(ContextState& s, const Plane& plane);

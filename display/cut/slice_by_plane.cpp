@@ -20,8 +20,7 @@ CutResult finish(detail::ContextState& s, const Plane& plane, CutStatus planned,
                  std::int64_t t0) {
     CutResult r;
     r.status = planned;
-    if (r.ok()) r.status = detail::check_split_areas(s);
-    if (r.ok()) r.status = detail::plan_caps(s, plane);
+    if (r.ok()) r.status = detail::finish_plan(s, plane);
     if (r.ok()) r.status = detail::apply_plan(s, plane, out, r.stats);
     r.stats.time_ns = now_ns() - t0;
     return r;

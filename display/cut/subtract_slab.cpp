@@ -110,20 +110,17 @@ CutResult subtract_slab(CutContext& ctx, const Plane& plane, double kerf_width_m
     const Plane upper = plane.offset(0.5 * kerf_width_m);
     // Dry run on the unedited mesh: both walls must plan and cap.
     CutStatus st = detail::plan_localised(s, lower, seed);
-    if (st == CutStatus::kOk) st = detail::check_split_areas(s);
-    if (st == CutStatus::kOk) st = detail::plan_caps(s, lower);
+    if (st == CutStatus::kOk) st = detail::finish_plan(s, lower);
     if (st != CutStatus::kOk) return done(st);
     const std::vector<FaceHandle> upper_faces = upper_crossings(s, lower, upper, lower_loop_faces(s));
     if (!upper_faces.empty()) {
         st = detail::plan_from_faces(s, upper, upper_faces);
-        if (st == CutStatus::kOk) st = detail::check_split_areas(s);
-        if (st == CutStatus::kOk) st = detail::plan_caps(s, upper);
+        if (st == CutStatus::kOk) st = detail::finish_plan(s, upper);
         if (st != CutStatus::kOk && st != CutStatus::kPlaneMissesMesh) return done(st);
     }
     // Lower wall.
     st = detail::plan_localised(s, lower, seed);
-    if (st == CutStatus::kOk) st = detail::check_split_areas(s);
-    if (st == CutStatus::kOk) st = detail::plan_caps(s, lower);
+    if (st == CutStatus::kOk) st = detail::finish_plan(s, lower);
     if (st == CutStatus::kOk) st = detail::apply_plan(s, lower, out.lower, r.stats);
     if (st != CutStatus::kOk) return done(st == CutStatus::kOk ? st : CutStatus::kInternalError);
     // Upper wall: every loop reachable from the lower wall's positive side through the slab.
@@ -137,8 +134,7 @@ CutResult subtract_slab(CutContext& ctx, const Plane& plane, double kerf_width_m
     if (!crossings.empty()) {
         CutStats upper_stats;
         st = detail::plan_from_faces(s, upper, crossings);
-        if (st == CutStatus::kOk) st = detail::check_split_areas(s);
-        if (st == CutStatus::kOk) st = detail::plan_caps(s, upper);
+        if (st == CutStatus::kOk) st = detail::finish_plan(s, upper);
         if (st == CutStatus::kOk) st = detail::apply_plan(s, upper, out.upper, upper_stats);
         if (st != CutStatus::kOk && st != CutStatus::kPlaneMissesMesh) return done(CutStatus::kInternalError);
         add(r.stats, upper_stats);

@@ -29,6 +29,7 @@
 #include "display/cut/subtract_slab.hpp"
 #include "display/mesh/shapes.hpp"
 #include "tests/cut/mesh_invariants.hpp"
+#include "tests/cut/test_shapes.hpp"
 
 namespace {
 
@@ -65,18 +66,9 @@ TriMesh make_shape(std::uint8_t kind, std::uint8_t res) {
                                         1 + r % 4);
         default: {
             TriMesh m = kerf::mesh::make_uv_sphere(0.01, static_cast<std::size_t>(r) * 30);
-            const TriMesh b = kerf::mesh::make_uv_sphere(0.01, static_cast<std::size_t>(r) * 30,
-                                                         TriMesh::Point(0.025, 0.0, 0.0));
-            std::vector<kerf::mesh::VertexHandle> map;
-            for (const auto v : b.vertices()) map.push_back(m.add_vertex(b.point(v)));
-            for (const auto f : b.faces()) {
-                auto it = b.cfv_iter(f);
-                const auto a = map[static_cast<std::size_t>((it++)->idx())];
-                const auto c1 = map[static_cast<std::size_t>((it++)->idx())];
-                const auto c2 = map[static_cast<std::size_t>(it->idx())];
-                m.add_face(a, c1, c2);
-            }
-            m.update_normals();
+            kerf::cut::testing::append(m, kerf::mesh::make_uv_sphere(
+                                              0.01, static_cast<std::size_t>(r) * 30,
+                                              TriMesh::Point(0.025, 0.0, 0.0)));
             return m;
         }
     }

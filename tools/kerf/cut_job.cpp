@@ -69,6 +69,11 @@ cut::CutResult cut_once(cut::CutContext& ctx, const cut::Plane& plane,
         auto sep = cut::Separator::make(ctx, cs, job.kerf_m);
         if (!sep) return cut::CutResult{sep.error(), r.stats};
         sep->sweep_all();
+        // The separator leaves normals to whoever uses the mesh: refresh the faces it moved, so
+        // later planes of the job split faces with current normals.
+        mesh::TriMesh& m = ctx.mesh();
+        for (const auto v : sep->moved_vertices())
+            for (const auto f : m.vf_range(v)) m.set_normal(f, m.calc_face_normal(f));
     }
     return r;
 }
