@@ -25,25 +25,40 @@ Err(E) -> Err<E>;
 template <class T, class E>
 class [[nodiscard]] Result {
 public:
-    Result(const T& v) : v_(std::in_place_index<0>, v) {}                // NOLINT: implicit by design
-    Result(T&& v) : v_(std::in_place_index<0>, std::move(v)) {}          // NOLINT
+    Result(const T& v) : v_(std::in_place_index<0>, v) {}        // NOLINT: implicit by design
+    Result(T&& v) : v_(std::in_place_index<0>, std::move(v)) {}  // NOLINT
     template <class G>
     Result(Err<G> e) : v_(std::in_place_index<1>, std::move(e.value)) {}  // NOLINT
 
     bool has_value() const noexcept { return v_.index() == 0; }
     explicit operator bool() const noexcept { return has_value(); }
 
-    T& value() & noexcept { assert(has_value()); return *std::get_if<0>(&v_); }
-    const T& value() const& noexcept { assert(has_value()); return *std::get_if<0>(&v_); }
-    T&& value() && noexcept { assert(has_value()); return std::move(*std::get_if<0>(&v_)); }
+    T& value() & noexcept {
+        assert(has_value());
+        return *std::get_if<0>(&v_);
+    }
+    const T& value() const& noexcept {
+        assert(has_value());
+        return *std::get_if<0>(&v_);
+    }
+    T&& value() && noexcept {
+        assert(has_value());
+        return std::move(*std::get_if<0>(&v_));
+    }
     T& operator*() & noexcept { return value(); }
     const T& operator*() const& noexcept { return value(); }
     T&& operator*() && noexcept { return std::move(*this).value(); }
     T* operator->() noexcept { return &value(); }
     const T* operator->() const noexcept { return &value(); }
 
-    const E& error() const& noexcept { assert(!has_value()); return *std::get_if<1>(&v_); }
-    E&& error() && noexcept { assert(!has_value()); return std::move(*std::get_if<1>(&v_)); }
+    const E& error() const& noexcept {
+        assert(!has_value());
+        return *std::get_if<1>(&v_);
+    }
+    E&& error() && noexcept {
+        assert(!has_value());
+        return std::move(*std::get_if<1>(&v_));
+    }
 
 private:
     std::variant<T, E> v_;
@@ -58,7 +73,10 @@ public:
     Status(Err<G> e) : err_(std::move(e.value)), ok_(false) {}  // NOLINT
     bool has_value() const noexcept { return ok_; }
     explicit operator bool() const noexcept { return ok_; }
-    const E& error() const noexcept { assert(!ok_); return err_; }
+    const E& error() const noexcept {
+        assert(!ok_);
+        return err_;
+    }
 
 private:
     E err_{};

@@ -72,13 +72,14 @@ std::uint64_t edge_key(VertexHandle a, VertexHandle b) {
            static_cast<std::uint32_t>(b.idx());
 }
 
-bool separate_loop(TriMesh& m, const std::vector<VertexHandle>& r, const std::vector<VertexHandle>& d,
-                   RimEdges& pos_rim, RimEdges& neg_rim) {
+bool separate_loop(TriMesh& m, const std::vector<VertexHandle>& r,
+                   const std::vector<VertexHandle>& d, RimEdges& pos_rim, RimEdges& neg_rim) {
     const std::size_t n = r.size();
     std::vector<HalfedgeHandle> h(n), x(n);
     for (std::size_t i = 0; i < n; ++i) {
         h[i] = m.find_halfedge(r[i], r[(i + 1) % n]);
-        if (!h[i].is_valid() || m.is_boundary(h[i]) || m.is_boundary(m.opposite_halfedge_handle(h[i])))
+        if (!h[i].is_valid() || m.is_boundary(h[i]) ||
+            m.is_boundary(m.opposite_halfedge_handle(h[i])))
             return false;
     }
     for (std::size_t i = 0; i < n; ++i)
@@ -127,22 +128,25 @@ bool add_cap(TriMesh& m, const std::vector<std::array<VertexHandle, 3>>& tris, R
     struct Inner {
         std::uint64_t undirected;
         std::uint32_t slot;
-        bool operator<(const Inner& o) const { return undirected < o.undirected || (undirected == o.undirected && slot < o.slot); }
+        bool operator<(const Inner& o) const {
+            return undirected < o.undirected || (undirected == o.undirected && slot < o.slot);
+        }
     };
     std::vector<Inner> inner;
     std::size_t rim_used = 0;
     for (std::size_t t = 0; t < n; ++t)
         for (int k = 0; k < 3; ++k) {
             const VertexHandle u = tris[t][k], v = tris[t][(k + 1) % 3];
-            const auto it = std::lower_bound(rim.begin(), rim.end(),
-                                             std::make_pair(edge_key(u, v), HalfedgeHandle()), by_key);
+            const auto it = std::lower_bound(
+                rim.begin(), rim.end(), std::make_pair(edge_key(u, v), HalfedgeHandle()), by_key);
             if (it != rim.end() && it->first == edge_key(u, v)) {
                 if (!m.is_boundary(it->second)) return false;  // used twice
                 he[3 * t + k] = it->second;
                 ++rim_used;
                 continue;
             }
-            inner.push_back(Inner{u.idx() < v.idx() ? edge_key(u, v) : edge_key(v, u), static_cast<std::uint32_t>(3 * t + k)});
+            inner.push_back(Inner{u.idx() < v.idx() ? edge_key(u, v) : edge_key(v, u),
+                                  static_cast<std::uint32_t>(3 * t + k)});
         }
     std::sort(inner.begin(), inner.end());
     if (inner.size() % 2 != 0 || rim_used != rim.size()) return false;  // every rim edge once
@@ -201,7 +205,8 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
         if (!l.selected) continue;
         std::vector<VertexHandle> r(rim.begin() + l.first, rim.begin() + l.first + l.count);
         std::vector<VertexHandle> d(l.count);
-        for (std::uint32_t i = 0; i < l.count; ++i) d[i] = dup[l.first + i] = duplicate_vertex(m, r[i]);
+        for (std::uint32_t i = 0; i < l.count; ++i)
+            d[i] = dup[l.first + i] = duplicate_vertex(m, r[i]);
         if (!separate_loop(m, r, d, pos_rim, neg_rim)) return CutStatus::kInternalError;
         std::vector<Vec2> uv(l.count);
         for (std::uint32_t i = 0; i < l.count; ++i) uv[i] = plan.points[l.first + i].uv;
@@ -214,15 +219,18 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
     }
     for (int fi = faces_before; fi < static_cast<int>(m.n_faces()); ++fi) {
         const FaceHandle f(fi);
-        if (m.property(s.cap, f) != kCapNone) s.cap_faces.push_back(f);
-        else s.grid.insert(m, f);
+        if (m.property(s.cap, f) != kCapNone)
+            s.cap_faces.push_back(f);
+        else
+            s.grid.insert(m, f);
     }
     // Caps: positive side faces -normal (reversed triangles), negative side +normal.
     std::vector<std::array<VertexHandle, 3>> pos_tris, neg_tris;
     pos_tris.reserve(plan.cap_triangles.size());
     neg_tris.reserve(plan.cap_triangles.size());
     for (const Triangle& t : plan.cap_triangles) {
-        const std::uint32_t a = plan.cap_points[t.a], b = plan.cap_points[t.b], c = plan.cap_points[t.c];
+        const std::uint32_t a = plan.cap_points[t.a], b = plan.cap_points[t.b],
+                            c = plan.cap_points[t.c];
         pos_tris.push_back({rim[a], rim[c], rim[b]});
         neg_tris.push_back({dup[a], dup[b], dup[c]});
     }
@@ -240,8 +248,10 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
         s.cap_faces.push_back(f);
     }
     for (const PlanLoop& l : plan.loops) stats.faces_split += l.selected ? l.faces : 0;
-    stats.vertices_added += static_cast<std::uint32_t>(static_cast<int>(m.n_vertices()) - vertices_before);
-    stats.triangles_added += static_cast<std::uint32_t>(static_cast<int>(m.n_faces()) - faces_before);
+    stats.vertices_added +=
+        static_cast<std::uint32_t>(static_cast<int>(m.n_vertices()) - vertices_before);
+    stats.triangles_added +=
+        static_cast<std::uint32_t>(static_cast<int>(m.n_faces()) - faces_before);
     stats.cap_triangles += static_cast<std::uint32_t>(2 * plan.cap_triangles.size());
     stats.loops += static_cast<std::uint32_t>(out.loops_2d.size());
     (void)splits;

@@ -118,8 +118,8 @@ enum class GroupResult { kOk, kFailed, kRetry };
 // One attempt; a fan that would fold (its apex too close to the kept edge) forces that gap's
 // points to be kept (`forced`) and asks for another attempt.
 GroupResult try_triangulate_group(ContextState& s, const Plane& plane,
-                                  const std::vector<const PlanLoop*>& loops, std::vector<char>& forced,
-                                  std::vector<Triangle>& out) {
+                                  const std::vector<const PlanLoop*>& loops,
+                                  std::vector<char>& forced, std::vector<Triangle>& out) {
     SectionPlan& plan = s.plan;
     const double min_cross = 4.0 * kMinCapRelativeArea * s.scale_m * s.scale_m;
     std::vector<Point2> uv;            // kept points
@@ -159,7 +159,8 @@ GroupResult try_triangulate_group(ContextState& s, const Plane& plane,
             if (n > 1) {
                 gaps.push_back(Gap{l->first + k, l->first + (k + n) % l->count,
                                    static_cast<std::uint32_t>(removed.size()), n - 1});
-                for (std::uint32_t q = 1; q < n; ++q) removed.push_back(l->first + (k + q) % l->count);
+                for (std::uint32_t q = 1; q < n; ++q)
+                    removed.push_back(l->first + (k + q) % l->count);
             }
         }
         sizes.push_back(uv.size() - before);
@@ -167,7 +168,8 @@ GroupResult try_triangulate_group(ContextState& s, const Plane& plane,
     std::size_t offset = 0;
     for (std::size_t n : sizes) spans.emplace_back(uv.data() + offset, n), offset += n;
     std::vector<Triangle> tris;
-    if (!s.triangulator.triangulate(spans, tris) || !repair_slivers(uv, tris)) return GroupResult::kFailed;
+    if (!s.triangulator.triangulate(spans, tris) || !repair_slivers(uv, tris))
+        return GroupResult::kFailed;
     for (Triangle& t : tris) t = Triangle{index[t.a], index[t.b], index[t.c]};
     // Put the left-out points back: the triangle on kept edge (u, w) becomes a fan from its apex.
     std::vector<std::pair<std::uint64_t, std::uint32_t>> by_edge;
@@ -198,7 +200,8 @@ GroupResult try_triangulate_group(ContextState& s, const Plane& plane,
         tris.push_back(Triangle{removed[g.first + g.count - 1], g.w, apex});
         const std::size_t fan_end = tris.size();
         bool folded = !(plan_area2(plan, tris[ti]) > 0);
-        for (std::size_t q = fan_end - g.count; q < fan_end; ++q) folded |= !(plan_area2(plan, tris[q]) > 0);
+        for (std::size_t q = fan_end - g.count; q < fan_end; ++q)
+            folded |= !(plan_area2(plan, tris[q]) > 0);
         if (folded) {
             for (std::uint32_t q = 0; q < g.count; ++q) forced[removed[g.first + q]] = 1;
             return GroupResult::kRetry;
@@ -210,8 +213,9 @@ GroupResult try_triangulate_group(ContextState& s, const Plane& plane,
     return GroupResult::kOk;
 }
 
-bool triangulate_group(ContextState& s, const Plane& plane, const std::vector<const PlanLoop*>& loops,
-                       std::vector<char>& forced, std::vector<Triangle>& out) {
+bool triangulate_group(ContextState& s, const Plane& plane,
+                       const std::vector<const PlanLoop*>& loops, std::vector<char>& forced,
+                       std::vector<Triangle>& out) {
     for (int attempt = 0; attempt < 4; ++attempt) {
         const GroupResult r = try_triangulate_group(s, plane, loops, forced, out);
         if (r != GroupResult::kRetry) return r == GroupResult::kOk;
@@ -259,8 +263,10 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
         if (outer.area_m2 < 0) continue;
         group.clear();
         for (std::size_t i = 0; i < plan.loops.size(); ++i)
-            if (i == g || parent[i] == static_cast<std::int32_t>(g)) group.push_back(&plan.loops[i]);
-        if (!triangulate_group(s, plane, group, forced, plan.cap_triangles)) return CutStatus::kCapTriangulationFailed;
+            if (i == g || parent[i] == static_cast<std::int32_t>(g))
+                group.push_back(&plan.loops[i]);
+        if (!triangulate_group(s, plane, group, forced, plan.cap_triangles))
+            return CutStatus::kCapTriangulationFailed;
     }
     // Cap triangles index plan points directly: cap_points is the identity over the plan.
     plan.cap_points.resize(plan.points.size());
@@ -277,7 +283,9 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
         const Vec3 n = OpenMesh::cross(b - a, c - a);
         return 0.5 * n.norm() >= min_area && OpenMesh::dot(n, normal) > 0.5 * n.norm();
     };
-    auto len2 = [&](std::uint32_t a, std::uint32_t b) { return (plan.points[a].position - plan.points[b].position).sqrnorm(); };
+    auto len2 = [&](std::uint32_t a, std::uint32_t b) {
+        return (plan.points[a].position - plan.points[b].position).sqrnorm();
+    };
     std::vector<Triangle>& tris = plan.cap_triangles;
     for (std::size_t i = 0; i < tris.size(); ++i) {
         if (good(tris[i])) continue;

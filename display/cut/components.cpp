@@ -84,7 +84,8 @@ namespace {
 
 bool box_holds(const Body& outer, const Body& inner) {
     for (int k = 0; k < 3; ++k) {
-        if (inner.bbox_min_m[k] < outer.bbox_min_m[k] || inner.bbox_max_m[k] > outer.bbox_max_m[k]) {
+        if (inner.bbox_min_m[k] < outer.bbox_min_m[k] ||
+            inner.bbox_max_m[k] > outer.bbox_max_m[k]) {
             return false;
         }
     }
@@ -116,8 +117,10 @@ std::vector<Body> group_cavities(std::vector<Body> shells) {
             if (b >= shell_volume.size() || !box_holds(bodies[b], cavity)) continue;
             if (best == bodies.size() || shell_volume[b] < shell_volume[best]) best = b;
         }
-        if (best == bodies.size()) bodies.push_back(cavity);
-        else absorb(bodies[best], cavity);
+        if (best == bodies.size())
+            bodies.push_back(cavity);
+        else
+            absorb(bodies[best], cavity);
     }
     return bodies;
 }

@@ -28,7 +28,7 @@ namespace kerf::cut {
 struct Body {
     std::vector<mesh::FaceHandle> faces;
     std::vector<mesh::VertexHandle> vertices;
-    double volume_m3 = 0.0;      ///< signed (divergence theorem); positive for a closed outward piece
+    double volume_m3 = 0.0;  ///< signed (divergence theorem); positive for a closed outward piece
     mesh::Point bbox_min_m{0.0, 0.0, 0.0};
     mesh::Point bbox_max_m{0.0, 0.0, 0.0};
 };
@@ -46,9 +46,9 @@ std::vector<Body> group_cavities(std::vector<Body> shells);
 /// round) every piece is in `severed` and no seed is kRemainder: keep the largest as the original.
 struct SeverReport {
     static constexpr std::uint32_t kRemainder = 0xFFFFFFFFu;
-    std::vector<Body> severed;                ///< pieces walked whole, in the order they closed
-    std::vector<std::uint32_t> piece_of_seed; ///< per seed: index into `severed`, or kRemainder
-    std::uint64_t faces_visited = 0;          ///< work done (the localisation claim, measured)
+    std::vector<Body> severed;                 ///< pieces walked whole, in the order they closed
+    std::vector<std::uint32_t> piece_of_seed;  ///< per seed: index into `severed`, or kRemainder
+    std::uint64_t faces_visited = 0;           ///< work done (the localisation claim, measured)
 };
 
 /// Localised sever detection with scratch that persists between cuts.
@@ -66,8 +66,8 @@ public:
 
 private:
     const mesh::TriMesh& mesh_;
-    std::vector<std::uint32_t> face_stamp_;   // == stamp_: face claimed in this call
-    std::vector<std::uint32_t> face_owner_;   // seed that claimed it
+    std::vector<std::uint32_t> face_stamp_;  // == stamp_: face claimed in this call
+    std::vector<std::uint32_t> face_owner_;  // seed that claimed it
     std::vector<std::uint32_t> vertex_stamp_;
     std::uint32_t stamp_ = 0;
 

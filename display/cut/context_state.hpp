@@ -33,7 +33,9 @@ struct ContextState {
     /// 1M foot). Costs resident memory equal to the capacity, O(capacity) time, at load.
     void reserve_resident();
 
-    bool vertex_marked(mesh::VertexHandle v) const { return mesh.property(v_stamp, v) == generation; }
+    bool vertex_marked(mesh::VertexHandle v) const {
+        return mesh.property(v_stamp, v) == generation;
+    }
     bool edge_marked(mesh::EdgeHandle e) const { return mesh.property(e_stamp, e) == generation; }
     bool face_marked(mesh::FaceHandle f) const { return mesh.property(f_stamp, f) == generation; }
     void mark_face(mesh::FaceHandle f) { mesh.property(f_stamp, f) = generation; }
@@ -41,7 +43,8 @@ struct ContextState {
     mesh::TriMesh& mesh;
     double scale_m = 0.0;
     double tolerance_m = 0.0;
-    double max_edge_m = 0.0;  ///< longest non-cap edge (+ vertex moves noted since): full-slice reach
+    double max_edge_m =
+        0.0;  ///< longest non-cap edge (+ vertex moves noted since): full-slice reach
     FaceGrid grid;
     std::vector<mesh::FaceHandle> cap_faces;  ///< every cap face made so far (not in the grid)
 
@@ -56,7 +59,7 @@ struct ContextState {
 
     SectionPlan plan;
     Triangulator triangulator;
-    std::vector<std::uint32_t> heap;        ///< seed search scratch
+    std::vector<std::uint32_t> heap;  ///< seed search scratch
 };
 
 }  // namespace kerf::cut::detail

@@ -33,15 +33,15 @@ inline constexpr std::uint8_t kCapNegative = 2;  ///< cap of the negative side (
 /// One side of a cut: its rim loops and its cap.
 struct CrossSectionSide {
     std::vector<std::vector<mesh::VertexHandle>> loops;  ///< rim vertices of each loop, in order
-    std::vector<mesh::VertexHandle> cap_vertices;        ///< every vertex the cap uses (= rim vertices)
-    std::vector<mesh::FaceHandle> cap_faces;             ///< the cap's triangles
+    std::vector<mesh::VertexHandle> cap_vertices;  ///< every vertex the cap uses (= rim vertices)
+    std::vector<mesh::FaceHandle> cap_faces;       ///< the cap's triangles
 };
 
 /// The cross-section a slice produced (see the file comment for the pairing rule).
 struct CrossSection {
-    Plane plane;                          ///< the cutting plane and its (u, v) frame
-    CrossSectionSide positive;            ///< the side the normal points into
-    CrossSectionSide negative;            ///< the other side
+    Plane plane;                              ///< the cutting plane and its (u, v) frame
+    CrossSectionSide positive;                ///< the side the normal points into
+    CrossSectionSide negative;                ///< the other side
     std::vector<std::vector<Vec2>> loops_2d;  ///< rim points in plane coordinates, m
     std::vector<std::uint8_t> loop_is_hole;   ///< 1 where loop i bounds a hole (canal)
 

@@ -38,7 +38,8 @@ void ContextState::rebuild() {
     max_edge_m = 0.0;
     for (auto e : mesh.edges()) {
         const auto h = mesh.halfedge_handle(e, 0);
-        const auto f0 = mesh.face_handle(h), f1 = mesh.face_handle(mesh.opposite_halfedge_handle(h));
+        const auto f0 = mesh.face_handle(h),
+                   f1 = mesh.face_handle(mesh.opposite_halfedge_handle(h));
         const bool cap_edge = (f0.is_valid() && mesh.property(cap, f0) != kCapNone) ||
                               (f1.is_valid() && mesh.property(cap, f1) != kCapNone);
         if (!cap_edge) max_edge_m = std::max(max_edge_m, mesh.calc_edge_length(e));
@@ -106,7 +107,8 @@ void ContextState::next_generation() {
 
 }  // namespace detail
 
-CutContext::CutContext(mesh::TriMesh& mesh) : state_(std::make_unique<detail::ContextState>(mesh)) {}
+CutContext::CutContext(mesh::TriMesh& mesh)
+    : state_(std::make_unique<detail::ContextState>(mesh)) {}
 CutContext::~CutContext() = default;
 
 mesh::TriMesh& CutContext::mesh() noexcept { return state_->mesh; }

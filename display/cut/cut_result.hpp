@@ -9,14 +9,15 @@ namespace kerf::cut {
 
 /// Why a cut did or did not happen.
 enum class CutStatus : std::uint8_t {
-    kOk = 0,                  ///< the mesh was cut
-    kPlaneMissesMesh,         ///< no triangle crosses the plane (a plane that only touches is a miss)
-    kSeedNotOnSurface,        ///< the seed point lies on no triangle (within the seed tolerance)
-    kSeedFarFromCut,          ///< no crossing triangle is reachable from the seed near the plane
-    kSeedOnInnerBoundary,     ///< the seed's loop is a hole (e.g. the canal wall), not an outer boundary
-    kNonManifoldInput,        ///< an open edge or broken fan where the cut passes
-    kInvalidPlane,            ///< non-finite point or normal, or a zero normal
-    kInvalidArgument,         ///< e.g. a non-positive or non-finite kerf width
+    kOk = 0,               ///< the mesh was cut
+    kPlaneMissesMesh,      ///< no triangle crosses the plane (a plane that only touches is a miss)
+    kSeedNotOnSurface,     ///< the seed point lies on no triangle (within the seed tolerance)
+    kSeedFarFromCut,       ///< no crossing triangle is reachable from the seed near the plane
+    kSeedOnInnerBoundary,  ///< the seed's loop is a hole (e.g. the canal wall), not an outer
+                           ///< boundary
+    kNonManifoldInput,     ///< an open edge or broken fan where the cut passes
+    kInvalidPlane,         ///< non-finite point or normal, or a zero normal
+    kInvalidArgument,      ///< e.g. a non-positive or non-finite kerf width
     kDegenerateCrossSection,  ///< the cross-section pinches at a vertex or along an edge
     kCapTriangulationFailed,  ///< a cap polygon could not be triangulated without slivers
     kSliverSplit,             ///< the plane passes so near a vertex of a thin triangle that a split
@@ -29,14 +30,14 @@ std::string_view to_string(CutStatus s) noexcept;
 
 /// What a cut did. Counts are of elements created; time is wall time of the call.
 struct CutStats {
-    std::uint32_t faces_split = 0;       ///< original triangles that were split by the plane(s)
-    std::uint32_t vertices_added = 0;    ///< edge-crossing vertices plus duplicates
-    std::uint32_t triangles_added = 0;   ///< triangles created: split parts plus caps
-    std::uint32_t triangles_removed = 0; ///< triangles deleted (biplanar slab only)
-    std::uint32_t cap_triangles = 0;     ///< triangles of all caps
-    std::uint32_t loops = 0;             ///< cross-section loops cut (outer loops plus holes)
-    std::uint32_t pieces = 0;            ///< pieces, when the operation computed them (else 0)
-    std::int64_t time_ns = 0;            ///< wall time of the operation
+    std::uint32_t faces_split = 0;        ///< original triangles that were split by the plane(s)
+    std::uint32_t vertices_added = 0;     ///< edge-crossing vertices plus duplicates
+    std::uint32_t triangles_added = 0;    ///< triangles created: split parts plus caps
+    std::uint32_t triangles_removed = 0;  ///< triangles deleted (biplanar slab only)
+    std::uint32_t cap_triangles = 0;      ///< triangles of all caps
+    std::uint32_t loops = 0;              ///< cross-section loops cut (outer loops plus holes)
+    std::uint32_t pieces = 0;             ///< pieces, when the operation computed them (else 0)
+    std::int64_t time_ns = 0;             ///< wall time of the operation
 };
 
 /// A status and the statistics of the operation that produced it.

@@ -37,7 +37,8 @@ public:
     void for_each_near_point(const Vec3& p, double radius_m, Visit&& visit) const;
 
     /// Calls `visit(face_index)` for faces whose bounding sphere comes within `slack_m` of the
-    /// plane, registered in cells along the patch of `plane` whose frame coordinates lie in [lo, hi].
+    /// plane, registered in cells along the patch of `plane` whose frame coordinates lie in [lo,
+    /// hi].
     template <class Visit>
     void for_each_near_plane(const Plane& plane, const Vec2& lo, const Vec2& hi, double slack_m,
                              Visit&& visit) const;

@@ -46,18 +46,25 @@ private:
 
 void hash_vertex(const mesh::TriMesh& m, mesh::VertexHandle v, WordHasher& h) {
     const auto& p = m.point(v);
-    h.add(p[0]); h.add(p[1]); h.add(p[2]);
+    h.add(p[0]);
+    h.add(p[1]);
+    h.add(p[2]);
     if (m.has_vertex_normals()) {
         const auto& n = m.normal(v);
-        h.add(n[0]); h.add(n[1]); h.add(n[2]);
+        h.add(n[0]);
+        h.add(n[1]);
+        h.add(n[2]);
     }
     if (m.has_vertex_texcoords2D()) {
         const auto& t = m.texcoord2D(v);
-        h.add(t[0]); h.add(t[1]);
+        h.add(t[0]);
+        h.add(t[1]);
     }
     if (m.has_vertex_colors()) {
         const auto& c = m.color(v);
-        h.add(c[0]); h.add(c[1]); h.add(c[2]);
+        h.add(c[0]);
+        h.add(c[1]);
+        h.add(c[2]);
     }
     h.add(std::uint64_t{static_cast<std::uint8_t>(m.data(v).material())});
 }

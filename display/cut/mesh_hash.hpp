@@ -1,4 +1,5 @@
-// mesh_hash — a deterministic 64-bit fingerprint of a TriMesh, to prove two runs made the same mesh.
+// mesh_hash — a deterministic 64-bit fingerprint of a TriMesh, to prove two runs made the same
+// mesh.
 //
 //   EXPECT_EQ(mesh_hash(replayed), mesh_hash(original));   // bit-identical, element for element
 //

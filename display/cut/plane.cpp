@@ -6,14 +6,18 @@ namespace kerf::cut {
 
 namespace {
 
-bool finite(const Vec3& a) { return std::isfinite(a[0]) && std::isfinite(a[1]) && std::isfinite(a[2]); }
+bool finite(const Vec3& a) {
+    return std::isfinite(a[0]) && std::isfinite(a[1]) && std::isfinite(a[2]);
+}
 
 // u: the cross product of the normal with the coordinate axis least aligned with it.
 Vec3 first_axis(const Vec3& n) {
     const double ax = std::abs(n[0]), ay = std::abs(n[1]), az = std::abs(n[2]);
     Vec3 axis(0.0, 0.0, 1.0);
-    if (ax <= ay && ax <= az) axis = Vec3(1.0, 0.0, 0.0);
-    else if (ay <= az) axis = Vec3(0.0, 1.0, 0.0);
+    if (ax <= ay && ax <= az)
+        axis = Vec3(1.0, 0.0, 0.0);
+    else if (ay <= az)
+        axis = Vec3(0.0, 1.0, 0.0);
     Vec3 u = OpenMesh::cross(axis, n);
     return u / u.norm();
 }
@@ -21,7 +25,9 @@ Vec3 first_axis(const Vec3& n) {
 }  // namespace
 
 Plane::Plane() noexcept
-    : point_(0.0, 0.0, 0.0), normal_(0.0, 0.0, 1.0), u_(first_axis(normal_)),
+    : point_(0.0, 0.0, 0.0),
+      normal_(0.0, 0.0, 1.0),
+      u_(first_axis(normal_)),
       v_(OpenMesh::cross(normal_, u_)) {}
 
 Result<Plane, CutStatus> Plane::make(const Vec3& point_m, const Vec3& normal) noexcept {

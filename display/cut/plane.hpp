@@ -33,7 +33,9 @@ public:
     static Result<Plane, CutStatus> make(const Vec3& point_m, const Vec3& normal) noexcept;
 
     /// Absolute on-plane tolerance for a mesh of size `scale_m` (kRelativeTolerance * scale_m).
-    static double tolerance_for_scale(double scale_m) noexcept { return kRelativeTolerance * scale_m; }
+    static double tolerance_for_scale(double scale_m) noexcept {
+        return kRelativeTolerance * scale_m;
+    }
 
     const Vec3& point() const noexcept { return point_; }    ///< a point on the plane, m
     const Vec3& normal() const noexcept { return normal_; }  ///< unit normal (positive side)
@@ -41,7 +43,9 @@ public:
     const Vec3& v() const noexcept { return v_; }            ///< second in-plane unit axis
 
     /// Signed distance of `p` from the plane, m (positive on the normal's side).
-    double signed_distance(const Vec3& p) const noexcept { return OpenMesh::dot(p - point_, normal_); }
+    double signed_distance(const Vec3& p) const noexcept {
+        return OpenMesh::dot(p - point_, normal_);
+    }
 
     /// -1, 0 or +1: the side of `p`, 0 when within `tolerance_m` of the plane.
     int side(const Vec3& p, double tolerance_m) const noexcept;

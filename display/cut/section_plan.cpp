@@ -21,7 +21,8 @@ constexpr double kSeedRelativeTolerance = 1e-3;
 // Walks cross-section loops on the unedited mesh.
 class Walker {
 public:
-    Walker(ContextState& s, const Plane& plane) : s_(s), m_(s.mesh), plane_(plane), tol_(s.tolerance_m) {}
+    Walker(ContextState& s, const Plane& plane)
+        : s_(s), m_(s.mesh), plane_(plane), tol_(s.tolerance_m) {}
 
     int side(VertexHandle v) const { return plane_.side(m_.point(v), tol_); }
 
@@ -38,7 +39,8 @@ public:
         }
         if (pos > 0) return 1;
         if (neg > 0) return -1;
-        return OpenMesh::dot(OpenMesh::cross(p[1] - p[0], p[2] - p[0]), plane_.normal()) < 0 ? 1 : -1;
+        return OpenMesh::dot(OpenMesh::cross(p[1] - p[0], p[2] - p[0]), plane_.normal()) < 0 ? 1
+                                                                                             : -1;
     }
 
     // For a face with vertices on both sides: its segment, directed along the positive part's
@@ -96,7 +98,8 @@ public:
             const FaceHandle o = m_.face_handle(m_.opposite_halfedge_handle(g));
             CutPointKey c, d;
             if (segment(o, c, d)) continue;
-            if (label(f) > 0 && label(o) < 0) next = CutPointKey{w.idx(), false}, via_face = false, ++count;
+            if (label(f) > 0 && label(o) < 0)
+                next = CutPointKey{w.idx(), false}, via_face = false, ++count;
         }
         return count;
     }
@@ -224,7 +227,8 @@ bool inside(const SectionPlan& plan, const PlanLoop& loop, const Vec2& q) {
     for (std::uint32_t i = 0, j = loop.count - 1; i < loop.count; j = i++) {
         const Vec2& a = plan.points[loop.first + i].uv;
         const Vec2& b = plan.points[loop.first + j].uv;
-        if ((a[1] > q[1]) != (b[1] > q[1]) && q[0] < (b[0] - a[0]) * (q[1] - a[1]) / (b[1] - a[1]) + a[0])
+        if ((a[1] > q[1]) != (b[1] > q[1]) &&
+            q[0] < (b[0] - a[0]) * (q[1] - a[1]) / (b[1] - a[1]) + a[0])
             in = !in;
     }
     return in;
@@ -246,9 +250,11 @@ namespace {
 
 FaceHandle find_seed_face(ContextState& s, const Seed& seed) {
     const TriMesh& m = s.mesh;
-    const double tol = seed.tolerance_m >= 0 ? seed.tolerance_m : kSeedRelativeTolerance * s.scale_m;
+    const double tol =
+        seed.tolerance_m >= 0 ? seed.tolerance_m : kSeedRelativeTolerance * s.scale_m;
     const auto n = static_cast<int>(m.n_faces());
-    if (seed.face_hint.is_valid() && seed.face_hint.idx() < n && !m.status(seed.face_hint).deleted() &&
+    if (seed.face_hint.is_valid() && seed.face_hint.idx() < n &&
+        !m.status(seed.face_hint).deleted() &&
         distance_to_face(m, seed.face_hint, seed.point_m) <= tol)
         return seed.face_hint;
     FaceHandle best;
@@ -313,7 +319,8 @@ CutStatus add_nested_loops(ContextState& s, Walker& w, const Plane& plane) {
     CutStatus error = CutStatus::kOk;
     s.grid.for_each_near_plane(plane, lo, hi, s.tolerance_m, [&](std::int32_t fi) {
         const FaceHandle f(fi);
-        if (error != CutStatus::kOk || fi >= n || s.mesh.status(f).deleted() || s.face_marked(f)) return;
+        if (error != CutStatus::kOk || fi >= n || s.mesh.status(f).deleted() || s.face_marked(f))
+            return;
         s.mark_face(f);
         CutPointKey start;
         if (!w.start_on(f, start)) return;
@@ -485,7 +492,8 @@ CutStatus plan_localised(ContextState& s, const Plane& plane, const Seed& seed) 
     return st;
 }
 
-CutStatus plan_from_faces(ContextState& s, const Plane& plane, const std::vector<FaceHandle>& faces) {
+CutStatus plan_from_faces(ContextState& s, const Plane& plane,
+                          const std::vector<FaceHandle>& faces) {
     s.plan.clear();
     s.next_generation();
     Walker w(s, plane);
@@ -498,6 +506,5 @@ CutStatus plan_from_faces(ContextState& s, const Plane& plane, const std::vector
     }
     return s.plan.loops.empty() ? CutStatus::kPlaneMissesMesh : CutStatus::kOk;
 }
-
 
 }  // namespace kerf::cut::detail

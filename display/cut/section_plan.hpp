@@ -40,7 +40,7 @@ struct PlanPoint {
 struct PlanLoop {
     std::uint32_t first = 0;
     std::uint32_t count = 0;
-    double area_m2 = 0;     ///< signed, in the plane frame
+    double area_m2 = 0;       ///< signed, in the plane frame
     std::uint32_t faces = 0;  ///< crossing faces the loop passes through (split if selected)
     bool selected = false;    ///< cut by this slice
 };

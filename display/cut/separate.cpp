@@ -12,10 +12,10 @@ constexpr std::uint32_t kNoCell = 0xFFFFFFFFu;
 
 struct BandVertex {
     mesh::VertexHandle v;
-    Vec3 origin;          // position at plan time, m
-    Vec2 xy;              // (u, v) position, m
-    double lift = 0.0;    // signed move at m = 1: side * kerf/2 * (1 - depth / D), m
-    double m = 0.0;       // sweep weight so far, 0..1
+    Vec3 origin;        // position at plan time, m
+    Vec2 xy;            // (u, v) position, m
+    double lift = 0.0;  // signed move at m = 1: side * kerf/2 * (1 - depth / D), m
+    double m = 0.0;     // sweep weight so far, 0..1
     bool rim = false;
     std::uint32_t slot = 0;  // index in the grid's item array while still live
 };
@@ -54,7 +54,7 @@ struct Separator::State {
     std::vector<std::uint32_t> start;
     std::vector<std::uint32_t> live;
     std::vector<std::uint32_t> items;
-    std::vector<Vec2> poly;  // scratch: the polygon being swept, counter-clockwise
+    std::vector<Vec2> poly;                 // scratch: the polygon being swept, counter-clockwise
     std::vector<mesh::VertexHandle> moved;  // vertices moved by the last call
     SeparationStats stats;
 
@@ -77,8 +77,8 @@ std::uint32_t Separator::State::cell_of(const Vec2& p) const noexcept {
 }
 
 /// Breadth-first from one side's rim over vertices on that side nearer the plane than D.
-void Separator::State::add_side(const CrossSectionSide& side, const CrossSection& cut,
-                                double sign, std::unordered_set<int>& seen) {
+void Separator::State::add_side(const CrossSectionSide& side, const CrossSection& cut, double sign,
+                                std::unordered_set<int>& seen) {
     const mesh::TriMesh& m = mesh();
     const double tol = ctx->tolerance_m();
     const std::size_t first = band.size();
@@ -192,9 +192,7 @@ Separator::~Separator() = default;
 
 const SeparationStats& Separator::stats() const noexcept { return s_->stats; }
 
-std::span<const mesh::VertexHandle> Separator::moved_vertices() const noexcept {
-    return s_->moved;
-}
+std::span<const mesh::VertexHandle> Separator::moved_vertices() const noexcept { return s_->moved; }
 
 bool Separator::sweep(std::span<const Vec2> polygon) {
     State& s = *s_;

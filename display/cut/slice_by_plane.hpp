@@ -27,7 +27,8 @@
 //    kDegenerateCrossSection;
 //  - A plane a little beyond tol from a vertex of an already thin triangle (the band an earlier
 //    cut left just beside a vertex ring) would split off a triangle of near-zero area: checked
-//    before any edit (either diagonal of the split quad), refused with kSliverSplit. an open edge where the cut passes gives kNonManifoldInput.
+//    before any edit (either diagonal of the split quad), refused with kSliverSplit. an open edge
+//    where the cut passes gives kNonManifoldInput.
 //  - Cuts through earlier caps are ordinary: a cap is surface like any other.
 //  - Caps never contain a sliver: rim points straight up to rounding are fanned, bad triangles
 //    are flipped away, and a cap that would still need a near-zero-area or tilted triangle is
@@ -48,9 +49,9 @@ namespace kerf::cut {
 
 /// Where the blade first touched: a point on the surface and, optionally, its triangle.
 struct Seed {
-    Vec3 point_m;                  ///< contact point, m (within seed tolerance of the surface)
-    mesh::FaceHandle face_hint;    ///< the triangle containing it, if known (else invalid)
-    double tolerance_m = -1.0;     ///< max seed-to-surface distance; < 0: 1e-3 * mesh scale
+    Vec3 point_m;                ///< contact point, m (within seed tolerance of the surface)
+    mesh::FaceHandle face_hint;  ///< the triangle containing it, if known (else invalid)
+    double tolerance_m = -1.0;   ///< max seed-to-surface distance; < 0: 1e-3 * mesh scale
 };
 
 /// Full-plane slice: cuts every loop where the plane crosses the mesh. O(n) (classifies all

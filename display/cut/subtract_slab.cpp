@@ -31,7 +31,8 @@ std::vector<FaceHandle> lower_loop_faces(const detail::ContextState& s) {
         for (std::uint32_t i = l.first; i < l.first + l.count; ++i) {
             const detail::CutPointKey k = s.plan.points[i].key;
             if (k.edge) {
-                for (int j = 0; j < 2; ++j) out.push_back(m.face_handle(m.halfedge_handle(mesh::EdgeHandle(k.id), j)));
+                for (int j = 0; j < 2; ++j)
+                    out.push_back(m.face_handle(m.halfedge_handle(mesh::EdgeHandle(k.id), j)));
             } else {
                 for (auto f : m.vf_range(VertexHandle(k.id))) out.push_back(f);
             }
@@ -42,8 +43,8 @@ std::vector<FaceHandle> lower_loop_faces(const detail::ContextState& s) {
 
 // Breadth-first over faces overlapping the slab (some vertex above lower - tol, some vertex
 // below upper) from `start`; returns the faces that cross the upper plane.
-std::vector<FaceHandle> upper_crossings(detail::ContextState& s, const Plane& lower, const Plane& upper,
-                                        std::vector<FaceHandle> frontier) {
+std::vector<FaceHandle> upper_crossings(detail::ContextState& s, const Plane& lower,
+                                        const Plane& upper, std::vector<FaceHandle> frontier) {
     TriMesh& m = s.mesh;
     const double tol = s.tolerance_m;
     s.next_generation();
@@ -105,14 +106,16 @@ CutResult subtract_slab(CutContext& ctx, const Plane& plane, double kerf_width_m
         r.stats.time_ns = now_ns() - t0;
         return r;
     };
-    if (!std::isfinite(kerf_width_m) || !(kerf_width_m > 20.0 * s.tolerance_m)) return done(CutStatus::kInvalidArgument);
+    if (!std::isfinite(kerf_width_m) || !(kerf_width_m > 20.0 * s.tolerance_m))
+        return done(CutStatus::kInvalidArgument);
     const Plane lower = plane.offset(-0.5 * kerf_width_m);
     const Plane upper = plane.offset(0.5 * kerf_width_m);
     // Dry run on the unedited mesh: both walls must plan and cap.
     CutStatus st = detail::plan_localised(s, lower, seed);
     if (st == CutStatus::kOk) st = detail::finish_plan(s, lower);
     if (st != CutStatus::kOk) return done(st);
-    const std::vector<FaceHandle> upper_faces = upper_crossings(s, lower, upper, lower_loop_faces(s));
+    const std::vector<FaceHandle> upper_faces =
+        upper_crossings(s, lower, upper, lower_loop_faces(s));
     if (!upper_faces.empty()) {
         st = detail::plan_from_faces(s, upper, upper_faces);
         if (st == CutStatus::kOk) st = detail::finish_plan(s, upper);
@@ -136,7 +139,8 @@ CutResult subtract_slab(CutContext& ctx, const Plane& plane, double kerf_width_m
         st = detail::plan_from_faces(s, upper, crossings);
         if (st == CutStatus::kOk) st = detail::finish_plan(s, upper);
         if (st == CutStatus::kOk) st = detail::apply_plan(s, upper, out.upper, upper_stats);
-        if (st != CutStatus::kOk && st != CutStatus::kPlaneMissesMesh) return done(CutStatus::kInternalError);
+        if (st != CutStatus::kOk && st != CutStatus::kPlaneMissesMesh)
+            return done(CutStatus::kInternalError);
         add(r.stats, upper_stats);
         r.stats.cap_triangles += upper_stats.cap_triangles;
     }
@@ -144,7 +148,8 @@ CutResult subtract_slab(CutContext& ctx, const Plane& plane, double kerf_width_m
     const std::vector<FaceHandle> slab = slab_faces(s, out.lower.positive.cap_faces);
     for (FaceHandle f : slab)
         for (auto v : s.mesh.fv_range(f))
-            if (upper.signed_distance(s.mesh.point(v)) > s.tolerance_m) return done(CutStatus::kInternalError);
+            if (upper.signed_distance(s.mesh.point(v)) > s.tolerance_m)
+                return done(CutStatus::kInternalError);
     for (FaceHandle f : slab) s.mesh.delete_face(f, true);
     r.stats.triangles_removed = static_cast<std::uint32_t>(slab.size());
     r.stats.cap_triangles /= 2;  // only one cap of each slice remains

@@ -1,7 +1,8 @@
 // Ear clipping with holes. The ring bookkeeping follows the well-tried layout of mapbox/earcut
-// (circular doubly linked nodes, holes bridged left to right, a grid of reflex vertices for the ear test), in
-// double precision and with two Kerf rules: no input point is ever dropped (a cap must use every
-// loop edge exactly once) and input is validated first, so the clipper only meets simple regions.
+// (circular doubly linked nodes, holes bridged left to right, a grid of reflex vertices for the ear
+// test), in double precision and with two Kerf rules: no input point is ever dropped (a cap must
+// use every loop edge exactly once) and input is validated first, so the clipper only meets simple
+// regions.
 #include "display/cut/triangulate.hpp"
 
 #include <algorithm>
@@ -14,12 +15,18 @@ namespace kerf::cut {
 
 std::string_view to_string(TriangulateFailure f) noexcept {
     switch (f) {
-        case TriangulateFailure::kNoLoops: return "no loops";
-        case TriangulateFailure::kTooFewPoints: return "loop has fewer than 3 points";
-        case TriangulateFailure::kNonFinite: return "non-finite coordinate";
-        case TriangulateFailure::kZeroArea: return "loop encloses zero area";
-        case TriangulateFailure::kSelfIntersecting: return "loops cross or touch";
-        case TriangulateFailure::kTooManyPoints: return "too many points";
+        case TriangulateFailure::kNoLoops:
+            return "no loops";
+        case TriangulateFailure::kTooFewPoints:
+            return "loop has fewer than 3 points";
+        case TriangulateFailure::kNonFinite:
+            return "non-finite coordinate";
+        case TriangulateFailure::kZeroArea:
+            return "loop encloses zero area";
+        case TriangulateFailure::kSelfIntersecting:
+            return "loops cross or touch";
+        case TriangulateFailure::kTooManyPoints:
+            return "too many points";
     }
     return "unknown";
 }
@@ -52,8 +59,10 @@ struct Box {
     double x1 = -std::numeric_limits<double>::infinity();
     double y1 = -std::numeric_limits<double>::infinity();
     void add(const Point2& p) noexcept {
-        x0 = std::min(x0, p[0]); y0 = std::min(y0, p[1]);
-        x1 = std::max(x1, p[0]); y1 = std::max(y1, p[1]);
+        x0 = std::min(x0, p[0]);
+        y0 = std::min(y0, p[1]);
+        x1 = std::max(x1, p[0]);
+        y1 = std::max(y1, p[1]);
     }
     bool contains(const Box& o) const noexcept {
         return x0 <= o.x0 && y0 <= o.y0 && o.x1 <= x1 && o.y1 <= y1;
@@ -63,7 +72,7 @@ struct Box {
 struct Node {
     double x;
     double y;
-    std::uint32_t i;      // index of the input point
+    std::uint32_t i;  // index of the input point
     std::uint32_t prev;
     std::uint32_t next;
     bool alive;
@@ -82,7 +91,7 @@ struct Triangulator::Impl {
     std::vector<Point2> pts;
     std::vector<std::uint32_t> begin;  // first point of each loop, then the end
     std::vector<Box> box;
-    std::vector<double> area;          // signed area per loop
+    std::vector<double> area;  // signed area per loop
     std::vector<std::int32_t> depth;
     std::vector<std::int32_t> parent;
     std::vector<std::uint32_t> seg_next;    // successor of each point in its loop
@@ -95,12 +104,12 @@ struct Triangulator::Impl {
     std::vector<std::uint32_t> grid_start;  // reflex vertices by grid cell (CSR)
     std::vector<std::uint32_t> grid_items;
     std::array<std::vector<Candidate>, kBuckets> buckets;  // ear candidates by size class
-    std::uint64_t nonempty = 0;             // bit k/2 set: bucket k or k+1 may hold candidates
-    double key_scale = 1.0;                 // 1 / region size^2
-    std::vector<std::uint32_t> version;     // per node: bumped when its candidate goes stale
-    bool use_grid = false;                  // the current region has a reflex grid
-    double gx0 = 0, gy0 = 0, ginv = 0;      // its frame: origin and cells per metre
-    std::uint32_t gnx = 0, gny = 0;         // its size in cells
+    std::uint64_t nonempty = 0;          // bit k/2 set: bucket k or k+1 may hold candidates
+    double key_scale = 1.0;              // 1 / region size^2
+    std::vector<std::uint32_t> version;  // per node: bumped when its candidate goes stale
+    bool use_grid = false;               // the current region has a reflex grid
+    double gx0 = 0, gy0 = 0, ginv = 0;   // its frame: origin and cells per metre
+    std::uint32_t gnx = 0, gny = 0;      // its size in cells
 
     std::uint32_t loops() const noexcept { return static_cast<std::uint32_t>(begin.size() - 1); }
     std::uint32_t loop_size(std::uint32_t l) const noexcept { return begin[l + 1] - begin[l]; }
@@ -154,7 +163,8 @@ Status<TriangulateError> Triangulator::Impl::load(std::span<const std::span<cons
     pts.reserve(total);
     for (std::size_t l = 0; l < in.size(); ++l) {
         const auto li = static_cast<std::int32_t>(l);
-        if (in[l].size() < 3) return Err{TriangulateError{TriangulateFailure::kTooFewPoints, li, -1}};
+        if (in[l].size() < 3)
+            return Err{TriangulateError{TriangulateFailure::kTooFewPoints, li, -1}};
         begin.push_back(static_cast<std::uint32_t>(pts.size()));
         for (const Point2& p : in[l]) {
             if (!std::isfinite(p[0]) || !std::isfinite(p[1])) {
@@ -175,11 +185,11 @@ Status<TriangulateError> Triangulator::Impl::measure() {
         area[l] = signed_area(std::span<const Point2>(pts.data() + begin[l], loop_size(l)));
         const double dx = box[l].x1 - box[l].x0;
         const double dy = box[l].y1 - box[l].y0;
-        const double noise = 4.0 * loop_size(l) * std::numeric_limits<double>::epsilon() *
-                             (dx * dx + dy * dy);
+        const double noise =
+            4.0 * loop_size(l) * std::numeric_limits<double>::epsilon() * (dx * dx + dy * dy);
         if (!(std::abs(area[l]) > noise)) {
-            return Err{TriangulateError{TriangulateFailure::kZeroArea,
-                                        static_cast<std::int32_t>(l), -1}};
+            return Err{
+                TriangulateError{TriangulateFailure::kZeroArea, static_cast<std::int32_t>(l), -1}};
         }
     }
     return {};
@@ -278,8 +288,10 @@ Status<TriangulateError> Triangulator::Impl::check_crossings() {
             for (std::uint32_t cy = cy_of(b.y0); cy <= cy_of(b.y1); ++cy) {
                 for (std::uint32_t cx = cx_of(b.x0); cx <= cx_of(b.x1); ++cx) {
                     const std::size_t c = std::size_t{cy} * gx + cx;
-                    if (pass == 0) ++cell_start[c + 1];
-                    else cell_items[cell_start[c]++] = s;
+                    if (pass == 0)
+                        ++cell_start[c + 1];
+                    else
+                        cell_items[cell_start[c]++] = s;
                 }
             }
         }
@@ -296,8 +308,8 @@ Status<TriangulateError> Triangulator::Impl::check_crossings() {
                 const Box& bs = seg_box[cell_items[i]];
                 const Box& bt = seg_box[cell_items[j]];
                 if (bs.x1 < bt.x0 || bt.x1 < bs.x0 || bs.y1 < bt.y0 || bt.y1 < bs.y0) continue;
-                const std::size_t home = std::size_t{cy_of(std::max(bs.y0, bt.y0))} * gx +
-                                         cx_of(std::max(bs.x0, bt.x0));
+                const std::size_t home =
+                    std::size_t{cy_of(std::max(bs.y0, bt.y0))} * gx + cx_of(std::max(bs.x0, bt.x0));
                 if (home != c || !segments_meet(cell_items[i], cell_items[j])) continue;
                 return Err{TriangulateError{TriangulateFailure::kSelfIntersecting,
                                             seg_loop[cell_items[i]], seg_loop[cell_items[j]]}};
@@ -399,10 +411,14 @@ std::uint32_t Triangulator::Impl::split(std::uint32_t a, std::uint32_t b) {
     const std::uint32_t b2 = add_node(nodes[b].i);
     const std::uint32_t an = nodes[a].next;
     const std::uint32_t bp = nodes[b].prev;
-    nodes[a].next = b;   nodes[b].prev = a;
-    nodes[a2].next = an; nodes[an].prev = a2;
-    nodes[b2].next = a2; nodes[a2].prev = b2;
-    nodes[bp].next = b2; nodes[b2].prev = bp;
+    nodes[a].next = b;
+    nodes[b].prev = a;
+    nodes[a2].next = an;
+    nodes[an].prev = a2;
+    nodes[b2].next = a2;
+    nodes[a2].prev = b2;
+    nodes[bp].next = b2;
+    nodes[b2].prev = bp;
     return b2;
 }
 
@@ -432,7 +448,7 @@ bool Triangulator::Impl::sector_contains_sector(std::uint32_t m, std::uint32_t p
 /// Eberly's bridge: cast a ray left from the hole's leftmost point, take the nearest boundary
 /// edge it hits, then the visible vertex of smallest angle inside the triangle it spans.
 std::uint32_t Triangulator::Impl::find_bridge(std::uint32_t hole,
-                                               std::uint32_t outer) const noexcept {
+                                              std::uint32_t outer) const noexcept {
     const double hx = nodes[hole].x;
     const double hy = nodes[hole].y;
     double qx = -std::numeric_limits<double>::infinity();
@@ -465,8 +481,8 @@ std::uint32_t Triangulator::Impl::find_bridge(std::uint32_t hole,
             const double tan = std::abs(hy - np.y) / (hx - np.x);
             if (locally_inside(p, hole) &&
                 (tan < tan_min ||
-                 (tan == tan_min && (np.x > nodes[m].x ||
-                                     (np.x == nodes[m].x && sector_contains_sector(m, p)))))) {
+                 (tan == tan_min &&
+                  (np.x > nodes[m].x || (np.x == nodes[m].x && sector_contains_sector(m, p)))))) {
                 m = p;
                 tan_min = tan;
             }
@@ -489,7 +505,10 @@ void Triangulator::Impl::eliminate_holes(std::uint32_t outer) {
             std::uint32_t p = outer;
             do {
                 const double d = std::hypot(nodes[p].x - nodes[h].x, nodes[p].y - nodes[h].y);
-                if (d < best) { best = d; bridge = p; }
+                if (d < best) {
+                    best = d;
+                    bridge = p;
+                }
                 p = nodes[p].next;
             } while (p != outer);
         }
@@ -533,8 +552,10 @@ void Triangulator::Impl::build_grid(std::uint32_t start) {
         do {
             if (turn(p) <= 0) {
                 const std::size_t c = std::size_t{cell_y(nodes[p].y)} * gnx + cell_x(nodes[p].x);
-                if (pass == 0) ++grid_start[c + 1];
-                else grid_items[grid_start[c]++] = p;
+                if (pass == 0)
+                    ++grid_start[c + 1];
+                else
+                    grid_items[grid_start[c]++] = p;
             }
             p = nodes[p].next;
         } while (p != start);

@@ -7,9 +7,9 @@
 //
 // Output triangles index the CONCATENATED input points (loop 0's points first, then loop 1's, ...):
 // no point is added, so cap vertices map 1:1 to cross-section vertices. Every triangle is counter-
-// clockwise in the given frame (positive signed area); a cap facing the other way swaps two indices.
-// Every loop edge is the edge of exactly one triangle and every other triangle edge is shared by
-// exactly two, in opposite directions, so a cap closes a sliced mesh into a 2-manifold.
+// clockwise in the given frame (positive signed area); a cap facing the other way swaps two
+// indices. Every loop edge is the edge of exactly one triangle and every other triangle edge is
+// shared by exactly two, in opposite directions, so a cap closes a sliced mesh into a 2-manifold.
 //
 // Method: a loop verified strictly convex and without holes is fanned from its first point; every
 // other region is ear-clipped after bridging each hole to the boundary (Eberly, "Triangulation by
@@ -21,17 +21,16 @@
 // Degenerate input is a value, never a hang: fewer than 3 points, non-finite coordinates, a loop of
 // zero area, or loops that cross or touch (including a loop touching itself) are refused with the
 // loop(s) named. Zero-area triangles: collinear input points never need one (the clipper prefers a
-// proper ear), but when rounding leaves no proper ear the clipper takes a degenerate one rather than
-// stall; `TriangulateStats::degenerate_ears` counts them (0 on every input in the tests).
+// proper ear), but when rounding leaves no proper ear the clipper takes a degenerate one rather
+// than stall; `TriangulateStats::degenerate_ears` counts them (0 on every input in the tests).
 #pragma once
 
+#include <OpenMesh/Core/Geometry/VectorT.hh>
 #include <cstdint>
 #include <memory>
 #include <span>
 #include <string_view>
 #include <vector>
-
-#include <OpenMesh/Core/Geometry/VectorT.hh>
 
 #include "config/result.hpp"
 

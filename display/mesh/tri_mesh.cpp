@@ -4,9 +4,12 @@ namespace kerf::mesh {
 
 std::string_view to_string(Material m) noexcept {
     switch (m) {
-        case Material::kCortical: return "cortical";
-        case Material::kCancellous: return "cancellous";
-        case Material::kCutSurface: return "cut_surface";
+        case Material::kCortical:
+            return "cortical";
+        case Material::kCancellous:
+            return "cancellous";
+        case Material::kCutSurface:
+            return "cut_surface";
     }
     return "unknown";
 }

@@ -7,10 +7,9 @@
 // Create meshes with `make_mesh()` so that every attribute the cutting library interpolates exists.
 #pragma once
 
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <cstdint>
 #include <string_view>
-
-#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
 namespace kerf::mesh {
 

@@ -1,5 +1,6 @@
 // kerf::ipc::IpcError — why a shared-memory operation failed: a code for programs and a message
-// for people that names what and where ("segment /kerf.demo: header: layout version 3, expected 1").
+// for people that names what and where ("segment /kerf.demo: header: layout version 3, expected
+// 1").
 #pragma once
 
 #include <string>

@@ -9,17 +9,16 @@
 //   build/bin/bench_cut --benchmark_filter=Localised
 #include <benchmark/benchmark.h>
 
+#include <OpenMesh/Tools/Subdivider/Uniform/LoopT.hh>
 #include <cmath>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <memory>
 #include <random>
 #include <string>
 #include <vector>
-
-#include <OpenMesh/Tools/Subdivider/Uniform/LoopT.hh>
 
 #include "display/cut/cut_context.hpp"
 #include "display/cut/separate.hpp"
@@ -89,8 +88,12 @@ void BM_LocalisedSliceCaps(benchmark::State& state) {
     state.counters["triangles"] = static_cast<double>(state.range(0));
     state.counters["rim_points"] = 2.0 * kTubeSegments;
 }
-BENCHMARK(BM_LocalisedSliceCaps)->Arg(100'000)->Arg(1'000'000)->Arg(4'000'000)
-    ->Iterations(40)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_LocalisedSliceCaps)
+    ->Arg(100'000)
+    ->Arg(1'000'000)
+    ->Arg(4'000'000)
+    ->Iterations(40)
+    ->Unit(benchmark::kMicrosecond);
 
 // ---- full-plane slice + caps of a 1M sphere, its peers and the floor ----------------------------
 
@@ -190,11 +193,10 @@ void BM_CgalClipVolumeTwoHalves_Sphere1M(benchmark::State& state) {
             SM half = input;
             state.ResumeTiming();
             // CGAL keeps the part on the negative side of the plane.
-            const K::Plane_3 plane(K::Point_3(p.point()[0], p.point()[1], p.point()[2]),
-                                   K::Vector_3(side * p.normal()[0], side * p.normal()[1],
-                                               side * p.normal()[2]));
-            CGAL::Polygon_mesh_processing::clip(
-                half, plane, CGAL::parameters::clip_volume(true));
+            const K::Plane_3 plane(
+                K::Point_3(p.point()[0], p.point()[1], p.point()[2]),
+                K::Vector_3(side * p.normal()[0], side * p.normal()[1], side * p.normal()[2]));
+            CGAL::Polygon_mesh_processing::clip(half, plane, CGAL::parameters::clip_volume(true));
             benchmark::DoNotOptimize(half.number_of_faces());
         }
     }
@@ -210,7 +212,8 @@ void BM_SeparationStep_Tube1M(benchmark::State& state) {
     CrossSection cs;
     const Plane p = tube_plane(3, 7);
     const Seed seed{Vec3(kTubeOuter, 0, p.point()[2]), kerf::mesh::FaceHandle(), -1.0};
-    if (!kerf::cut::slice_by_plane(ctx, p, seed, cs).ok()) return state.SkipWithError("slice failed");
+    if (!kerf::cut::slice_by_plane(ctx, p, seed, cs).ok())
+        return state.SkipWithError("slice failed");
     auto sep = kerf::cut::Separator::make(ctx, cs, 1.0e-3);
     if (!sep) return state.SkipWithError("separator refused");
     double front = -kTubeOuter - 0.001;
@@ -335,7 +338,8 @@ void BM_LocalisedSliceCaps_Foot1M(benchmark::State& state) {
         const Plane p = *Plane::make(at + axis * 1.234e-7, axis);
         Vec3 seed_point = at;
         double farthest = -1.0;
-        for (std::size_t f = bone.first_triangle; f < bone.first_triangle + bone.triangle_count; ++f) {
+        for (std::size_t f = bone.first_triangle; f < bone.first_triangle + bone.triangle_count;
+             ++f) {
             for (const auto h : m.fh_range(kerf::mesh::FaceHandle(static_cast<int>(f)))) {
                 const auto a = m.point(m.from_vertex_handle(h));
                 const auto b = m.point(m.to_vertex_handle(h));
@@ -358,7 +362,8 @@ void BM_LocalisedSliceCaps_Foot1M(benchmark::State& state) {
 }
 BENCHMARK(BM_LocalisedSliceCaps_Foot1M)->Iterations(40)->Unit(benchmark::kMicrosecond);
 
-// ---- ratio table ---------------------------------------------------------------------------------
+// ---- ratio table
+// ---------------------------------------------------------------------------------
 
 /// Console output as usual, plus each benchmark's real time per iteration kept for the ratios.
 class RatioReporter : public benchmark::ConsoleReporter {
@@ -367,8 +372,8 @@ public:
         ConsoleReporter::ReportRuns(runs);
         for (const Run& r : runs) {
             if (r.error_occurred) continue;
-            seconds_[r.benchmark_name()] = r.GetAdjustedRealTime() /
-                                           benchmark::GetTimeUnitMultiplier(r.time_unit);
+            seconds_[r.benchmark_name()] =
+                r.GetAdjustedRealTime() / benchmark::GetTimeUnitMultiplier(r.time_unit);
         }
     }
     void print_ratios() const {

@@ -136,9 +136,9 @@ TEST_F(KerfCut, SeededSeparatedAndBiplanarModesOpenAKerf) {
 TEST_F(KerfCut, MalformedPlanesAreUsageErrorsNamingTheOption) {
     const std::string out = (dir_ / "out.stl").string();
     expect_usage_error({sphere().string(), "--plane", "1,2,3", "-o", out}, "--plane #1");
-    expect_usage_error({sphere().string(), "--plane", "0,0,0,0,0,1", "--plane", "0,0,x,0,0,1",
-                        "-o", out},
-                       "--plane #2");
+    expect_usage_error(
+        {sphere().string(), "--plane", "0,0,0,0,0,1", "--plane", "0,0,x,0,0,1", "-o", out},
+        "--plane #2");
     expect_usage_error({sphere().string(), "--plane", "0,0,0,0,0,0", "-o", out}, "--plane #1");
     expect_usage_error({sphere().string(), "--plane", "0,0,0,nan,0,1", "-o", out}, "--plane #1");
     expect_usage_error({sphere().string(), "--plane", "0,0,0,0,0,1,", "-o", out}, "--plane #1");
@@ -148,20 +148,18 @@ TEST_F(KerfCut, BadModeKerfSeedsUnitsAndOutputAreUsageErrors) {
     const std::string out = (dir_ / "out.stl").string();
     const std::string in = sphere().string();
     expect_usage_error({in, "--plane", "0,0,0,0,0,1", "--mode", "laser", "-o", out}, "--mode");
-    expect_usage_error({in, "--plane", "0,0,0,0,0,1", "--kerf", "-1", "--mode", "separated",
-                        "-o", out},
-                       "--kerf");
+    expect_usage_error(
+        {in, "--plane", "0,0,0,0,0,1", "--kerf", "-1", "--mode", "separated", "-o", out}, "--kerf");
     expect_usage_error({in, "--plane", "0,0,0,0,0,1", "--mode", "separated", "-o", out},
                        "arguments");
-    expect_usage_error({in, "--plane", "0,0,0,0,0,1", "--kerf", "1", "--mode", "biplanar", "-o",
-                        out},
-                       "arguments");
+    expect_usage_error(
+        {in, "--plane", "0,0,0,0,0,1", "--kerf", "1", "--mode", "biplanar", "-o", out},
+        "arguments");
     expect_usage_error({in, "--plane", "0,0,0,0,0,1", "--plane", "0,0,1,0,0,1", "--plane",
                         "0,0,2,0,0,1", "--seed", "10,0,0", "--seed", "0,10,0", "-o", out},
                        "arguments");
     expect_usage_error({in, "--plane", "0,0,0,0,0,1", "--seed", "1,2", "-o", out}, "--seed #1");
-    expect_usage_error({in, "--plane", "0,0,0,0,0,1", "--units", "furlong", "-o", out},
-                       "--units");
+    expect_usage_error({in, "--plane", "0,0,0,0,0,1", "--units", "furlong", "-o", out}, "--units");
     expect_usage_error({in, "--plane", "0,0,0,0,0,1", "-o", (dir_ / "out.xyz").string()}, "-o");
 }
 

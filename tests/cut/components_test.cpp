@@ -99,7 +99,8 @@ TEST(Components, CuttingARingOnceLeavesOneBodyAndTwiceSeversIt) {
     CrossSection first;
     {
         CutContext ctx(m);
-        const auto res = slice_by_plane(ctx, plane, Seed{Vec3(0.025, 0.0003, 0), mesh::FaceHandle(), -1.0}, first);
+        const auto res = slice_by_plane(
+            ctx, plane, Seed{Vec3(0.025, 0.0003, 0), mesh::FaceHandle(), -1.0}, first);
         ASSERT_EQ(res.status, CutStatus::kOk) << to_string(res.status);
     }
     EXPECT_EQ(find_components(m).size(), 1u);
@@ -111,7 +112,8 @@ TEST(Components, CuttingARingOnceLeavesOneBodyAndTwiceSeversIt) {
     CrossSection second;
     {
         CutContext ctx(m);
-        const auto res = slice_by_plane(ctx, plane, Seed{Vec3(-0.025, 0.0003, 0), mesh::FaceHandle(), -1.0}, second);
+        const auto res = slice_by_plane(
+            ctx, plane, Seed{Vec3(-0.025, 0.0003, 0), mesh::FaceHandle(), -1.0}, second);
         ASSERT_EQ(res.status, CutStatus::kOk) << to_string(res.status);
     }
     const auto report = testing::expect_closed_2_manifold(m);

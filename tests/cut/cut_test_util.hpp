@@ -53,7 +53,8 @@ kerf::mesh::TriMesh extract_faces(const kerf::mesh::TriMesh& m, Keep&& keep) {
 }
 
 /// Total area of some faces, m^2.
-inline double area_of(const kerf::mesh::TriMesh& m, const std::vector<kerf::mesh::FaceHandle>& faces) {
+inline double area_of(const kerf::mesh::TriMesh& m,
+                      const std::vector<kerf::mesh::FaceHandle>& faces) {
     double a = 0;
     for (auto f : faces) {
         auto it = m.cfv_iter(f);
@@ -97,8 +98,10 @@ inline void expect_cross_section_consistent(const kerf::mesh::TriMesh& m, const 
     EXPECT_GT(poly, 0.0);
     EXPECT_NEAR(area_of(m, cs.positive.cap_faces), poly, 1e-9 * poly);
     EXPECT_NEAR(area_of(m, cs.negative.cap_faces), poly, 1e-9 * poly);
-    for (auto f : cs.positive.cap_faces) EXPECT_LT(OpenMesh::dot(m.calc_face_normal(f), cs.plane.normal()), 0.0);
-    for (auto f : cs.negative.cap_faces) EXPECT_GT(OpenMesh::dot(m.calc_face_normal(f), cs.plane.normal()), 0.0);
+    for (auto f : cs.positive.cap_faces)
+        EXPECT_LT(OpenMesh::dot(m.calc_face_normal(f), cs.plane.normal()), 0.0);
+    for (auto f : cs.negative.cap_faces)
+        EXPECT_GT(OpenMesh::dot(m.calc_face_normal(f), cs.plane.normal()), 0.0);
 }
 
 }  // namespace kerf::cut::testing

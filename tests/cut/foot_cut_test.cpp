@@ -49,9 +49,11 @@ Seed outer_seed(const TriMesh& m, const mesh::BoneInfo& b, const Plane& plane) {
 }
 
 bool outside_bone_unchanged(const TriMesh& before, const TriMesh& after, const mesh::BoneInfo& b) {
-    const int lo = static_cast<int>(b.first_triangle), hi = static_cast<int>(b.first_triangle + b.triangle_count);
+    const int lo = static_cast<int>(b.first_triangle),
+              hi = static_cast<int>(b.first_triangle + b.triangle_count);
     const int n = static_cast<int>(before.n_faces());
-    return snapshot(before, 0, lo) == snapshot(after, 0, lo) && snapshot(before, hi, n) == snapshot(after, hi, n);
+    return snapshot(before, 0, lo) == snapshot(after, 0, lo) &&
+           snapshot(before, hi, n) == snapshot(after, hi, n);
 }
 
 TEST(FootCut, LocalisedCutAcrossTheFirstMetatarsalShaftCutsCortexAndCanalOnly) {
@@ -98,7 +100,9 @@ TEST(FootCut, RandomLocalisedCutsOnRandomBonesStayClosedAndLocal) {
     std::mt19937_64 rng(314);
     int cut = 0;
     for (int i = 0; i < 12; ++i) {
-        const auto& bone = foot().bones[std::uniform_int_distribution<std::size_t>(0, foot().bones.size() - 1)(rng)];
+        const auto& bone =
+            foot()
+                .bones[std::uniform_int_distribution<std::size_t>(0, foot().bones.size() - 1)(rng)];
         const Plane plane = across(bone, std::uniform_real_distribution<double>(0.2, 0.8)(rng),
                                    random_unit(rng) * 0.4);
         TriMesh m = foot().mesh;
@@ -106,7 +110,8 @@ TEST(FootCut, RandomLocalisedCutsOnRandomBonesStayClosedAndLocal) {
         CutContext ctx(m);
         CrossSection cs;
         const auto r = slice_by_plane(ctx, plane, outer_seed(m, bone, plane), cs);
-        ASSERT_TRUE(r.ok() || r.status == CutStatus::kCapTriangulationFailed) << to_string(r.status);
+        ASSERT_TRUE(r.ok() || r.status == CutStatus::kCapTriangulationFailed)
+            << to_string(r.status);
         if (!r.ok()) continue;
         ++cut;
         const auto rep = expect_closed_2_manifold(m);
@@ -123,7 +128,8 @@ TEST(FootCut, SlabThroughTheFirstMetatarsalLeavesTwoWallsAndTheOtherBones) {
     const Plane plane = across(mt1, 0.45);
     CutContext ctx(m);
     SlabCut slab;
-    const auto r = subtract_slab(ctx, plane, 0.001, outer_seed(m, mt1, plane.offset(-0.0005)), slab);
+    const auto r =
+        subtract_slab(ctx, plane, 0.001, outer_seed(m, mt1, plane.offset(-0.0005)), slab);
     ASSERT_EQ(r.status, CutStatus::kOk) << to_string(r.status);
     const auto rep = expect_closed_2_manifold(m);
     EXPECT_EQ(rep.piece_volumes_m3.size(), 38u);  // two walls; the slab between is gone

@@ -1,9 +1,8 @@
 // libFuzzer target for the cutter: random meshes, planes, seeds and modes in; every invariant
 // checked after every operation.
 //
-//   byte 0      shape: sphere, torus, hollow tube (cortex + canal), box, or two spheres side by side
-//   byte 1      resolution
-//   then up to four operations of 16 bytes each:
+//   byte 0      shape: sphere, torus, hollow tube (cortex + canal), box, or two spheres side by
+//   side byte 1      resolution then up to four operations of 16 bytes each:
 //     mode (full uniplanar, localised uniplanar, biplanar slab), plane point (3 x int16 scaled to
 //     the mesh box, optionally snapped onto a vertex so the plane runs through a vertex ring),
 //     normal (3 x int8; sometimes snapped to an axis so it lies along edges or caps), a vertex
@@ -58,16 +57,19 @@ struct Reader {
 TriMesh make_shape(std::uint8_t kind, std::uint8_t res) {
     const int r = 4 + res % 24;  // small meshes: each run stays in the milliseconds
     switch (kind % 5) {
-        case 0: return kerf::mesh::make_uv_sphere(0.01, static_cast<std::size_t>(r) * 40);
-        case 1: return kerf::mesh::make_torus(0.03, 0.01, r + 4, r / 2 + 3);
-        case 2: return kerf::mesh::make_hollow_tube(0.05, 0.01, 0.006, r + 4, r / 3 + 1);
+        case 0:
+            return kerf::mesh::make_uv_sphere(0.01, static_cast<std::size_t>(r) * 40);
+        case 1:
+            return kerf::mesh::make_torus(0.03, 0.01, r + 4, r / 2 + 3);
+        case 2:
+            return kerf::mesh::make_hollow_tube(0.05, 0.01, 0.006, r + 4, r / 3 + 1);
         case 3:
             return kerf::mesh::make_box(TriMesh::Point(0, 0, 0), TriMesh::Point(0.02, 0.01, 0.03),
                                         1 + r % 4);
         default: {
             TriMesh m = kerf::mesh::make_uv_sphere(0.01, static_cast<std::size_t>(r) * 30);
-            kerf::cut::testing::append(m, kerf::mesh::make_uv_sphere(
-                                              0.01, static_cast<std::size_t>(r) * 30,
+            kerf::cut::testing::append(
+                m, kerf::mesh::make_uv_sphere(0.01, static_cast<std::size_t>(r) * 30,
                                               TriMesh::Point(0.025, 0.0, 0.0)));
             return m;
         }
@@ -111,7 +113,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const std::uint8_t kerf_byte = in.byte();
         in.byte();  // reserved (keeps operations 16 bytes apart)
         in.byte();
-        const auto seed_vertex = kerf::mesh::VertexHandle(static_cast<int>(vertex_pick % n_vertices));
+        const auto seed_vertex =
+            kerf::mesh::VertexHandle(static_cast<int>(vertex_pick % n_vertices));
         if (snap & 1) point = mesh.point(seed_vertex);  // the plane runs through a vertex
         if (snap & 2) normal = Vec3(0, 0, 1);           // along rings, edges, earlier caps
         if (snap & 4) normal = Vec3(1, 0, 0);

@@ -81,8 +81,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const auto status = t.triangulate(kerf::cut::testing::spans_of(loops), tris);
     if (!status) {
         if (!tris.empty()) fail("refusal left triangles behind");
-        if (mode == 0) fail(std::string("valid region refused: ") +
-                            std::string(to_string(status.error().failure)));
+        if (mode == 0)
+            fail(std::string("valid region refused: ") +
+                 std::string(to_string(status.error().failure)));
         return 0;
     }
     if (mode == 2) {

@@ -73,7 +73,8 @@ TEST(LocalisedSlice, FindsTheCanalNestedInsideTheOuterLoop) {
     double best = 0;
     for (auto f : m.faces()) {
         const Vec3 c = centroid(m, f);
-        if (crossing_face(m, plane, f.idx(), f.idx() + 1).is_valid() && std::hypot(c[0], c[1]) > best)
+        if (crossing_face(m, plane, f.idx(), f.idx() + 1).is_valid() &&
+            std::hypot(c[0], c[1]) > best)
             best = std::hypot(c[0], c[1]), seed_face = f;
     }
     ASSERT_TRUE(seed_face.is_valid());
@@ -97,7 +98,8 @@ TEST(LocalisedSlice, ASeedOnTheCanalWallIsRefusedAsAnInnerBoundary) {
     FaceHandle seed_face;
     for (auto f : m.faces()) {
         const Vec3 c = centroid(m, f);
-        if (crossing_face(m, plane, f.idx(), f.idx() + 1).is_valid() && std::hypot(c[0], c[1]) < 0.007)
+        if (crossing_face(m, plane, f.idx(), f.idx() + 1).is_valid() &&
+            std::hypot(c[0], c[1]) < 0.007)
             seed_face = f;
     }
     ASSERT_TRUE(seed_face.is_valid());
@@ -145,7 +147,8 @@ std::vector<int> shells(const TriMesh& m) {
     return comp;
 }
 
-TEST(LocalisedSlice, ForefootPlaneAt100mmCutsExactlyTheSeedsRayAndLeavesTheOtherShellsBitIdentical) {
+TEST(LocalisedSlice,
+     ForefootPlaneAt100mmCutsExactlyTheSeedsRayAndLeavesTheOtherShellsBitIdentical) {
     const std::filesystem::path path =
         std::filesystem::path(KERF_SHARED_MESHES) / "bp3d_right_forefoot_24shells.stl";
     if (!std::filesystem::exists(path)) GTEST_SKIP() << "real meshes absent: " << path;
@@ -175,19 +178,24 @@ TEST(LocalisedSlice, ForefootPlaneAt100mmCutsExactlyTheSeedsRayAndLeavesTheOther
         SCOPED_TRACE("seed on shell " + std::to_string(seed_shell));
         FaceHandle seed_face;
         for (int i = 0; i < n0 && !seed_face.is_valid(); ++i)
-            if (comp[i] == seed_shell && crossing_face(original, plane, i, i + 1).is_valid()) seed_face = FaceHandle(i);
+            if (comp[i] == seed_shell && crossing_face(original, plane, i, i + 1).is_valid())
+                seed_face = FaceHandle(i);
         TriMesh cut = original;
         CutContext ctx(cut);
         CrossSection cs;
-        const auto r = slice_by_plane(ctx, plane, Seed{centroid(cut, seed_face), seed_face, -1.0}, cs);
+        const auto r =
+            slice_by_plane(ctx, plane, Seed{centroid(cut, seed_face), seed_face, -1.0}, cs);
         ASSERT_EQ(r.status, CutStatus::kOk) << to_string(r.status);
         // The file's shell 0 is not a clean manifold (merged bones), so the strict check runs on
         // the ray that was cut: its original faces plus every face the cut made.
-        TriMesh ray = extract_faces(cut, [&](FaceHandle f) { return f.idx() >= n0 || comp[f.idx()] == seed_shell; });
-        TriMesh ray_before = extract_faces(original, [&](FaceHandle f) { return comp[f.idx()] == seed_shell; });
+        TriMesh ray = extract_faces(
+            cut, [&](FaceHandle f) { return f.idx() >= n0 || comp[f.idx()] == seed_shell; });
+        TriMesh ray_before =
+            extract_faces(original, [&](FaceHandle f) { return comp[f.idx()] == seed_shell; });
         const auto rep = expect_closed_2_manifold(ray);
         EXPECT_EQ(rep.piece_volumes_m3.size(), 2u);
-        EXPECT_NEAR(rep.total_volume_m3, signed_volume(ray_before), 1e-9 * signed_volume(ray_before));
+        EXPECT_NEAR(rep.total_volume_m3, signed_volume(ray_before),
+                    1e-9 * signed_volume(ray_before));
         EXPECT_NEAR(signed_volume(cut), v0, 1e-9 * v0);
         expect_cross_section_consistent(cut, cs, ctx.tolerance_m());
         int changed_other = 0, changed_seed_shell = 0;

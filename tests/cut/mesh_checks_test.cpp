@@ -18,7 +18,8 @@ TEST(MeshChecks, TestShapesAreClosedOrientedWithTheExpectedVolumes) {
     ASSERT_EQ(rs.piece_volumes_m3.size(), 1u);
     EXPECT_NEAR(rs.total_volume_m3, 4.0 / 3.0 * pi, 0.01);
     auto t = torus(0.03, 0.01, 48, 24);
-    EXPECT_NEAR(expect_closed_2_manifold(t).total_volume_m3, 2 * pi * pi * 0.03 * 0.01 * 0.01, 2e-6);
+    EXPECT_NEAR(expect_closed_2_manifold(t).total_volume_m3, 2 * pi * pi * 0.03 * 0.01 * 0.01,
+                2e-6);
     auto tube = hollow_tube(0.01, 0.006, 0.05, 20, 48);
     auto rt = expect_closed_2_manifold(tube);
     EXPECT_NEAR(rt.total_volume_m3, pi * (1e-4 - 3.6e-5) * 0.05, 2e-7);

@@ -21,7 +21,8 @@ TriMesh defined(TriMesh m) {
     for (const auto v : m.vertices()) {
         const auto& p = m.point(v);
         m.set_normal(v, TriMesh::Normal(0, 0, 1));
-        m.set_texcoord2D(v, TriMesh::TexCoord2D(static_cast<float>(p[0]), static_cast<float>(p[1])));
+        m.set_texcoord2D(v,
+                         TriMesh::TexCoord2D(static_cast<float>(p[0]), static_cast<float>(p[1])));
         m.set_color(v, TriMesh::Color(0.9f, 0.85f, 0.8f));
     }
     return m;
@@ -37,8 +38,10 @@ TriMesh two_triangles(bool rotated_second_face = false) {
     const VertexHandle c = m.add_vertex({1, 1, 0});
     const VertexHandle d = m.add_vertex({0, 1, 0});
     m.add_face(a, b, c);
-    if (rotated_second_face) m.add_face(c, d, a);
-    else m.add_face(a, c, d);
+    if (rotated_second_face)
+        m.add_face(c, d, a);
+    else
+        m.add_face(a, c, d);
     return defined(m);
 }
 

@@ -57,9 +57,7 @@ inline double used_bbox_diagonal(const kerf::mesh::TriMesh& mesh) {
 
 namespace detail {
 
-inline std::uint64_t key(std::uint32_t a, std::uint32_t b) {
-    return (std::uint64_t{a} << 32) | b;
-}
+inline std::uint64_t key(std::uint32_t a, std::uint32_t b) { return (std::uint64_t{a} << 32) | b; }
 
 // Union-find over face indices, for pieces.
 inline std::uint32_t find(std::vector<std::uint32_t>& parent, std::uint32_t i) {
@@ -95,20 +93,25 @@ inline MeshReport check_closed_2_manifold(const kerf::mesh::TriMesh& mesh) {
         for (auto h : mesh.fh_range(f)) {
             if (k == 3) break;
             const auto v = mesh.to_vertex_handle(h);
-            if (mesh.status(v).deleted()) fail("face " + std::to_string(f.idx()) + " uses a deleted vertex");
+            if (mesh.status(v).deleted())
+                fail("face " + std::to_string(f.idx()) + " uses a deleted vertex");
             if (mesh.is_boundary(mesh.opposite_halfedge_handle(h)))
                 fail("face " + std::to_string(f.idx()) + " has an OpenMesh boundary edge");
             idx[k] = static_cast<std::uint32_t>(v.idx());
             p[k] = mesh.point(v);
             ++k;
         }
-        if (k != 3) { fail("face " + std::to_string(f.idx()) + " is not a triangle"); continue; }
+        if (k != 3) {
+            fail("face " + std::to_string(f.idx()) + " is not a triangle");
+            continue;
+        }
         for (int i = 0; i < 3; ++i) {
             ++uses[idx[i]];
             directed.push_back(detail::key(idx[i], idx[(i + 1) % 3]));
         }
         const double area = 0.5 * OpenMesh::cross(p[1] - p[0], p[2] - p[0]).norm();
-        if (!std::isfinite(area) || !std::isfinite(p[0].sqrnorm() + p[1].sqrnorm() + p[2].sqrnorm()))
+        if (!std::isfinite(area) ||
+            !std::isfinite(p[0].sqrnorm() + p[1].sqrnorm() + p[2].sqrnorm()))
             fail("face " + std::to_string(f.idx()) + " is not finite");
         else if (area < min_area) {
             char text[160];
@@ -122,7 +125,8 @@ inline MeshReport check_closed_2_manifold(const kerf::mesh::TriMesh& mesh) {
     for (std::size_t i = 0; i < directed.size(); ++i) {
         const auto d = directed[i];
         if (i + 1 < directed.size() && directed[i + 1] == d)
-            fail("directed edge " + std::to_string(d >> 32) + "->" + std::to_string(d & 0xffffffffu) +
+            fail("directed edge " + std::to_string(d >> 32) + "->" +
+                 std::to_string(d & 0xffffffffu) +
                  " used twice (inconsistent orientation or non-manifold edge)");
         const auto rev = detail::key(static_cast<std::uint32_t>(d & 0xffffffffu),
                                      static_cast<std::uint32_t>(d >> 32));

@@ -27,8 +27,10 @@ TEST(Plane, MakeNormalisesTheNormalAndBuildsARightHandedFrame) {
 TEST(Plane, RejectsZeroAndNonFiniteInputWithInvalidPlane) {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     const double inf = std::numeric_limits<double>::infinity();
-    for (auto r : {Plane::make(Vec3(0, 0, 0), Vec3(0, 0, 0)), Plane::make(Vec3(nan, 0, 0), Vec3(0, 0, 1)),
-                   Plane::make(Vec3(0, 0, 0), Vec3(0, inf, 1)), Plane::make(Vec3(0, 0, 0), Vec3(1e-300, 0, 0))}) {
+    for (auto r :
+         {Plane::make(Vec3(0, 0, 0), Vec3(0, 0, 0)), Plane::make(Vec3(nan, 0, 0), Vec3(0, 0, 1)),
+          Plane::make(Vec3(0, 0, 0), Vec3(0, inf, 1)),
+          Plane::make(Vec3(0, 0, 0), Vec3(1e-300, 0, 0))}) {
         ASSERT_FALSE(r);
         EXPECT_EQ(r.error(), CutStatus::kInvalidPlane);
     }

@@ -144,7 +144,8 @@ TEST(Separate, CompleteSeparationMatchesTheBiplanarSubtraction) {
     sep->sweep_all();
     CutContext ctx_b(b.mesh);
     SlabCut slab;
-    const auto r = subtract_slab(ctx_b, plane, kKerf, Seed{Vec3(0.006, 0, 0.0201), mesh::FaceHandle(), -1.0}, slab);
+    const auto r = subtract_slab(ctx_b, plane, kKerf,
+                                 Seed{Vec3(0.006, 0, 0.0201), mesh::FaceHandle(), -1.0}, slab);
     ASSERT_EQ(r.status, CutStatus::kOk) << to_string(r.status);
     const auto pa = find_components(a.mesh);
     const auto pb = find_components(b.mesh);
@@ -176,7 +177,8 @@ TEST(Separate, SlantedWallsStayCloseToTheBiplanarVolume) {
     CutContext ctx_b(b);
     SlabCut slab;
     const double x0 = std::sqrt(0.01 * 0.01 - 0.004 * 0.004) * 0.999;
-    const auto r = subtract_slab(ctx_b, plane, kKerf, Seed{Vec3(x0, 0, 0.004), mesh::FaceHandle(), -1.0}, slab);
+    const auto r = subtract_slab(ctx_b, plane, kKerf,
+                                 Seed{Vec3(x0, 0, 0.004), mesh::FaceHandle(), -1.0}, slab);
     ASSERT_EQ(r.status, CutStatus::kOk) << to_string(r.status);
     const double v0 = testing::signed_volume(mesh::make_uv_sphere(0.01, 20000));
     const double removed_sep = v0 - testing::signed_volume(a);
@@ -198,7 +200,9 @@ TEST(Separate, OtherShellsCrossingThePlaneNeverMove) {
     CutContext ctx(m);
     CrossSection cs;
     const auto plane = *Plane::make(Vec3(0, 0, 0.0201), Vec3(0, 0, 1));
-    ASSERT_TRUE(slice_by_plane(ctx, plane, Seed{Vec3(-0.006, 0, 0.0201), mesh::FaceHandle(), -1.0}, cs).ok());
+    ASSERT_TRUE(
+        slice_by_plane(ctx, plane, Seed{Vec3(-0.006, 0, 0.0201), mesh::FaceHandle(), -1.0}, cs)
+            .ok());
     std::vector<Vec3> others;
     for (int i = base; i < base + static_cast<int>(other.n_vertices()); ++i) {
         others.push_back(m.point(mesh::VertexHandle(i)));

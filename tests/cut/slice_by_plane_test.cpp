@@ -114,7 +114,8 @@ TEST(SliceByPlane, InvalidSeedIsRefusedAndTheMeshIsUnchanged) {
     CutContext ctx(m);
     CrossSection cs;
     const Plane p = plane_of(Vec3(0, 0, 0.1), Vec3(0, 0, 1));
-    EXPECT_EQ(slice_by_plane(ctx, p, Seed{Vec3(0, 0, 0.1), mesh::FaceHandle(), -1.0}, cs).status, CutStatus::kSeedNotOnSurface);
+    EXPECT_EQ(slice_by_plane(ctx, p, Seed{Vec3(0, 0, 0.1), mesh::FaceHandle(), -1.0}, cs).status,
+              CutStatus::kSeedNotOnSurface);
     EXPECT_EQ(slice_by_plane(ctx, p, Seed{Vec3(5, 5, 5), mesh::FaceHandle(3)}, cs).status,
               CutStatus::kSeedNotOnSurface);
     EXPECT_TRUE(snapshot(m) == before);
@@ -125,7 +126,8 @@ TEST(SliceByPlane, EdgeVerticesInterpolateEveryAttributeWithOneParameter) {
     for (auto v : m.vertices()) {
         const auto p = m.point(v);
         m.set_color(v, TriMesh::Color(static_cast<float>(p[0]), 0.5f, 0.25f));
-        m.data(v).set_material(p[0] < 0.5 ? mesh::Material::kCortical : mesh::Material::kCancellous);
+        m.data(v).set_material(p[0] < 0.5 ? mesh::Material::kCortical
+                                          : mesh::Material::kCancellous);
     }
     CrossSection cs;
     full_cut_checked(m, plane_of(Vec3(0.25, 0, 0), Vec3(1, 0, 0)), cs, 2);
@@ -143,8 +145,10 @@ TEST(SliceByPlane, ACrossSectionPinchingAtASaddleVertexIsRefusedUnchanged) {
     // below: four rim segments meet at v0, so the two loops would touch there.
     TriMesh m;
     const auto v0 = m.add_vertex(TriMesh::Point(0, 0, 0));
-    const auto a = m.add_vertex(TriMesh::Point(1, 0, 1)), b = m.add_vertex(TriMesh::Point(0, 1, -1));
-    const auto c = m.add_vertex(TriMesh::Point(-1, 0, 1)), d = m.add_vertex(TriMesh::Point(0, -1, -1));
+    const auto a = m.add_vertex(TriMesh::Point(1, 0, 1)),
+               b = m.add_vertex(TriMesh::Point(0, 1, -1));
+    const auto c = m.add_vertex(TriMesh::Point(-1, 0, 1)),
+               d = m.add_vertex(TriMesh::Point(0, -1, -1));
     const auto p = m.add_vertex(TriMesh::Point(0, 0, -5));
     m.add_face(v0, a, b), m.add_face(v0, b, c), m.add_face(v0, c, d), m.add_face(v0, d, a);
     m.add_face(b, a, p), m.add_face(c, b, p), m.add_face(d, c, p), m.add_face(a, d, p);

@@ -17,9 +17,10 @@ namespace {
 using namespace kerf::cut::testing;
 
 TEST(SliceProperty, RandomFullPlaneCutsOfSpheresToriTubesAndBoxesAreClosedAndConserveVolume) {
-    const TriMesh shapes[] = {mesh::make_uv_sphere(0.01, 3000), mesh::make_torus(0.03, 0.01, 48, 24),
-                              mesh::make_hollow_tube(0.05, 0.01, 0.006, 48, 20),
-                              mesh::make_box(TriMesh::Point(0, 0, 0), TriMesh::Point(0.02, 0.01, 0.03), 4)};
+    const TriMesh shapes[] = {
+        mesh::make_uv_sphere(0.01, 3000), mesh::make_torus(0.03, 0.01, 48, 24),
+        mesh::make_hollow_tube(0.05, 0.01, 0.006, 48, 20),
+        mesh::make_box(TriMesh::Point(0, 0, 0), TriMesh::Point(0.02, 0.01, 0.03), 4)};
     std::mt19937_64 rng(20261122);
     for (const TriMesh& shape : shapes) {
         const SweepCounts c = sweep_random_planes(shape, rng, 25, /*localised=*/false);
@@ -30,7 +31,8 @@ TEST(SliceProperty, RandomFullPlaneCutsOfSpheresToriTubesAndBoxesAreClosedAndCon
 }
 
 TEST(SliceProperty, RandomLocalisedCutsFromRandomSeedsAreClosedAndConserveVolume) {
-    const TriMesh shapes[] = {mesh::make_uv_sphere(0.01, 3000), mesh::make_torus(0.03, 0.01, 48, 24),
+    const TriMesh shapes[] = {mesh::make_uv_sphere(0.01, 3000),
+                              mesh::make_torus(0.03, 0.01, 48, 24),
                               mesh::make_hollow_tube(0.05, 0.01, 0.006, 48, 20)};
     std::mt19937_64 rng(7);
     for (const TriMesh& shape : shapes) {
@@ -42,7 +44,8 @@ TEST(SliceProperty, RandomLocalisedCutsFromRandomSeedsAreClosedAndConserveVolume
 }
 
 TEST(SliceProperty, SequencesOfCrossingCutsThroughEarlierCapsStayClosed) {
-    const TriMesh shapes[] = {mesh::make_uv_sphere(0.01, 2000), mesh::make_hollow_tube(0.05, 0.01, 0.006, 32, 10)};
+    const TriMesh shapes[] = {mesh::make_uv_sphere(0.01, 2000),
+                              mesh::make_hollow_tube(0.05, 0.01, 0.006, 32, 10)};
     std::mt19937_64 rng(99);
     for (const TriMesh& shape : shapes)
         for (int run = 0; run < 6; ++run) {
@@ -75,8 +78,10 @@ TEST(SliceProperty, TheSameCutsGiveABitIdenticalMesh) {
         auto m = mesh::make_torus(0.03, 0.01, 48, 24);
         CutContext ctx(m);
         CrossSection cs;
-        EXPECT_TRUE(slice_by_plane(ctx, *Plane::make(Vec3(0.001, 0, 0), Vec3(1, 0.2, 0.1)), cs).ok());
-        EXPECT_TRUE(slice_by_plane(ctx, *Plane::make(Vec3(0, 0.002, 0), Vec3(0.1, 1, 0.3)), cs).ok());
+        EXPECT_TRUE(
+            slice_by_plane(ctx, *Plane::make(Vec3(0.001, 0, 0), Vec3(1, 0.2, 0.1)), cs).ok());
+        EXPECT_TRUE(
+            slice_by_plane(ctx, *Plane::make(Vec3(0, 0.002, 0), Vec3(0.1, 1, 0.3)), cs).ok());
         return snapshot(m);
     };
     EXPECT_TRUE(run() == run());

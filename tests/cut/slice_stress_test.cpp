@@ -46,8 +46,10 @@ TEST_P(RealMeshSweep, RandomPlanesAndSeedsGiveClosedPiecesThatConserveVolume) {
 }
 
 INSTANTIATE_TEST_SUITE_P(SharedMeshes, RealMeshSweep,
-                         ::testing::Values("bp3d_right_first_metatarsal.stl", "jma_norm01_calcaneus_right.stl",
-                                           "jma_norm01_talus_right.stl", "tcsm_ksbl_L01_talus_left.stl",
+                         ::testing::Values("bp3d_right_first_metatarsal.stl",
+                                           "jma_norm01_calcaneus_right.stl",
+                                           "jma_norm01_talus_right.stl",
+                                           "tcsm_ksbl_L01_talus_left.stl",
                                            "tcsm_ksbl_L01_tibia_distal_left.stl",
                                            "tcsm_ksbl_L01_fibula_distal_left.stl"));
 

@@ -13,9 +13,9 @@
 namespace kerf::cut::testing {
 
 struct SweepCounts {
-    int cut = 0;       ///< cuts that succeeded (and passed the checks)
-    int refused = 0;   ///< plane misses / seed far: mesh verified unchanged
-    int failed = 0;    ///< anything else (or a check failed)
+    int cut = 0;           ///< cuts that succeeded (and passed the checks)
+    int refused = 0;       ///< plane misses / seed far: mesh verified unchanged
+    int failed = 0;        ///< anything else (or a check failed)
     int cap_refusals = 0;  ///< kCapTriangulationFailed: a cap would need a sliver; mesh unchanged
 };
 
@@ -60,8 +60,10 @@ inline Seed random_seed(const kerf::mesh::TriMesh& m, const Plane& plane, std::m
         if (pos && neg) crossing.push_back(f);
     }
     if (crossing.empty()) return Seed{Vec3(0, 0, 0), kerf::mesh::FaceHandle(), 0.0};
-    const auto f = crossing[std::uniform_int_distribution<std::size_t>(0, crossing.size() - 1)(rng)];
-    return Seed{face_centroid(m, f), std::uniform_int_distribution<int>(0, 1)(rng) ? f : kerf::mesh::FaceHandle(), -1.0};
+    const auto f =
+        crossing[std::uniform_int_distribution<std::size_t>(0, crossing.size() - 1)(rng)];
+    return Seed{face_centroid(m, f),
+                std::uniform_int_distribution<int>(0, 1)(rng) ? f : kerf::mesh::FaceHandle(), -1.0};
 }
 
 /// One cut on a fresh copy of `shape`, checked; adds to `c`.
@@ -72,7 +74,8 @@ inline void checked_cut(const kerf::mesh::TriMesh& shape, const Plane& plane, co
     const auto before = snapshot(m);
     CutContext ctx(m);
     CrossSection cs;
-    const CutResult r = seed ? slice_by_plane(ctx, plane, *seed, cs) : slice_by_plane(ctx, plane, cs);
+    const CutResult r =
+        seed ? slice_by_plane(ctx, plane, *seed, cs) : slice_by_plane(ctx, plane, cs);
     if (is_refusal(r.status)) {
         ++c.refused;
         c.cap_refusals += r.status == CutStatus::kCapTriangulationFailed;
@@ -84,18 +87,20 @@ inline void checked_cut(const kerf::mesh::TriMesh& shape, const Plane& plane, co
         ADD_FAILURE() << "cut failed: " << to_string(r.status);
         return;
     }
-    const int failures_before = ::testing::UnitTest::GetInstance()->current_test_info()->result()->total_part_count();
+    const int failures_before =
+        ::testing::UnitTest::GetInstance()->current_test_info()->result()->total_part_count();
     const auto rep = expect_closed_2_manifold(m);
     EXPECT_NEAR(rep.total_volume_m3, v0, 1e-9 * std::abs(v0));
     expect_face_normals_agree(m);
     expect_cross_section_consistent(m, cs, ctx.tolerance_m());
-    const int failures_after = ::testing::UnitTest::GetInstance()->current_test_info()->result()->total_part_count();
+    const int failures_after =
+        ::testing::UnitTest::GetInstance()->current_test_info()->result()->total_part_count();
     (failures_after == failures_before ? c.cut : c.failed) += 1;
 }
 
 /// `n` random planes on copies of `shape`, full-plane or localised from random seeds.
-inline SweepCounts sweep_random_planes(const kerf::mesh::TriMesh& shape, std::mt19937_64& rng, int n,
-                                       bool localised) {
+inline SweepCounts sweep_random_planes(const kerf::mesh::TriMesh& shape, std::mt19937_64& rng,
+                                       int n, bool localised) {
     SweepCounts c;
     for (int i = 0; i < n; ++i) {
         const Plane plane = random_plane(shape, rng);
@@ -123,7 +128,8 @@ inline SweepCounts sweep_sequence(const kerf::mesh::TriMesh& shape, std::mt19937
         const Seed seed = random_seed(m, plane, rng);
         if (localised && seed.tolerance_m == 0.0) continue;
         const auto before = snapshot(m);
-        const CutResult r = localised ? slice_by_plane(ctx, plane, seed, cs) : slice_by_plane(ctx, plane, cs);
+        const CutResult r =
+            localised ? slice_by_plane(ctx, plane, seed, cs) : slice_by_plane(ctx, plane, cs);
         if (!r.ok()) {
             const bool refusal = is_refusal(r.status);
             c.cap_refusals += r.status == CutStatus::kCapTriangulationFailed;

@@ -73,7 +73,8 @@ TEST(SubtractSlab, RemovesExactlyTheKerfFromAHollowTubeAndCapsBothWalls) {
     const auto rep = expect_closed_2_manifold(m);
     EXPECT_EQ(rep.piece_volumes_m3.size(), 2u);
     // A prism: the slab's volume is the annulus polygon area times the kerf.
-    const double ring = mesh::inscribed_polygon_area(0.01, 48) - mesh::inscribed_polygon_area(0.006, 48);
+    const double ring =
+        mesh::inscribed_polygon_area(0.01, 48) - mesh::inscribed_polygon_area(0.006, 48);
     EXPECT_NEAR(v0 - rep.total_volume_m3, ring * 0.001, 1e-9 * v0);
     EXPECT_EQ(slab.lower.loops_2d.size(), 2u);
     EXPECT_EQ(slab.upper.loops_2d.size(), 2u);
@@ -101,7 +102,8 @@ TEST(SubtractSlab, MatchesTwoUniplanarCutsOnATiltedSphere) {
     ASSERT_TRUE(slice_by_plane(bctx, plane.offset(kerf / 2), cs).ok());
     const double slab_volume = volume_within(b, plane, kerf / 2 + 1e-9);
     EXPECT_GT(slab_volume, 0.0);
-    EXPECT_NEAR(rep.total_volume_m3, signed_volume(shape) - slab_volume, 1e-9 * signed_volume(shape));
+    EXPECT_NEAR(rep.total_volume_m3, signed_volume(shape) - slab_volume,
+                1e-9 * signed_volume(shape));
 }
 
 TEST(SubtractSlab, ATipThinnerThanTheKerfIsRemovedWhole) {
@@ -126,9 +128,11 @@ TEST(SubtractSlab, BadKerfWidthIsRefusedAndTheMeshIsUnchanged) {
     SlabCut slab;
     const Plane plane = *Plane::make(Vec3(0, 0, 0), Vec3(0, 0, 1));
     for (double w : {0.0, -0.001, std::nan(""), 1e-15})
-        EXPECT_EQ(subtract_slab(ctx, plane, w, outer_seed(m, plane), slab).status, CutStatus::kInvalidArgument);
-    EXPECT_EQ(subtract_slab(ctx, plane, 0.001, Seed{Vec3(1, 1, 1), FaceHandle(), -1.0}, slab).status,
-              CutStatus::kSeedNotOnSurface);
+        EXPECT_EQ(subtract_slab(ctx, plane, w, outer_seed(m, plane), slab).status,
+                  CutStatus::kInvalidArgument);
+    EXPECT_EQ(
+        subtract_slab(ctx, plane, 0.001, Seed{Vec3(1, 1, 1), FaceHandle(), -1.0}, slab).status,
+        CutStatus::kSeedNotOnSurface);
     EXPECT_TRUE(snapshot(m) == before);
 }
 

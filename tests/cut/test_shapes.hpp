@@ -57,7 +57,8 @@ inline TriMesh uv_sphere(double radius_m, int rings, int segments,
     auto at = [&](int i, int j) { return grid[(i - 1) * segments + (j % segments)]; };
     for (int j = 0; j < segments; ++j) m.add_face(top, at(1, j), at(1, j + 1));
     for (int i = 1; i + 1 < rings; ++i)
-        for (int j = 0; j < segments; ++j) detail::quad(m, at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+        for (int j = 0; j < segments; ++j)
+            detail::quad(m, at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
     for (int j = 0; j < segments; ++j) m.add_face(bottom, at(rings - 1, j + 1), at(rings - 1, j));
     detail::finish(m);
     return m;
@@ -73,19 +74,24 @@ inline TriMesh torus(double big_r_m, double small_r_m, int major_segments, int m
         for (int j = 0; j < minor_segments; ++j) {
             const double b = 2 * pi * j / minor_segments;
             const double r = big_r_m + small_r_m * std::cos(b);
-            g.push_back(detail::add_vertex(m, r * std::cos(a), r * std::sin(a), small_r_m * std::sin(b)));
+            g.push_back(
+                detail::add_vertex(m, r * std::cos(a), r * std::sin(a), small_r_m * std::sin(b)));
         }
     }
-    auto at = [&](int i, int j) { return g[(i % major_segments) * minor_segments + (j % minor_segments)]; };
+    auto at = [&](int i, int j) {
+        return g[(i % major_segments) * minor_segments + (j % minor_segments)];
+    };
     for (int i = 0; i < major_segments; ++i)
-        for (int j = 0; j < minor_segments; ++j) detail::quad(m, at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+        for (int j = 0; j < minor_segments; ++j)
+            detail::quad(m, at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
     detail::finish(m);
     return m;
 }
 
 /// Hollow tube along z from 0 to `length_m`: outer radius, inner radius (the "canal" is a
 /// separate surface component), closed by two annular ends. `rings` bands along z.
-inline TriMesh hollow_tube(double outer_r_m, double inner_r_m, double length_m, int rings, int segments) {
+inline TriMesh hollow_tube(double outer_r_m, double inner_r_m, double length_m, int rings,
+                           int segments) {
     TriMesh m;
     const double pi = std::numbers::pi;
     std::vector<VertexHandle> outer, inner;
@@ -93,14 +99,16 @@ inline TriMesh hollow_tube(double outer_r_m, double inner_r_m, double length_m, 
         const double z = length_m * i / rings;
         for (int j = 0; j < segments; ++j) {
             const double a = 2 * pi * j / segments;
-            outer.push_back(detail::add_vertex(m, outer_r_m * std::cos(a), outer_r_m * std::sin(a), z));
+            outer.push_back(
+                detail::add_vertex(m, outer_r_m * std::cos(a), outer_r_m * std::sin(a), z));
         }
     }
     for (int i = 0; i <= rings; ++i) {
         const double z = length_m * i / rings;
         for (int j = 0; j < segments; ++j) {
             const double a = 2 * pi * (j + 0.5) / segments;
-            inner.push_back(detail::add_vertex(m, inner_r_m * std::cos(a), inner_r_m * std::sin(a), z));
+            inner.push_back(
+                detail::add_vertex(m, inner_r_m * std::cos(a), inner_r_m * std::sin(a), z));
         }
     }
     auto o = [&](int i, int j) { return outer[i * segments + (j % segments)]; };
@@ -131,18 +139,25 @@ inline TriMesh box(TriMesh::Point lo, TriMesh::Point hi, int n) {
     auto vtx = [&](int i, int j, int k) {
         auto& v = lat[id(i, j, k)];
         if (!v.is_valid())
-            v = detail::add_vertex(m, lo[0] + (hi[0] - lo[0]) * i / n, lo[1] + (hi[1] - lo[1]) * j / n,
+            v = detail::add_vertex(m, lo[0] + (hi[0] - lo[0]) * i / n,
+                                   lo[1] + (hi[1] - lo[1]) * j / n,
                                    lo[2] + (hi[2] - lo[2]) * k / n);
         return v;
     };
     for (int a = 0; a < n; ++a)
         for (int b = 0; b < n; ++b) {
-            detail::quad(m, vtx(0, a, b), vtx(0, a, b + 1), vtx(0, a + 1, b + 1), vtx(0, a + 1, b));      // -x
-            detail::quad(m, vtx(n, a, b), vtx(n, a + 1, b), vtx(n, a + 1, b + 1), vtx(n, a, b + 1));      // +x
-            detail::quad(m, vtx(a, 0, b), vtx(a + 1, 0, b), vtx(a + 1, 0, b + 1), vtx(a, 0, b + 1));      // -y
-            detail::quad(m, vtx(a, n, b), vtx(a, n, b + 1), vtx(a + 1, n, b + 1), vtx(a + 1, n, b));      // +y
-            detail::quad(m, vtx(a, b, 0), vtx(a, b + 1, 0), vtx(a + 1, b + 1, 0), vtx(a + 1, b, 0));      // -z
-            detail::quad(m, vtx(a, b, n), vtx(a + 1, b, n), vtx(a + 1, b + 1, n), vtx(a, b + 1, n));      // +z
+            detail::quad(m, vtx(0, a, b), vtx(0, a, b + 1), vtx(0, a + 1, b + 1),
+                         vtx(0, a + 1, b));  // -x
+            detail::quad(m, vtx(n, a, b), vtx(n, a + 1, b), vtx(n, a + 1, b + 1),
+                         vtx(n, a, b + 1));  // +x
+            detail::quad(m, vtx(a, 0, b), vtx(a + 1, 0, b), vtx(a + 1, 0, b + 1),
+                         vtx(a, 0, b + 1));  // -y
+            detail::quad(m, vtx(a, n, b), vtx(a, n, b + 1), vtx(a + 1, n, b + 1),
+                         vtx(a + 1, n, b));  // +y
+            detail::quad(m, vtx(a, b, 0), vtx(a, b + 1, 0), vtx(a + 1, b + 1, 0),
+                         vtx(a + 1, b, 0));  // -z
+            detail::quad(m, vtx(a, b, n), vtx(a + 1, b, n), vtx(a + 1, b + 1, n),
+                         vtx(a, b + 1, n));  // +z
         }
     detail::finish(m);
     return m;

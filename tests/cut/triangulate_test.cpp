@@ -101,8 +101,10 @@ TEST(Triangulate, CollinearPointsOnEdgesNeverGiveZeroAreaTriangles) {
     for (int side = 0; side < 4; ++side) {
         for (int k = 0; k < 10; ++k) {
             const double t = k;
-            const Point2 p = side == 0 ? Point2(t, 0) : side == 1 ? Point2(10, t)
-                           : side == 2 ? Point2(10 - t, 10) : Point2(0, 10 - t);
+            const Point2 p = side == 0   ? Point2(t, 0)
+                             : side == 1 ? Point2(10, t)
+                             : side == 2 ? Point2(10 - t, 10)
+                                         : Point2(0, 10 - t);
             dense.push_back(p);
         }
     }
@@ -162,8 +164,8 @@ TEST(Triangulate, SameInputGivesTheSameTrianglesAndTheTriangulatorIsReusable) {
 
 TEST(Triangulate, EmptyAndTooShortLoopsAreRefused) {
     expect_refused({}, TriangulateFailure::kNoLoops);
-    const auto e = expect_refused({square({0, 0}, 1), {{0, 0}, {1, 1}}},
-                                  TriangulateFailure::kTooFewPoints);
+    const auto e =
+        expect_refused({square({0, 0}, 1), {{0, 0}, {1, 1}}}, TriangulateFailure::kTooFewPoints);
     EXPECT_EQ(e.loop, 1);
 }
 
@@ -182,11 +184,13 @@ TEST(Triangulate, ZeroAreaLoopIsRefused) {
 
 TEST(Triangulate, CrossingTouchingOrRepeatingLoopsAreRefusedWithTheLoopsNamed) {
     // A bow-tie crosses itself.
-    auto e = expect_refused({{{0, 0}, {4, 4}, {4, 0}, {0, 2}}}, TriangulateFailure::kSelfIntersecting);
+    auto e =
+        expect_refused({{{0, 0}, {4, 4}, {4, 0}, {0, 2}}}, TriangulateFailure::kSelfIntersecting);
     EXPECT_EQ(e.loop, 0);
     EXPECT_EQ(e.other_loop, 0);
     // Two overlapping squares.
-    e = expect_refused({square({0, 0}, 2), square({1, 1}, 2)}, TriangulateFailure::kSelfIntersecting);
+    e = expect_refused({square({0, 0}, 2), square({1, 1}, 2)},
+                       TriangulateFailure::kSelfIntersecting);
     EXPECT_NE(e.loop, e.other_loop);
     // A hole touching its outer loop at a vertex.
     expect_refused({square({0, 0}, 4), {{0, 2}, {1, 1}, {2, 2}, {1, 3}}},

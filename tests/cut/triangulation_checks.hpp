@@ -121,8 +121,7 @@ inline std::string check_triangulation(const Loops& loops, const std::vector<Tri
     const auto outer_loops = static_cast<int>(loops.size()) - holes;
     const auto expected = static_cast<long>(pts.size()) + 2L * holes - 2L * outer_loops;
     if (static_cast<long>(tris.size()) != expected) {
-        return "triangle count " + std::to_string(tris.size()) + " != " +
-               std::to_string(expected);
+        return "triangle count " + std::to_string(tris.size()) + " != " + std::to_string(expected);
     }
     const double want = region_area(loops);
     const double tol = exact ? 0.0 : 1e-12 * std::abs(want);

@@ -2,8 +2,8 @@
 // KERF_BIN_DIR. One role per run; each prints one line of `key=value` results on stdout and exits
 // 0 when its own checks passed (nonzero says which check failed).
 //
-//   producer          --name N --journal-dir D --events E --per-tick K [--hold-ms H] [--read-mailbox]
-//   telemetry-producer --name N --journal-dir D --count C [--pace] [--hold-ms H]
+//   producer          --name N --journal-dir D --events E --per-tick K [--hold-ms H]
+//   [--read-mailbox] telemetry-producer --name N --journal-dir D --count C [--pace] [--hold-ms H]
 //   consumer          --name N --out FILE --events E [--tolerant] [--max-ms T]
 //   telemetry-consumer --name N --count C [--slow-every K]
 //   scribbler         --name N --ms T --seed S

@@ -192,7 +192,7 @@ TEST(MeshIo, EveryFuzzSeedParsesWithEveryTriangleKept) {
         ASSERT_FALSE(bytes.empty());
         const Format f = kFormats[static_cast<unsigned char>(bytes[0]) % 4];
         auto m = parse_mesh(as_bytes(std::string_view(bytes).substr(1)), f, Units::kMillimetres,
-                               entry.path().filename().string());
+                            entry.path().filename().string());
         ASSERT_TRUE(m) << m.error().to_string();
         EXPECT_EQ(m->mesh.n_faces(), m->indexed.triangles.size()) << entry.path();
         ++seen;

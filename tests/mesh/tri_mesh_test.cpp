@@ -1,6 +1,6 @@
-#include <gtest/gtest.h>
-
 #include "display/mesh/tri_mesh.hpp"
+
+#include <gtest/gtest.h>
 
 namespace kerf::mesh {
 namespace {

@@ -72,10 +72,11 @@ CutJob job_from(const CutOptions& o, double metres_per_unit) {
     job.mode = *mode;
     for (std::size_t i = 0; i < o.planes.size(); ++i) {
         auto v = parse_numbers(o.planes[i], 6);
-        if (!v) fail(kExitUsage, "--plane #" + std::to_string(i + 1), "px,py,pz,nx,ny,nz", v.error());
+        if (!v)
+            fail(kExitUsage, "--plane #" + std::to_string(i + 1), "px,py,pz,nx,ny,nz", v.error());
         const auto& p = *v;
-        job.planes.push_back({cut::Vec3(p[0], p[1], p[2]) * metres_per_unit,
-                              cut::Vec3(p[3], p[4], p[5])});
+        job.planes.push_back(
+            {cut::Vec3(p[0], p[1], p[2]) * metres_per_unit, cut::Vec3(p[3], p[4], p[5])});
     }
     for (std::size_t i = 0; i < o.seeds.size(); ++i) {
         auto v = parse_numbers(o.seeds[i], 3);
@@ -111,10 +112,10 @@ void print_text(const CutOptions& o, const CutReport& r, const std::vector<std::
     for (const auto& s : r.steps) {
         const auto& st = s.result.stats;
         std::cout << "cut " << s.plane + 1 << " (" << o.mode << "): " << st.loops << " loops, "
-                  << st.faces_split << " faces split, " << st.vertices_added
-                  << " vertices added, " << st.triangles_added << " triangles added ("
-                  << st.cap_triangles << " cap), " << st.triangles_removed << " removed, "
-                  << static_cast<double>(st.time_ns) * 1e-6 << " ms\n";
+                  << st.faces_split << " faces split, " << st.vertices_added << " vertices added, "
+                  << st.triangles_added << " triangles added (" << st.cap_triangles << " cap), "
+                  << st.triangles_removed << " removed, " << static_cast<double>(st.time_ns) * 1e-6
+                  << " ms\n";
     }
     std::cout << r.pieces.size() << " pieces:\n";
     for (std::size_t k = 0; k < r.pieces.size(); ++k) {
@@ -173,11 +174,14 @@ void run_cut(const CutOptions& o) {
         const auto path = piece_path(o.output, k + 1);
         const auto piece = extract_piece(*loaded, report->pieces[k]);
         auto saved = mesh::save_mesh(piece, path, *units);
-        if (!saved) fail(kExitFailure, "cannot write piece", path.string(), saved.error().to_string());
+        if (!saved)
+            fail(kExitFailure, "cannot write piece", path.string(), saved.error().to_string());
         files.push_back(path.string());
     }
-    if (o.json) print_json(o, *report, files, unit);
-    else print_text(o, *report, files, unit);
+    if (o.json)
+        print_json(o, *report, files, unit);
+    else
+        print_text(o, *report, files, unit);
 }
 
 }  // namespace
@@ -195,11 +199,13 @@ void add_cut_command(CLI::App& app) {
                     "x,y,z: a surface point where the blade touches; localises the cut to that "
                     "bone; one for all planes or one per plane");
     cmd->add_option("--kerf", o->kerf, "blade width (file units); needed by biplanar, separated");
-    cmd->add_option("--units", o->units, "length unit of the file and of every number: mm, m, "
-                                         "cm, in, um")
+    cmd->add_option("--units", o->units,
+                    "length unit of the file and of every number: mm, m, "
+                    "cm, in, um")
         ->capture_default_str();
-    cmd->add_option("--mode", o->mode, "uniplanar (one plane), biplanar (remove a kerf-wide "
-                                       "slab) or separated (one plane, then the kerf opened)")
+    cmd->add_option("--mode", o->mode,
+                    "uniplanar (one plane), biplanar (remove a kerf-wide "
+                    "slab) or separated (one plane, then the kerf opened)")
         ->capture_default_str();
     cmd->add_option("-o,--output", o->output,
                     "output file; piece k goes to NAME_k.EXT (.stl .obj .ply .off)")

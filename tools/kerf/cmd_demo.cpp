@@ -80,8 +80,8 @@ void report_chevron(DemoScene& scene, const DemoOptions& o) {
     }
     const ChevronReport& c = *chevron;
     if (o.json) {
-        std::cout << "{\"chevron\": {\"apex_mm\": [" << c.apex_m[0] * 1e3 << ", " << c.apex_m[1] * 1e3
-                  << ", " << c.apex_m[2] * 1e3 << "], \"ms\": " << c.elapsed_ms
+        std::cout << "{\"chevron\": {\"apex_mm\": [" << c.apex_m[0] * 1e3 << ", "
+                  << c.apex_m[1] * 1e3 << ", " << c.apex_m[2] * 1e3 << "], \"ms\": " << c.elapsed_ms
                   << ", \"bodies\": " << c.cuts.pieces.size() << ", \"fragments_mm3\": [";
         for (std::size_t k = 0; k < c.fragments.size(); ++k) {
             std::cout << (k ? ", " : "") << c.cuts.pieces[c.fragments[k]].volume_m3 * 1e9;

@@ -6,17 +6,17 @@
 
 namespace kerf::cli {
 
-void add_mesh_commands(CLI::App& app);     ///< `kerf mesh info`, `kerf gen foot`     (cmd_mesh.cpp)
-void add_cut_command(CLI::App& app);       ///< `kerf cut`                           (cmd_cut.cpp)
-void add_shm_commands(CLI::App& app);      ///< `kerf shm ls|tail|stats`             (cmd_shm.cpp)
-void add_devices_command(CLI::App& app);   ///< `kerf devices`                       (cmd_devices.cpp)
-void add_demo_command(CLI::App& app);      ///< `kerf demo`: the README's main job    (cmd_demo.cpp)
+void add_mesh_commands(CLI::App& app);    ///< `kerf mesh info`, `kerf gen foot`     (cmd_mesh.cpp)
+void add_cut_command(CLI::App& app);      ///< `kerf cut`                           (cmd_cut.cpp)
+void add_shm_commands(CLI::App& app);     ///< `kerf shm ls|tail|stats`             (cmd_shm.cpp)
+void add_devices_command(CLI::App& app);  ///< `kerf devices` (cmd_devices.cpp)
+void add_demo_command(CLI::App& app);     ///< `kerf demo`: the README's main job    (cmd_demo.cpp)
 
 /// Process exit codes shared by every subcommand.
 enum ExitCode : int {
     kExitOk = 0,
-    kExitFailure = 1,   ///< the operation ran and failed (bad input file, cut refused, ...)
-    kExitUsage = 2,     ///< bad command line (CLI11 reports these itself)
+    kExitFailure = 1,  ///< the operation ran and failed (bad input file, cut refused, ...)
+    kExitUsage = 2,    ///< bad command line (CLI11 reports these itself)
 };
 
 }  // namespace kerf::cli

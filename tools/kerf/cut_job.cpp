@@ -13,9 +13,12 @@ namespace kerf::cli {
 
 std::string_view to_string(CutMode m) noexcept {
     switch (m) {
-        case CutMode::kUniplanar: return "uniplanar";
-        case CutMode::kBiplanar: return "biplanar";
-        case CutMode::kSeparated: return "separated";
+        case CutMode::kUniplanar:
+            return "uniplanar";
+        case CutMode::kBiplanar:
+            return "biplanar";
+        case CutMode::kSeparated:
+            return "separated";
     }
     return "unknown";
 }
@@ -28,7 +31,8 @@ std::optional<CutMode> parse_cut_mode(std::string_view text) noexcept {
 }
 
 Status<CutJobError> check_cut_job(const CutJob& job) {
-    if (job.planes.empty()) return Err{CutJobError{0, cut::CutStatus::kInvalidArgument, "no plane"}};
+    if (job.planes.empty())
+        return Err{CutJobError{0, cut::CutStatus::kInvalidArgument, "no plane"}};
     const std::size_t seeds = job.seeds_m.size();
     if (seeds > 1 && seeds != job.planes.size()) {
         return Err{CutJobError{0, cut::CutStatus::kInvalidArgument,
@@ -37,9 +41,9 @@ Status<CutJobError> check_cut_job(const CutJob& job) {
                                    std::to_string(seeds) + " seeds)"}};
     }
     if (job.mode != CutMode::kUniplanar && !(std::isfinite(job.kerf_m) && job.kerf_m > 0)) {
-        return Err{CutJobError{0, cut::CutStatus::kInvalidArgument,
-                               std::string("mode ") + std::string(to_string(job.mode)) +
-                                   " needs a positive --kerf"}};
+        return Err{CutJobError{
+            0, cut::CutStatus::kInvalidArgument,
+            std::string("mode ") + std::string(to_string(job.mode)) + " needs a positive --kerf"}};
     }
     if (job.mode == CutMode::kBiplanar && seeds == 0) {
         return Err{CutJobError{0, cut::CutStatus::kInvalidArgument,
@@ -47,8 +51,8 @@ Status<CutJobError> check_cut_job(const CutJob& job) {
     }
     for (std::size_t i = 0; i < job.planes.size(); ++i) {
         if (!cut::Plane::make(job.planes[i].point_m, job.planes[i].normal)) {
-            return Err{CutJobError{i, cut::CutStatus::kInvalidPlane,
-                                   "non-finite value or zero normal"}};
+            return Err{
+                CutJobError{i, cut::CutStatus::kInvalidPlane, "non-finite value or zero normal"}};
         }
     }
     return {};
@@ -63,8 +67,8 @@ cut::CutResult cut_once(cut::CutContext& ctx, const cut::Plane& plane,
         return cut::subtract_slab(ctx, plane, job.kerf_m, *seed, slab);
     }
     cut::CrossSection cs;
-    cut::CutResult r = seed ? cut::slice_by_plane(ctx, plane, *seed, cs)
-                            : cut::slice_by_plane(ctx, plane, cs);
+    cut::CutResult r =
+        seed ? cut::slice_by_plane(ctx, plane, *seed, cs) : cut::slice_by_plane(ctx, plane, cs);
     if (r.ok() && job.mode == CutMode::kSeparated) {
         auto sep = cut::Separator::make(ctx, cs, job.kerf_m);
         if (!sep) return cut::CutResult{sep.error(), r.stats};
@@ -88,18 +92,20 @@ Result<CutReport, CutJobError> run_cut_job(mesh::TriMesh& mesh, const CutJob& jo
         const auto plane = *cut::Plane::make(job.planes[i].point_m, job.planes[i].normal);
         std::optional<cut::Seed> seed;
         if (!job.seeds_m.empty()) {
-            seed = cut::Seed{job.seeds_m[job.seeds_m.size() == 1 ? 0 : i], mesh::FaceHandle(),
-                             -1.0};
+            seed =
+                cut::Seed{job.seeds_m[job.seeds_m.size() == 1 ? 0 : i], mesh::FaceHandle(), -1.0};
         }
         const cut::CutResult r = cut_once(ctx, plane, seed, job);
         if (!r.ok()) {
-            return Err{CutJobError{i, r.status, "cut refused: " + std::string(to_string(r.status))}};
+            return Err{
+                CutJobError{i, r.status, "cut refused: " + std::string(to_string(r.status))}};
         }
         report.steps.push_back({i, r});
     }
     report.pieces = cut::group_cavities(cut::find_components(mesh));
-    std::stable_sort(report.pieces.begin(), report.pieces.end(),
-                     [](const cut::Body& a, const cut::Body& b) { return a.volume_m3 > b.volume_m3; });
+    std::stable_sort(
+        report.pieces.begin(), report.pieces.end(),
+        [](const cut::Body& a, const cut::Body& b) { return a.volume_m3 > b.volume_m3; });
     report.mesh_hash = cut::mesh_hash(mesh);
     return report;
 }

@@ -8,8 +8,8 @@ namespace kerf::cli {
 namespace {
 
 /// Distance along the ray to triangle (a, b, c) (Moller-Trumbore), or infinity.
-double ray_triangle(const cut::Vec3& o, const cut::Vec3& d, const cut::Vec3& a,
-                    const cut::Vec3& b, const cut::Vec3& c) {
+double ray_triangle(const cut::Vec3& o, const cut::Vec3& d, const cut::Vec3& a, const cut::Vec3& b,
+                    const cut::Vec3& c) {
     const cut::Vec3 e1 = b - a;
     const cut::Vec3 e2 = c - a;
     const cut::Vec3 p = OpenMesh::cross(d, e2);
@@ -54,7 +54,8 @@ Result<CutJob, std::string> chevron_job(const mesh::Foot& foot, const mesh::Bone
     CutJob job;
     const double half_angle = M_PI / 6.0;  // 30 degrees each side: a 60-degree V
     for (const double side : {1.0, -1.0}) {
-        const cut::Vec3 limb = -axis * std::cos(half_angle) + dorsal * (side * std::sin(half_angle));
+        const cut::Vec3 limb =
+            -axis * std::cos(half_angle) + dorsal * (side * std::sin(half_angle));
         job.planes.push_back({apex, OpenMesh::cross(lateral, limb).normalized()});
     }
     job.seeds_m.push_back(apex + lateral * t);

@@ -259,9 +259,9 @@ std::optional<MeshError> PlyParser::face(const PlyProperty& p) {
     const std::size_t left =
         encoding_ == PlyEncoding::kAscii ? s_.remaining() + 1 : bytes_.size() - pos_;
     if (count > static_cast<double>(left / per)) {
-        return fail(MeshErrorKind::kTruncated,
-                    "face list of " + number_text(count) +
-                        " entries but only " + std::to_string(left) + " bytes left");
+        return fail(MeshErrorKind::kTruncated, "face list of " + number_text(count) +
+                                                   " entries but only " + std::to_string(left) +
+                                                   " bytes left");
     }
     const auto n = static_cast<std::size_t>(count);
     std::uint32_t first = 0, previous = 0;
@@ -269,8 +269,7 @@ std::optional<MeshError> PlyParser::face(const PlyProperty& p) {
         double raw = 0;
         if (auto e = value(p.type, raw)) return e;
         if (raw < 0 || raw > 4294967294.0 || raw != std::floor(raw)) {
-            return fail(MeshErrorKind::kIndexOutOfRange,
-                        "vertex index " + number_text(raw));
+            return fail(MeshErrorKind::kIndexOutOfRange, "vertex index " + number_text(raw));
         }
         const auto v = static_cast<std::uint32_t>(raw);
         if (k == 0) first = v;
