@@ -22,7 +22,7 @@
 namespace kerf::ipc {
 
 inline constexpr std::uint64_t kMagic = 0x314D48534652454Bull;  ///< "KERFSHM1" little-endian
-inline constexpr std::uint32_t kLayoutVersion = 1;
+inline constexpr std::uint32_t kLayoutVersion = 2;         ///< 2: triangle materials + mesh hash
 inline constexpr std::uint32_t kSlotCount = 4;             ///< display, tuning, soak, spare
 inline constexpr std::uint32_t kEventCapacity = 4096;      ///< events per slot ring
 inline constexpr std::uint32_t kTelemetryCapacity = 2048;  ///< samples per slot ring (2 s)
@@ -117,13 +117,26 @@ constexpr std::uint64_t fnv(std::uint64_t h, std::uint64_t v) {
 /// Hash of every size, offset and capacity a reader depends on.
 inline constexpr std::uint64_t kLayoutHash = [] {
     std::uint64_t h = 0xCBF29CE484222325ull;
-    for (std::uint64_t v :
-         {std::uint64_t{kLayoutVersion}, sizeof(SegmentLayout), sizeof(SegmentHeader),
-          offsetof(SegmentLayout, slots), offsetof(SegmentLayout, mailbox), sizeof(ConsumerSlot),
-          sizeof(EventRecord), sizeof(TelemetrySample), sizeof(LatestState), sizeof(MeshBuffer),
-          offsetof(EventRecord, cut), offsetof(MeshBuffer, vertices_m),
-          offsetof(MeshBuffer, indices), std::uint64_t{kSlotCount}, std::uint64_t{kEventCapacity},
-          std::uint64_t{kTelemetryCapacity}, std::uint64_t{kMeshMaxVertices}}) {
+    for (std::uint64_t v : {std::uint64_t{kLayoutVersion},
+                            sizeof(SegmentLayout),
+                            sizeof(SegmentHeader),
+                            offsetof(SegmentLayout, slots),
+                            offsetof(SegmentLayout, mailbox),
+                            sizeof(ConsumerSlot),
+                            sizeof(EventRecord),
+                            sizeof(TelemetrySample),
+                            sizeof(LatestState),
+                            sizeof(MeshBuffer),
+                            offsetof(EventRecord, cut),
+                            offsetof(MeshBuffer, vertices_m),
+                            offsetof(MeshBuffer, indices),
+                            offsetof(MeshBuffer, materials),
+                            offsetof(MeshBufferHeader, content_hash),
+                            offsetof(TelemetrySample, safety_reasons),
+                            std::uint64_t{kSlotCount},
+                            std::uint64_t{kEventCapacity},
+                            std::uint64_t{kTelemetryCapacity},
+                            std::uint64_t{kMeshMaxVertices}}) {
         h = detail::fnv(h, v);
     }
     return h;

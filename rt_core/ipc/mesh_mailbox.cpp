@@ -48,7 +48,7 @@ MeshFault validate_body(const CollisionMesh& mesh, std::uint32_t b, std::string&
     where = "body " + std::to_string(b);
     if (std::uint64_t(e.vertex_offset) + e.vertex_count > mesh.vertex_count ||
         std::uint64_t(e.index_offset) + e.index_count > mesh.index_count ||
-        e.index_count % 3 != 0 || e.vertex_count == 0) {
+        e.index_count % 3 != 0 || e.index_offset % 3 != 0 || e.vertex_count == 0) {
         where += ": vertex/index range outside the arrays or not whole triangles";
         return MeshFault::kBadBodyRange;
     }
@@ -64,13 +64,59 @@ MeshFault validate_body(const CollisionMesh& mesh, std::uint32_t b, std::string&
             return MeshFault::kBadIndex;
         }
     }
+    for (std::uint32_t t = e.index_offset / 3; t < (e.index_offset + e.index_count) / 3; ++t) {
+        if (mesh.materials[t] >= kTriangleMaterialCount) {
+            where += ": triangle " + std::to_string(t - e.index_offset / 3) + " material " +
+                     std::to_string(mesh.materials[t]);
+            return MeshFault::kBadMaterial;
+        }
+    }
     return MeshFault::kNone;
+}
+
+std::uint64_t hash_words(std::uint64_t h, const void* data, std::size_t bytes) noexcept {
+    const auto* p = static_cast<const unsigned char*>(data);
+    std::size_t i = 0;
+    for (; i + 8 <= bytes; i += 8) {
+        std::uint64_t w;
+        std::memcpy(&w, p + i, 8);
+        h = (h ^ w) * 0x100000001B3ull;
+        h ^= h >> 29;
+    }
+    std::uint64_t tail = 0;
+    std::memcpy(&tail, p + i, bytes - i);
+    h = (h ^ tail ^ (std::uint64_t(bytes) << 56)) * 0x100000001B3ull;
+    return h ^ (h >> 31);
 }
 
 }  // namespace
 
+const char* to_string(TriangleMaterial material) noexcept {
+    switch (material) {
+        case TriangleMaterial::kCortical:
+            return "cortical";
+        case TriangleMaterial::kCancellous:
+            return "cancellous";
+        case TriangleMaterial::kCutSurface:
+            return "cut_surface";
+    }
+    return "unknown";
+}
+
+std::uint64_t mesh_content_hash(const CollisionMesh& mesh) noexcept {
+    const std::uint32_t counts[3] = {mesh.body_count, mesh.vertex_count, mesh.index_count};
+    std::uint64_t h = hash_words(0xCBF29CE484222325ull, counts, sizeof counts);
+    h = hash_words(h, mesh.bodies.data(), mesh.body_count * sizeof(MeshBodyEntry));
+    h = hash_words(h, mesh.vertices_m.data(), 12u * std::size_t{mesh.vertex_count});
+    h = hash_words(h, mesh.indices.data(), 4u * std::size_t{mesh.index_count});
+    return hash_words(h, mesh.materials.data(), mesh.index_count / 3);
+}
+
 CollisionMesh::CollisionMesh()
-    : bodies(kMeshMaxBodies), vertices_m(3u * kMeshMaxVertices + 2), indices(kMeshMaxIndices + 2) {}
+    : bodies(kMeshMaxBodies),
+      vertices_m(3u * kMeshMaxVertices + 2),
+      indices(kMeshMaxIndices + 2),
+      materials(kMeshMaxTriangles + 8) {}
 
 const char* to_string(MeshFault fault) noexcept {
     switch (fault) {
@@ -90,6 +136,10 @@ const char* to_string(MeshFault fault) noexcept {
             return "bad_transform";
         case MeshFault::kBadGeneration:
             return "bad_generation";
+        case MeshFault::kBadMaterial:
+            return "bad_material";
+        case MeshFault::kBadHash:
+            return "bad_hash";
     }
     return "unknown";
 }
@@ -98,7 +148,7 @@ MeshFault validate_mesh(const CollisionMesh& mesh, std::string& where) {
     if (mesh.body_count == 0 || mesh.body_count > kMeshMaxBodies ||
         mesh.vertex_count > kMeshMaxVertices || mesh.index_count > kMeshMaxIndices ||
         mesh.bodies.size() < mesh.body_count || mesh.vertices_m.size() < 3u * mesh.vertex_count ||
-        mesh.indices.size() < mesh.index_count) {
+        mesh.indices.size() < mesh.index_count || mesh.materials.size() < mesh.index_count / 3) {
         where = "counts: " + std::to_string(mesh.body_count) + " bodies, " +
                 std::to_string(mesh.vertex_count) + " vertices, " +
                 std::to_string(mesh.index_count) + " indices (capacity " +
@@ -142,10 +192,12 @@ Result<std::uint64_t, IpcError> MeshMailboxWriter::publish(const CollisionMesh& 
     header.body_count = mesh.body_count;
     header.vertex_count = mesh.vertex_count;
     header.index_count = mesh.index_count;
+    header.content_hash = mesh_content_hash(mesh);
     std::memcpy(header.bodies, mesh.bodies.data(), mesh.body_count * sizeof(MeshBodyEntry));
     store_words(&buf.header, &header, sizeof header);
     store_words(buf.vertices_m, mesh.vertices_m.data(), 12u * mesh.vertex_count);
     store_words(buf.indices, mesh.indices.data(), 4u * mesh.index_count);
+    store_words(buf.materials, mesh.materials.data(), mesh.index_count / 3);
     buf.sequence.value.store(odd + 1, std::memory_order_release);
     box.latest.value.store((generation << 1) | target, std::memory_order_release);
     return generation;
@@ -176,6 +228,7 @@ MailboxRead MeshMailboxReader::try_take_newest(CollisionMesh& out) {
         std::memcpy(out.bodies.data(), header.bodies, header.body_count * sizeof(MeshBodyEntry));
         load_words(out.vertices_m.data(), buf.vertices_m, 12u * header.vertex_count);
         load_words(out.indices.data(), buf.indices, 4u * header.index_count);
+        load_words(out.materials.data(), buf.materials, header.index_count / 3);
     }
     if (buf.sequence.value.load(std::memory_order_relaxed) != s1) return MailboxRead::kBusy;
     std::string where;
@@ -184,6 +237,11 @@ MailboxRead MeshMailboxReader::try_take_newest(CollisionMesh& out) {
         fault = MeshFault::kBadGeneration;
         where = "generation " + std::to_string(out.generation) + ", latest says " +
                 std::to_string(generation);
+    }
+    if (fault == MeshFault::kNone && mesh_content_hash(out) != header.content_hash) {
+        fault = MeshFault::kBadHash;
+        where = "content hash differs from the writer's (generation " + std::to_string(generation) +
+                ")";
     }
     if (fault == MeshFault::kNone) {
         taken_generation_ = generation;

@@ -120,8 +120,15 @@ struct TelemetrySample {
     std::uint32_t compute_ns;        ///< time this tick's work took, ns
     std::int32_t jitter_ns;          ///< period_ns minus the nominal period, ns
     std::uint32_t overrun_count;     ///< ticks so far whose work exceeded the period
-    std::uint8_t reserved[28];       ///< 0
+    float passivity_power_w;         ///< power the passivity observer dissipated this tick, W
+    std::uint32_t safety_reasons;    ///< firmware_host SafetyReason bits of this tick
+    std::uint32_t loop_flags;        ///< kLoopFlag* bits (safe state, degraded real time, ...)
+    std::uint8_t reserved[16];       ///< 0
 };
+inline constexpr std::uint32_t kLoopFlagSafeState = 1u << 0;    ///< forced zero force (timing)
+inline constexpr std::uint32_t kLoopFlagDegradedRt = 1u << 1;   ///< running without SCHED_FIFO
+inline constexpr std::uint32_t kLoopFlagDeviceFault = 1u << 2;  ///< device read failed or fault
+inline constexpr std::uint32_t kLoopFlagFixedBlade = 1u << 3;   ///< blade from the planned cut
 
 /// Latest value behind the seqlock (readers want "now", not history). 128 bytes.
 struct LatestState {

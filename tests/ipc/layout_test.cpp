@@ -95,7 +95,10 @@ TEST(Layout, TelemetrySampleOffsetsArePinned) {
     KERF_PIN(TelemetrySample, compute_ns, 88);
     KERF_PIN(TelemetrySample, jitter_ns, 92);
     KERF_PIN(TelemetrySample, overrun_count, 96);
-    KERF_PIN(TelemetrySample, reserved, 100);
+    KERF_PIN(TelemetrySample, passivity_power_w, 100);
+    KERF_PIN(TelemetrySample, safety_reasons, 104);
+    KERF_PIN(TelemetrySample, loop_flags, 108);
+    KERF_PIN(TelemetrySample, reserved, 112);
 }
 
 TEST(Layout, LatestStateOffsetsArePinned) {
@@ -133,7 +136,7 @@ TEST(Layout, SegmentHeaderOffsetsArePinned) {
     KERF_PIN(SegmentHeader, journal_path, 80);
     KERF_PIN(SegmentHeader, reserved, 208);
     EXPECT_EQ(kMagic, 0x314D48534652454Bull);
-    EXPECT_EQ(kLayoutVersion, 1u);
+    EXPECT_EQ(kLayoutVersion, 2u);
 }
 
 TEST(Layout, ProducerAndSlotControlLinesArePinned) {
@@ -192,11 +195,14 @@ TEST(Layout, MeshMailboxOffsetsArePinned) {
     KERF_PIN(MeshBufferHeader, vertex_count, 12);
     KERF_PIN(MeshBufferHeader, index_count, 16);
     KERF_PIN(MeshBufferHeader, reserved, 20);
-    KERF_PIN(MeshBufferHeader, bodies, 24);
+    KERF_PIN(MeshBufferHeader, content_hash, 24);
+    KERF_PIN(MeshBufferHeader, bodies, 32);
     KERF_PIN(MeshBuffer, sequence, 0);
     KERF_PIN(MeshBuffer, header, 64);
-    KERF_PIN(MeshBuffer, vertices_m, 64 + 24 + 80 * 64);
-    KERF_PIN(MeshBuffer, indices, 64 + 24 + 80 * 64 + 12 * (1 << 17));
+    KERF_PIN(MeshBuffer, vertices_m, 64 + 32 + 80 * 64);
+    KERF_PIN(MeshBuffer, indices, 64 + 32 + 80 * 64 + 12 * (1 << 17));
+    KERF_PIN(MeshBuffer, materials, 64 + 32 + 80 * 64 + 12 * (1 << 17) + 12 * (1 << 18));
+    EXPECT_EQ(sizeof(MeshBuffer), 4985984u);
     KERF_PIN(MeshMailbox, latest, 0);
     KERF_PIN(MeshMailbox, buffers, 64);
 }

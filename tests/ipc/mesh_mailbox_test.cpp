@@ -33,6 +33,7 @@ std::unique_ptr<CollisionMesh> tetrahedra(std::uint32_t bodies) {
             for (int k = 0; k < 3; ++k) m->vertices_m[3 * (4 * b + i) + k] = v[i][k];
         }
         for (int i = 0; i < 12; ++i) m->indices[12 * b + i] = t[i];
+        for (int i = 0; i < 4; ++i) m->materials[4 * b + i] = std::uint8_t(i % 3);
     }
     m->body_count = bodies;
     m->vertex_count = 4 * bodies;
@@ -63,6 +64,7 @@ TEST(MeshMailbox, ReaderTakesTheNewestCompleteGeneration) {
     EXPECT_EQ(out->generation, 2u);
     EXPECT_EQ(out->body_count, 3u);
     EXPECT_EQ(out->indices[12 * 2 + 5], 3u);
+    EXPECT_EQ(out->materials[4 * 2 + 2], std::uint8_t(TriangleMaterial::kCutSurface));
     EXPECT_EQ(reader.try_take_newest(*out), MailboxRead::kNothingNew);
     ASSERT_TRUE(writer.publish(*tetrahedra(2)));
     ASSERT_EQ(reader.try_take_newest(*out), MailboxRead::kNew);
@@ -111,6 +113,9 @@ TEST(MeshMailbox, ReaderRejectsScribbledContentAndCountsIt) {
         {"out_of_bounds", [](MeshBuffer& b) { b.vertices_m[2] = 1e6f; }},
         {"bad_transform", [](MeshBuffer& b) { b.header.bodies[0].world_from_body[15] = 0.f; }},
         {"bad_generation", [](MeshBuffer& b) { b.header.generation = 99; }},
+        {"bad_material", [](MeshBuffer& b) { b.materials[5] = 3; }},
+        {"bad_hash", [](MeshBuffer& b) { b.vertices_m[4] += 0.001f; }},  // valid, but not sent
+        {"bad_hash", [](MeshBuffer& b) { b.materials[1] = 0; }},
     };
     std::uint64_t expected_rejections = 0;
     for (const Scribble& s : cases) {
@@ -124,6 +129,31 @@ TEST(MeshMailbox, ReaderRejectsScribbledContentAndCountsIt) {
             << reader.last_rejection();
         EXPECT_EQ(reader.try_take_newest(*out), MailboxRead::kNothingNew);  // not retried
     }
+}
+
+TEST(MeshMailbox, WriterRefusesAnUnknownMaterialNamingTheTriangle) {
+    Box box;
+    MeshMailboxWriter writer(box.seg->layout());
+    auto m = tetrahedra(2);
+    m->materials[4 + 2] = 9;
+    auto r = writer.publish(*m);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("body 1: triangle 2 material 9"), std::string::npos)
+        << r.error().message;
+}
+
+TEST(MeshMailbox, ContentHashCoversEveryArray) {
+    auto m = tetrahedra(2);
+    const std::uint64_t h = mesh_content_hash(*m);
+    EXPECT_EQ(mesh_content_hash(*tetrahedra(2)), h);
+    m->materials[6] = 0;  // was kCutSurface
+    EXPECT_NE(mesh_content_hash(*m), h);
+    m = tetrahedra(2);
+    m->indices[23] = 0;
+    EXPECT_NE(mesh_content_hash(*m), h);
+    m = tetrahedra(2);
+    m->bodies[1].world_from_body[13] = 0.5f;
+    EXPECT_NE(mesh_content_hash(*m), h);
 }
 
 TEST(MeshMailbox, ReaderReportsBusyWhileTheBufferIsBeingWritten) {
