@@ -1,0 +1,140 @@
+// kerf::physics::CollisionBody — the immutable collision structure of one rigid body, and the
+// per-tick queries the 1 kHz loop asks of it.
+//
+// Construction (off the real-time thread; allocates):
+//   auto body = CollisionBody::build(view);              // Result<unique_ptr<const ...>,
+//   MeshProblem> auto next = CollisionBody::update(*body, new_view);  // after a cut: rebuilds
+//   touched chunks only
+// Swap (the loop's business, not this library's): keep the unique_ptr alive off the RT thread,
+// hand the raw pointer to CollisionWorld::set_body() at a tick boundary, and free the previous body
+// off the RT thread once the loop has stopped using it.
+// Per tick (any thread, concurrently; noexcept, allocation-free, bounded by the tree depth):
+//   closest_point(), first_hit(), triangles_near().
+//
+// Structure (why, measured in tests/physics/bench_collision.cpp; rt_core/README.md has figures):
+// the triangles are split by a spatial median split into chunks of about `chunk_triangles`; each
+// chunk has its own flat binary AABB tree (median split, up to `leaf_triangles` per leaf, each
+// triangle's three corners copied into the leaf order); a small top tree over the chunks' boxes is
+// rebuilt on every update. After a cut the new mesh is compared with the previous one triangle by
+// triangle, and only the chunks whose triangles changed, plus new chunks for appended triangles,
+// are rebuilt. Embree's rtcPointQuery is measured against this tree in the same benchmark; the
+// choice and its figures are in rt_core/README.md.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "config/result.hpp"
+#include "rt_core/physics/collision_mesh.hpp"
+
+namespace kerf::physics {
+
+inline constexpr std::uint32_t kNoTriangle = 0xFFFFFFFFu;  ///< same value as ipc::kNoTriangle
+
+/// Tuning of the collision structure.
+struct BuildOptions {
+    std::uint32_t chunk_triangles = 16384;  ///< triangles per chunk (the unit a cut rebuilds)
+    std::uint32_t leaf_triangles = 4;       ///< triangles per leaf of a chunk's tree
+};
+
+/// The nearest surface point found by a query. Body queries fill body frame; world queries fill
+/// world frame and `body`.
+struct SurfaceHit {
+    bool found = false;                    ///< false: nothing within the search distance
+    std::uint32_t body = 0;                ///< world slot (world queries only)
+    std::uint32_t triangle = kNoTriangle;  ///< triangle index in the body's mesh
+    Vec3 point;                            ///< nearest point on the surface, m
+    Vec3 normal;                           ///< the triangle's unit outward normal
+    double distance = 0;                   ///< |query - point|, m
+    Material material = Material::kCortical;
+};
+
+/// A set of materials: bit (1 << Material) per member.
+using MaterialMask = std::uint8_t;
+inline constexpr MaterialMask kAllMaterials = 0x7;
+/// Bone surfaces only (cut surfaces excluded).
+inline constexpr MaterialMask kBoneSurfaces = (1u << 0) | (1u << 1);
+
+/// Which triangle sides stop a segment.
+enum class HitSides : std::uint8_t {
+    kFront = 0,  ///< only crossings from outside to inside (the proxy's rule on closed meshes)
+    kBoth = 1,   ///< any crossing
+};
+
+/// The first crossing of a segment with the surface.
+struct SegmentHit {
+    bool found = false;
+    std::uint32_t body = 0;                ///< world slot (world queries only)
+    std::uint32_t triangle = kNoTriangle;  ///< triangle crossed first
+    double t = 1;                          ///< crossing at from + t (to - from), t in [0, 1]
+    Vec3 point;                            ///< the crossing point, m
+    Vec3 normal;                           ///< the triangle's unit outward normal
+    Material material = Material::kCortical;
+};
+
+/// What an update() did.
+struct UpdateStats {
+    std::uint32_t chunks_total = 0;       ///< chunks in the new body
+    std::uint32_t chunks_rebuilt = 0;     ///< rebuilt or new (the rest reused unchanged)
+    std::uint64_t triangles_rebuilt = 0;  ///< triangles in the rebuilt chunks
+};
+
+/// One triangle's corners, m, body frame.
+struct TriangleCorners {
+    Vec3 a, b, c;
+};
+
+class CollisionBody {
+public:
+    using Built = Result<std::unique_ptr<const CollisionBody>, MeshProblem>;
+
+    /// Validates `mesh` (validate_mesh) and builds the structure from scratch. Off the RT thread.
+    static Built build(const CollisionMeshView& mesh, const BuildOptions& options = {});
+    /// Builds the structure of `next` (the same body after a topology edit) reusing every chunk of
+    /// `previous` whose triangles are unchanged; `stats` (optional) says what was rebuilt.
+    static Built update(const CollisionBody& previous, const CollisionMeshView& next,
+                        UpdateStats* stats = nullptr);
+    /// Same topology, moved vertices: refits every box of `previous` to `next`'s positions (a
+    /// whole refit). Refused (kIndexOutOfRange at the first difference) if the triangles differ.
+    static Built refit(const CollisionBody& previous, const CollisionMeshView& next);
+
+    ~CollisionBody();
+    CollisionBody(const CollisionBody&) = delete;
+    CollisionBody& operator=(const CollisionBody&) = delete;
+
+    // ---- per tick: noexcept, allocation-free, body frame ------------------------------------
+    /// Nearest point to `p` within `max_distance` (m) on the triangles whose material is in
+    /// `materials`; found == false when there is none.
+    SurfaceHit closest_point(const Vec3& p, double max_distance,
+                             MaterialMask materials = kAllMaterials) const noexcept;
+    /// First crossing of the segment from -> to with the surface (smallest t), counting `sides`.
+    SegmentHit first_hit(const Vec3& from, const Vec3& to, HitSides sides) const noexcept;
+    /// Triangles with a point within `radius` of `center` (the proxy's neighbourhood): writes up
+    /// to out.size() indices and returns how many exist (may exceed out.size()).
+    std::size_t triangles_near(const Vec3& center, double radius,
+                               std::span<std::uint32_t> out) const noexcept;
+
+    // ---- the mesh it was built from ----------------------------------------------------------
+    std::size_t triangle_count() const noexcept;
+    std::size_t vertex_count() const noexcept;
+    Material material(std::uint32_t triangle) const noexcept;
+    TriangleCorners corners(std::uint32_t triangle) const noexcept;
+    /// The pose published with the mesh (CollisionWorld may override it per tick).
+    const RigidTransform& world_from_body() const noexcept;
+    /// Axis-aligned bounds of the whole mesh, body frame, m.
+    void bounds(Vec3& lo, Vec3& hi) const noexcept;
+    std::uint32_t chunk_count() const noexcept;
+    /// Heap bytes held by the structure (mesh copy included).
+    std::size_t memory_bytes() const noexcept;
+
+    struct Impl;  ///< defined in collision_body.cpp
+
+private:
+    explicit CollisionBody(std::unique_ptr<Impl> impl) noexcept;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace kerf::physics

@@ -1,0 +1,53 @@
+// kerf::physics::CollisionWorld — the bodies the tool can touch this tick, each with its pose,
+// queried in the world frame. Fixed capacity (one slot per mailbox body), no allocation: the loop
+// owns one and changes it only at tick boundaries, from the RT thread.
+//
+// The world does not own the bodies: whoever calls set_body() keeps the CollisionBody alive until
+// the slot is changed and the loop has moved past that tick (free it off the RT thread).
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "rt_core/physics/collision_body.hpp"
+
+namespace kerf::physics {
+
+inline constexpr std::uint32_t kMaxBodies = 64;  ///< = ipc::kMeshMaxBodies
+
+class CollisionWorld {
+public:
+    /// Puts `body` (may be nullptr: empty slot) in `slot` with the pose it was published with.
+    /// Out-of-range slots are ignored. noexcept, O(1).
+    void set_body(std::uint32_t slot, const CollisionBody* body) noexcept;
+    /// Moves the body in `slot` (a BodyMoved: a severed piece dragged). noexcept, O(1).
+    void set_pose(std::uint32_t slot, const RigidTransform& world_from_body) noexcept;
+    /// Empties every slot. noexcept.
+    void clear() noexcept;
+
+    const CollisionBody* body(std::uint32_t slot) const noexcept;
+    const RigidTransform& pose(std::uint32_t slot) const noexcept;
+    /// One past the highest occupied slot.
+    std::uint32_t slot_end() const noexcept { return slot_end_; }
+
+    // ---- per tick: noexcept, allocation-free, world frame ------------------------------------
+    /// Nearest surface point over all bodies within `max_distance` (m), `materials` only.
+    SurfaceHit closest_point(const Vec3& p, double max_distance,
+                             MaterialMask materials = kAllMaterials) const noexcept;
+    /// Whether `p` is inside a body: the nearest bone surface (within `max_distance`) faces away.
+    /// Exact on faces; near edges and vertices of sharp features it may err. For the saw.
+    bool inside(const Vec3& p, double max_distance) const noexcept;
+    /// First crossing of from -> to with any body's surface.
+    SegmentHit first_hit(const Vec3& from, const Vec3& to, HitSides sides) const noexcept;
+
+private:
+    struct Slot {
+        const CollisionBody* body = nullptr;
+        RigidTransform pose;
+        Vec3 lo, hi;  ///< body bounds, body frame
+    };
+    std::array<Slot, kMaxBodies> slots_{};
+    std::uint32_t slot_end_ = 0;
+};
+
+}  // namespace kerf::physics

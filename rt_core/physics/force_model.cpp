@@ -1,0 +1,65 @@
+// The per-tick physics: contact, saw, passivity (force_model.hpp).
+#include "rt_core/physics/force_model.hpp"
+
+namespace kerf::physics {
+
+ForceModel::ForceModel(const PhysicsParams& params) noexcept
+    : params_(params), contact_(params.contact), saw_(params.saw), passivity_(params.passivity) {}
+
+void ForceModel::set_params(const PhysicsParams& params) noexcept {
+    params_ = params;
+    contact_.set_params(params.contact);
+    saw_.set_params(params.saw);
+    passivity_.set_params(params.passivity);
+}
+
+void ForceModel::reset(const Vec3& tool_position_m) noexcept {
+    contact_.reset(tool_position_m);
+    passivity_.reset();
+}
+
+PhysicsOutput ForceModel::step(const CollisionWorld& world, const ToolInput& input,
+                               double dt_s) noexcept {
+    PhysicsOutput out;
+    const Vec3& tool = input.pose.position_m;
+    if (!is_finite(tool) || !is_finite(input.velocity_m_s) || !(dt_s > 0)) {
+        out.proxy_m = contact_.proxy();
+        return out;
+    }
+    const bool was_locked = saw_.locked();
+    if (!was_locked) out.contact = contact_.step(world, tool, input.velocity_m_s, dt_s);
+    out.saw = saw_.step(world, input.pose, input.velocity_m_s, input.twist_rate_rad_s,
+                        input.saw_running, out.contact, dt_s);
+    Vec3 force;
+    if (out.saw.locked) {
+        // In its own kerf the blade cuts: no surface contact; the proxy rides with the tool.
+        contact_.reset(tool);
+        out.contact = ContactOutput{};
+        out.contact.proxy_m = tool;
+        force = out.saw.force_n;
+        out.torque_n_m = out.saw.torque_n_m;
+    } else {
+        if (was_locked) {
+            // The cut ended this tick: put the proxy back outside the bone, on the nearest surface.
+            const double reach = params_.saw.blade.length_m;
+            const SurfaceHit near = world.closest_point(tool, reach, kBoneSurfaces);
+            if (near.found && dot(tool - near.point, near.normal) < 0) {
+                contact_.reset(near.point + near.normal * (4 * params_.contact.skin_m));
+            } else {
+                contact_.reset(tool);
+            }
+            out.contact = contact_.step(world, tool, input.velocity_m_s, dt_s);
+        }
+        force = out.contact.force_n;
+    }
+    const PassivityOutput p = passivity_.step(force, input.velocity_m_s, dt_s);
+    out.force_n = p.force_n;
+    out.dissipated_j = p.dissipated_j;
+    out.proxy_m = contact_.proxy();
+    out.penetration_m = out.contact.penetration_m;
+    if (out.contact.in_contact || out.saw.locked) out.contact_flags |= kContactTouching;
+    if (out.saw.locked) out.contact_flags |= kContactCutLocked;
+    return out;
+}
+
+}  // namespace kerf::physics

@@ -1,0 +1,204 @@
+// CollisionBody / CollisionWorld: queries agree with brute force, bad meshes are refused, an
+// update after a cut rebuilds only touched chunks, and queries allocate nothing.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "rt_core/physics/collision_world.hpp"
+#include "tests/allocation_counter.hpp"
+#include "tests/physics/physics_test_shapes.hpp"
+
+namespace kerf::physics {
+namespace {
+
+using test::TestMesh;
+
+std::unique_ptr<const CollisionBody> build(const TestMesh& m, BuildOptions options = {}) {
+    auto body = CollisionBody::build(m.view(), options);
+    EXPECT_TRUE(body) << (body ? "" : to_string(body.error().error));
+    return body ? std::move(*body) : nullptr;
+}
+
+TEST(CollisionBody, ClosestPointMatchesBruteForceOnASphere) {
+    const TestMesh sphere = test::make_sphere({0.01, 0, 0}, 0.02, 3);
+    const auto body = build(sphere, {.chunk_triangles = 64, .leaf_triangles = 4});
+    ASSERT_TRUE(body);
+    EXPECT_GT(body->chunk_count(), 1u);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> coord(-0.04, 0.04);
+    for (int i = 0; i < 500; ++i) {
+        const Vec3 p{coord(rng), coord(rng), coord(rng)};
+        const SurfaceHit hit = body->closest_point(p, 1.0);
+        ASSERT_TRUE(hit.found);
+        EXPECT_NEAR(hit.distance, test::brute_distance(sphere, p), 1e-9);
+        EXPECT_NEAR(norm(hit.point - p), hit.distance, 1e-12);
+    }
+}
+
+TEST(CollisionBody, ClosestPointHonoursTheSearchDistance) {
+    const auto body = build(test::make_sphere({}, 0.01, 2));
+    ASSERT_TRUE(body);
+    EXPECT_FALSE(body->closest_point({0.05, 0, 0}, 0.01).found);
+    EXPECT_TRUE(body->closest_point({0.05, 0, 0}, 0.05).found);
+}
+
+TEST(CollisionBody, FirstHitFindsTheNearestCrossingAndRespectsSides) {
+    const TestMesh plate = test::make_box({-0.01, -0.01, 0}, {0.01, 0.01, 0.0005});
+    const auto body = build(plate);
+    ASSERT_TRUE(body);
+    const SegmentHit down =
+        body->first_hit({0.001, 0.002, 0.01}, {0.001, 0.002, -0.01}, HitSides::kFront);
+    ASSERT_TRUE(down.found);
+    EXPECT_NEAR(down.point.z, 0.0005, 1e-9);
+    EXPECT_NEAR(down.normal.z, 1.0, 1e-12);
+    // From inside the plate outwards only back faces are crossed.
+    EXPECT_FALSE(body->first_hit({0, 0, 0.0002}, {0, 0, 0.01}, HitSides::kFront).found);
+    EXPECT_TRUE(body->first_hit({0, 0, 0.0002}, {0, 0, 0.01}, HitSides::kBoth).found);
+}
+
+TEST(CollisionBody, SegmentsThroughSharedEdgesAndVerticesAreStopped) {
+    const TestMesh sphere = test::make_sphere({}, 0.01, 2);
+    const auto body = build(sphere);
+    ASSERT_TRUE(body);
+    // Aim exactly at every vertex and every edge midpoint from outside.
+    for (std::size_t i = 0; i < sphere.indices.size(); i += 3) {
+        for (int k = 0; k < 3; ++k) {
+            const Vec3 a = sphere.vertex(sphere.indices[i + k]);
+            const Vec3 b = sphere.vertex(sphere.indices[i + (k + 1) % 3]);
+            for (const Vec3& target : {a, (a + b) * 0.5}) {
+                const SegmentHit hit =
+                    body->first_hit(target * 2.0, target * 0.0, HitSides::kFront);
+                ASSERT_TRUE(hit.found) << "triangle " << i / 3;
+            }
+        }
+    }
+}
+
+TEST(CollisionBody, NearTrianglesListsTheNeighbourhood) {
+    const TestMesh sphere = test::make_sphere({}, 0.01, 3);
+    const auto body = build(sphere);
+    ASSERT_TRUE(body);
+    std::uint32_t out[256];
+    const std::size_t n = body->triangles_near({0.0101, 0, 0}, 0.001, out);
+    ASSERT_GT(n, 0u);
+    ASSERT_LE(n, 256u);
+    for (std::size_t i = 0; i < n; ++i) {
+        const TriangleCorners c = body->corners(out[i]);
+        const Vec3 q = closest_point_on_triangle({0.0101, 0, 0}, c.a, c.b, c.c);
+        EXPECT_LE(norm(q - Vec3{0.0101, 0, 0}), 0.001 + 1e-12);
+    }
+    EXPECT_EQ(body->triangles_near({0.1, 0, 0}, 0.001, out), 0u);
+}
+
+TEST(CollisionBody, BadMeshesAreRefusedNamingTheProblem) {
+    TestMesh m = test::make_box({0, 0, 0}, {0.01, 0.01, 0.01});
+    TestMesh bad = m;
+    bad.indices[7] = 99;
+    auto r = CollisionBody::build(bad.view());
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().error, MeshError::kIndexOutOfRange);
+    EXPECT_EQ(r.error().index, 7u);
+    bad = m;
+    bad.positions[4] = std::nanf("");
+    EXPECT_EQ(validate_mesh(bad.view()).error, MeshError::kNonFinitePosition);
+    bad = m;
+    bad.positions[4] = 11.0f;
+    EXPECT_EQ(validate_mesh(bad.view()).error, MeshError::kCoordinateTooLarge);
+    bad = m;
+    bad.materials.pop_back();
+    EXPECT_EQ(validate_mesh(bad.view()).error, MeshError::kMaterialCount);
+    bad = m;
+    bad.indices.pop_back();
+    EXPECT_EQ(validate_mesh(bad.view()).error, MeshError::kIndicesNotTriples);
+    bad = m;
+    bad.pose.rotation.m[0][0] = 2;
+    EXPECT_EQ(validate_mesh(bad.view()).error, MeshError::kBadTransform);
+    EXPECT_EQ(validate_mesh(TestMesh{}.view()).error, MeshError::kEmpty);
+    EXPECT_STREQ(to_string(MeshError::kEmpty), "mesh has no triangle");
+}
+
+TEST(CollisionBody, UpdateAfterACutRebuildsOnlyTouchedChunks) {
+    const TestMesh before = test::make_sphere({}, 0.02, 5);  // 20480 triangles
+    const auto body = build(before, {.chunk_triangles = 1024, .leaf_triangles = 4});
+    ASSERT_TRUE(body);
+    // A "cut": split the triangles crossing a small region in two (changed + appended ones).
+    TestMesh after = before;
+    std::size_t changed = 0;
+    for (std::size_t t = 0; t < before.triangles() && changed < 40; ++t) {
+        const Vec3 a = before.vertex(before.indices[3 * t]);
+        if (a.x < 0.019) continue;
+        const std::uint32_t b = before.indices[3 * t + 1], c = before.indices[3 * t + 2];
+        const std::uint32_t m = after.add_vertex((before.vertex(b) + before.vertex(c)) * 0.5);
+        after.indices[3 * t + 2] = m;
+        after.add_triangle(before.indices[3 * t], m, c, Material::kCutSurface);
+        ++changed;
+    }
+    ASSERT_GT(changed, 0u);
+    UpdateStats stats;
+    auto updated = CollisionBody::update(*body, after.view(), &stats);
+    ASSERT_TRUE(updated);
+    EXPECT_LT(stats.chunks_rebuilt, body->chunk_count() / 2);
+    EXPECT_GT(stats.chunks_rebuilt, 0u);
+    const auto fresh = build(after);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> coord(-0.03, 0.03);
+    for (int i = 0; i < 300; ++i) {
+        const Vec3 p{coord(rng), coord(rng), coord(rng)};
+        EXPECT_NEAR((*updated)->closest_point(p, 1).distance, fresh->closest_point(p, 1).distance,
+                    1e-12);
+    }
+    EXPECT_EQ((*updated)->triangle_count(), after.triangles());
+}
+
+TEST(CollisionBody, RefitFollowsMovedVertices) {
+    const TestMesh a = test::make_sphere({}, 0.01, 3);
+    const auto body = build(a);
+    TestMesh b = a;
+    for (float& c : b.positions) c *= 1.5f;
+    auto refitted = CollisionBody::refit(*body, b.view());
+    ASSERT_TRUE(refitted);
+    EXPECT_NEAR((*refitted)->closest_point({0.03, 0, 0}, 1).distance, 0.015, 1e-4);
+    TestMesh other = test::make_box({0, 0, 0}, {1e-3, 1e-3, 1e-3});
+    EXPECT_FALSE(CollisionBody::refit(*body, other.view()));
+}
+
+TEST(CollisionWorld, QueriesTransformEveryBodyIntoTheWorld) {
+    TestMesh sphere = test::make_sphere({}, 0.01, 2);
+    sphere.pose.translation = {0.1, 0, 0};
+    const auto body = build(sphere);
+    CollisionWorld world;
+    world.set_body(3, body.get());
+    EXPECT_EQ(world.slot_end(), 4u);
+    const SurfaceHit hit = world.closest_point({0.1, 0, 0.05}, 1);
+    ASSERT_TRUE(hit.found);
+    EXPECT_EQ(hit.body, 3u);
+    EXPECT_NEAR(hit.distance, 0.04, 2e-4);
+    EXPECT_TRUE(world.inside({0.1, 0, 0}, 0.1));
+    EXPECT_FALSE(world.inside({0.2, 0, 0}, 0.2));
+    RigidTransform moved;
+    moved.translation = {0, 0.1, 0};
+    world.set_pose(3, moved);
+    EXPECT_TRUE(world.first_hit({0, 0.2, 0}, {0, 0.1, 0}, HitSides::kFront).found);
+    world.clear();
+    EXPECT_FALSE(world.closest_point({0, 0.1, 0}, 1).found);
+}
+
+TEST(CollisionWorld, PerTickQueriesAllocateNothing) {
+    const auto body = build(test::make_sphere({}, 0.01, 4));
+    CollisionWorld world;
+    world.set_body(0, body.get());
+    std::uint32_t out[64];
+    kerf::test::arm_allocation_counter();
+    double sum = 0;
+    for (int i = 0; i < 10000; ++i) {
+        const Vec3 p{0.012 * std::cos(i * 0.01), 0.012 * std::sin(i * 0.01), 0.001};
+        sum += world.closest_point(p, 0.01).distance;
+        sum += world.first_hit(p, p * 0.5, HitSides::kFront).t;
+        sum += double(body->triangles_near(p, 0.003, out));
+    }
+    EXPECT_EQ(kerf::test::disarm_allocation_counter(), 0u);
+    EXPECT_GT(sum, 0);
+}
+
+}  // namespace
+}  // namespace kerf::physics
