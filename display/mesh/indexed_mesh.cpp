@@ -42,6 +42,17 @@ std::uint32_t VertexWelder::weld(const Point& p, IndexedMesh& out) {
     return it->second;
 }
 
+namespace {
+
+/// OpenMesh's vector types construct without writing: give a new vertex's texture coordinates and
+/// colour defined values, so that mesh_hash() (which reads them) is the same in every run.
+void clear_attributes(TriMesh& m, VertexHandle v) {
+    m.set_texcoord2D(v, TriMesh::TexCoord2D(0.0f, 0.0f));
+    m.set_color(v, TriMesh::Color(1.0f, 1.0f, 1.0f));
+}
+
+}  // namespace
+
 BuiltMesh build_tri_mesh(const IndexedMesh& in) {
     BuiltMesh out{make_mesh(), 0};
     TriMesh& m = out.mesh;
@@ -49,6 +60,7 @@ BuiltMesh build_tri_mesh(const IndexedMesh& in) {
     const bool has_materials = in.materials.size() == in.positions_m.size();
     for (std::size_t i = 0; i < in.positions_m.size(); ++i) {
         const VertexHandle v = m.add_vertex(in.positions_m[i]);
+        clear_attributes(m, v);
         if (has_materials) m.data(v).set_material(in.materials[i]);
     }
     const QuietOmerr quiet;
@@ -65,6 +77,7 @@ BuiltMesh build_tri_mesh(const IndexedMesh& in) {
             const Point p = m.point(src);  // a copy: add_vertex may reallocate the points
             const Material material = m.data(src).material();
             copies[k] = m.add_vertex(p);
+            clear_attributes(m, copies[k]);
             m.data(copies[k]).set_material(material);
         }
         m.add_face(copies[0], copies[1], copies[2]);

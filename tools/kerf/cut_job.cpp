@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "display/cut/cut_context.hpp"
+#include "display/cut/cut_session.hpp"
 #include "display/cut/mesh_hash.hpp"
-#include "display/cut/separate.hpp"
 #include "display/cut/slice_by_plane.hpp"
 #include "display/cut/subtract_slab.hpp"
 
@@ -60,26 +60,60 @@ Status<CutJobError> check_cut_job(const CutJob& job) {
 
 namespace {
 
-cut::CutResult cut_once(cut::CutContext& ctx, const cut::Plane& plane,
-                        const std::optional<cut::Seed>& seed, const CutJob& job) {
+/// A slab or a whole-plane cut: not something a blade event does, so not a CutSession edit.
+cut::CutResult cut_directly(cut::CutContext& ctx, const cut::Plane& plane,
+                            const std::optional<cut::Seed>& seed, const CutJob& job) {
     if (job.mode == CutMode::kBiplanar) {
         cut::SlabCut slab;
         return cut::subtract_slab(ctx, plane, job.kerf_m, *seed, slab);
     }
     cut::CrossSection cs;
-    cut::CutResult r =
-        seed ? cut::slice_by_plane(ctx, plane, *seed, cs) : cut::slice_by_plane(ctx, plane, cs);
-    if (r.ok() && job.mode == CutMode::kSeparated) {
-        auto sep = cut::Separator::make(ctx, cs, job.kerf_m);
-        if (!sep) return cut::CutResult{sep.error(), r.stats};
-        sep->sweep_all();
-        // The separator leaves normals to whoever uses the mesh: refresh the faces it moved, so
-        // later planes of the job split faces with current normals.
-        mesh::TriMesh& m = ctx.mesh();
-        for (const auto v : sep->moved_vertices())
-            for (const auto f : m.vf_range(v)) m.set_normal(f, m.calc_face_normal(f));
+    return cut::slice_by_plane(ctx, plane, cs);
+}
+
+/// Biplanar cuts and cuts without a seed, plane by plane.
+Status<CutJobError> run_directly(mesh::TriMesh& mesh, const CutJob& job, CutReport& report) {
+    cut::CutContext ctx(mesh);
+    for (std::size_t i = 0; i < job.planes.size(); ++i) {
+        const auto plane = *cut::Plane::make(job.planes[i].point_m, job.planes[i].normal);
+        std::optional<cut::Seed> seed;
+        if (!job.seeds_m.empty()) {
+            seed = cut::Seed{job.seeds_m[job.seeds_m.size() == 1 ? 0 : i], mesh::FaceHandle(), -1};
+        }
+        const cut::CutResult r = cut_directly(ctx, plane, seed, job);
+        if (!r.ok()) {
+            return Err{
+                CutJobError{i, r.status, "cut refused: " + std::string(to_string(r.status))}};
+        }
+        report.steps.push_back({i, r});
     }
-    return r;
+    return {};
+}
+
+/// Seeded uniplanar and separated cuts: the blade events a CutSession applies (begin, then a
+/// completed end; the kerf opens fully in separated mode), so the CLI cuts as the display does.
+Status<CutJobError> run_in_session(mesh::TriMesh& mesh, const CutJob& job, CutReport& report) {
+    cut::CutSession session(std::move(mesh));
+    Status<CutJobError> status;
+    for (std::size_t i = 0; i < job.planes.size(); ++i) {
+        const auto plane = *cut::Plane::make(job.planes[i].point_m, job.planes[i].normal);
+        cut::CutBegin begin;
+        begin.cut_id = static_cast<std::uint32_t>(i + 1);
+        begin.blade = cut::BladeFrame{plane.point(), plane.normal(), plane.u()};
+        begin.seed_m = job.seeds_m[job.seeds_m.size() == 1 ? 0 : i];
+        begin.body_id = session.body_at(begin.seed_m);
+        begin.kerf_width_m = job.mode == CutMode::kSeparated ? job.kerf_m : 0.0;
+        const cut::ApplyReport r = session.begin(begin);
+        if (r.outcome != cut::EventOutcome::kApplied) {
+            status =
+                Err{CutJobError{i, r.status, "cut refused: " + std::string(to_string(r.status))}};
+            break;
+        }
+        (void)session.end({begin.cut_id, cut::CutEndKind::kCompleted});
+        report.steps.push_back({i, cut::CutResult{cut::CutStatus::kOk, r.slice}});
+    }
+    mesh = std::move(session).release();
+    return status;
 }
 
 }  // namespace
@@ -87,21 +121,9 @@ cut::CutResult cut_once(cut::CutContext& ctx, const cut::Plane& plane,
 Result<CutReport, CutJobError> run_cut_job(mesh::TriMesh& mesh, const CutJob& job) {
     if (auto ok = check_cut_job(job); !ok) return Err{ok.error()};
     CutReport report;
-    cut::CutContext ctx(mesh);
-    for (std::size_t i = 0; i < job.planes.size(); ++i) {
-        const auto plane = *cut::Plane::make(job.planes[i].point_m, job.planes[i].normal);
-        std::optional<cut::Seed> seed;
-        if (!job.seeds_m.empty()) {
-            seed =
-                cut::Seed{job.seeds_m[job.seeds_m.size() == 1 ? 0 : i], mesh::FaceHandle(), -1.0};
-        }
-        const cut::CutResult r = cut_once(ctx, plane, seed, job);
-        if (!r.ok()) {
-            return Err{
-                CutJobError{i, r.status, "cut refused: " + std::string(to_string(r.status))}};
-        }
-        report.steps.push_back({i, r});
-    }
+    const bool in_session = job.mode != CutMode::kBiplanar && !job.seeds_m.empty();
+    auto done = in_session ? run_in_session(mesh, job, report) : run_directly(mesh, job, report);
+    if (!done) return Err{done.error()};
     report.pieces = cut::group_cavities(cut::find_components(mesh));
     std::stable_sort(
         report.pieces.begin(), report.pieces.end(),

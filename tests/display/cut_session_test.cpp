@@ -1,0 +1,236 @@
+// CutSession: events -> edits. The frame conversion (blade u vs Plane u), the body frames, the
+// sever into bodies, withdrawal, refusals, determinism and the change ranges.
+#include "display/cut/cut_session.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "display/cut/mesh_hash.hpp"
+#include "display/mesh/shapes.hpp"
+#include "tests/cut/mesh_checks.hpp"
+#include "tests/display/session_scenes.hpp"
+
+namespace kerf::cut {
+namespace {
+
+using test::kCutZ;
+using test::kKerf;
+
+TEST(CutSession, FindsOneBodyPerPieceInTheScene) {
+    CutSession two(test::two_tubes());
+    ASSERT_EQ(two.bodies().size(), 2u);
+    EXPECT_EQ(two.bodies()[1].id, 1u);
+    EXPECT_EQ(two.bodies()[1].parent, kNoBody);
+    EXPECT_EQ(two.body_of(mesh::FaceHandle(0)), 0u);
+    const auto last = mesh::FaceHandle(static_cast<int>(two.mesh().n_faces()) - 1);
+    EXPECT_EQ(two.body_of(last), 1u);
+    EXPECT_EQ(two.body_of(mesh::FaceHandle(1 << 30)), kNoBody);
+}
+
+TEST(CutSession, TheSameSceneBuiltTwiceHasTheSameHash) {
+    // Every vertex attribute the hash reads is written when a mesh is built (texture coordinates
+    // and colours were once left unwritten by the mesh builder: the hash changed run to run).
+    EXPECT_EQ(CutSession(test::two_tubes()).hash(), CutSession(test::two_tubes()).hash());
+    EXPECT_EQ(mesh_hash(test::tube()), mesh_hash(test::tube()));
+}
+
+TEST(CutSession, BeginSlicesWithoutMovingAnythingAndCompletedSeversANewBody) {
+    CutSession s(test::tube());
+    const std::uint64_t start = s.hash();
+    const auto begun = s.begin(test::begin_across(1));
+    ASSERT_EQ(begun.outcome, EventOutcome::kApplied) << begun.why << " " << to_string(begun.status);
+    EXPECT_TRUE(s.cut_open());
+    EXPECT_NE(s.hash(), start);
+    EXPECT_EQ(s.bodies().size(), 1u);  // nothing severed until the cut is complete
+    for (const auto v : s.mesh().vertices()) {
+        const double z = s.mesh().point(v)[2];
+        EXPECT_TRUE(std::abs(z - kCutZ) < 1e-12 || std::abs(z - kCutZ) > 5e-5) << "moved early";
+    }
+    const auto done = s.end({1, CutEndKind::kCompleted});
+    ASSERT_EQ(done.outcome, EventOutcome::kApplied);
+    EXPECT_EQ(done.bodies_created, 1u);
+    EXPECT_GT(done.vertices_moved, 0u);
+    ASSERT_EQ(s.bodies().size(), 2u);
+    EXPECT_EQ(s.bodies()[1].parent, 0u);
+    EXPECT_EQ(s.bodies()[1].severed_by_cut, 1u);
+    EXPECT_FALSE(s.cut_open());
+    testing::expect_closed_2_manifold(s.mesh());
+    // The kerf is open: no vertex within kerf/2 of the plane, each side in its own body.
+    for (const auto v : s.mesh().vertices()) {
+        const double d = s.mesh().point(v)[2] - kCutZ;
+        EXPECT_GE(std::abs(d), 0.5 * kKerf - 1e-12);
+        EXPECT_EQ(s.body_of(v), d > 0 ? 1u : 0u) << "the short end (z > cut) is the severed piece";
+    }
+}
+
+TEST(CutSession, SweptRectangleIsReadInTheBladesFrameNotThePlanes) {
+    // The blade's u axis is (cos a, sin a, 0), at an angle to Plane's own u: the rectangle
+    // u < 0 (blade frame) must open exactly the half-space x cos a + y sin a < 0.
+    for (const double angle : {0.0, 0.7, 2.0, -2.5}) {
+        CutSession s(test::tube());
+        const std::size_t original_vertices = s.mesh().n_vertices();
+        ASSERT_EQ(s.begin(test::begin_across(7)).outcome, EventOutcome::kApplied);
+        CutProgress p;
+        p.cut_id = 7;
+        p.blade = test::blade_across(angle);
+        p.swept = {-1.0, 0.0, -1.0, 1.0};
+        ASSERT_EQ(s.progress(p).outcome, EventOutcome::kApplied);
+        const Vec3 u = p.blade.u;
+        int opened = 0, shut = 0;
+        for (const auto v : s.mesh().vertices()) {
+            if (std::size_t(v.idx()) < original_vertices) continue;  // rim vertices are new
+            const auto pt = s.mesh().point(v);
+            const double along = OpenMesh::dot(Vec3(pt[0], pt[1], 0), u);
+            const double lift = std::abs(pt[2] - kCutZ);
+            if (along < -1e-9) {
+                EXPECT_NEAR(lift, 0.5 * kKerf, 1e-12) << "angle " << angle;
+                ++opened;
+            } else if (along > kKerf) {
+                EXPECT_EQ(lift, 0.0) << "angle " << angle;
+                ++shut;
+            }
+        }
+        EXPECT_GT(opened, 10);
+        EXPECT_GT(shut, 10);
+    }
+}
+
+TEST(CutSession, WithdrawnCutStaysAsItIsAndSeversNothing) {
+    CutSession s(test::tube());
+    ASSERT_EQ(s.begin(test::begin_across(3)).outcome, EventOutcome::kApplied);
+    CutProgress p{3, test::blade_across(0.0), {-1.0, 0.0, -1.0, 1.0}};
+    ASSERT_EQ(s.progress(p).outcome, EventOutcome::kApplied);
+    const std::uint64_t partial = mesh_hash(s.mesh());
+    ASSERT_EQ(s.end({3, CutEndKind::kWithdrawn}).outcome, EventOutcome::kApplied);
+    EXPECT_EQ(mesh_hash(s.mesh()), partial);
+    EXPECT_EQ(s.bodies().size(), 1u);
+    EXPECT_FALSE(s.cut_open());
+}
+
+TEST(CutSession, CutsAMovedBodyInItsOwnFrame) {
+    // Body 0 is moved by +0.25 m in x and turned 90 degrees about z; a world-frame cut through
+    // where the tube now is must land at z = kCutZ in the body's frame.
+    CutSession s(test::tube());
+    const double h = std::sqrt(0.5);
+    ASSERT_EQ(s.move_body({0, RigidPose{Vec3(0.25, 0, 0), {h, 0, 0, h}}}).outcome,
+              EventOutcome::kApplied);
+    CutBegin b = test::begin_across(2);
+    b.blade.point_m += Vec3(0.25, 0, 0);
+    b.seed_m = Vec3(0.25, test::kOuterRadius, kCutZ);  // body (R, 0, z) turned onto +y
+    b.blade.u = Vec3(0, 1, 0);
+    ASSERT_EQ(s.begin(b).outcome, EventOutcome::kApplied);
+    ASSERT_EQ(s.end({2, CutEndKind::kCompleted}).outcome, EventOutcome::kApplied);
+    ASSERT_EQ(s.bodies().size(), 2u);
+    EXPECT_EQ(s.bodies()[1].pose.position_m, Vec3(0.25, 0, 0));  // the parent's pose
+    for (const auto v : s.mesh().vertices()) {
+        EXPECT_GE(std::abs(s.mesh().point(v)[2] - kCutZ), 0.5 * kKerf - 1e-12);
+    }
+}
+
+TEST(CutSession, BadEventsAreRefusedOrIgnoredAndCountedWithoutChangingAnything) {
+    CutSession s(test::two_tubes());
+    const std::uint64_t start = s.hash();
+    CutBegin no_body = test::begin_across(1);
+    no_body.body_id = 9;
+    EXPECT_EQ(s.begin(no_body).outcome, EventOutcome::kRefused);
+    CutBegin nan = test::begin_across(1);
+    nan.blade.normal = Vec3(NAN, 0, 1);
+    EXPECT_EQ(s.begin(nan).outcome, EventOutcome::kRefused);
+    CutBegin thin = test::begin_across(1);
+    thin.kerf_width_m = -1e-3;
+    EXPECT_EQ(s.begin(thin).outcome, EventOutcome::kRefused);
+    CutBegin miss = test::begin_across(1);
+    miss.blade.point_m = Vec3(0, 0, 5.0);
+    miss.seed_m = Vec3(0, 0, 5.0);
+    const auto missed = s.begin(miss);
+    EXPECT_EQ(missed.outcome, EventOutcome::kRefused);
+    EXPECT_NE(missed.status, CutStatus::kOk);
+    EXPECT_EQ(s.progress({1, test::blade_across(0), {-1, 0, -1, 1}}).outcome,
+              EventOutcome::kIgnored);
+    EXPECT_EQ(s.end({1, CutEndKind::kCompleted}).outcome, EventOutcome::kIgnored);
+    EXPECT_EQ(s.move_body({0, RigidPose{Vec3(0, 0, 0), {2, 0, 0, 0}}}).outcome,
+              EventOutcome::kRefused);
+    EXPECT_EQ(s.counters().refused, 5u);
+    EXPECT_EQ(s.counters().ignored, 2u);
+    EXPECT_EQ(s.hash(), start);
+}
+
+TEST(CutSession, SameEventsGiveTheSameHashAndABeginWhileOpenWithdrawsTheFirstCut) {
+    auto run = [](bool second_cut_elsewhere) {
+        CutSession s(test::two_tubes());
+        s.begin(test::begin_across(1));
+        s.progress({1, test::blade_across(0.3), {-1, -0.001, -1, 1}});
+        CutBegin b = test::begin_across(2);  // begins while cut 1 is open
+        b.body_id = 1;
+        b.blade.point_m = Vec3(test::kSecondX, 0, second_cut_elsewhere ? 0.0312 : 0.0302);
+        b.seed_m = Vec3(test::kSecondX + test::kOuterRadius, 0, b.blade.point_m[2]);
+        EXPECT_EQ(s.begin(b).outcome, EventOutcome::kApplied);
+        s.end({2, CutEndKind::kCompleted});
+        return s.hash();
+    };
+    EXPECT_EQ(run(false), run(false));
+    EXPECT_NE(run(false), run(true));
+}
+
+TEST(CutSession, ChangeRangesCoverEveryElementTheCutsTouched) {
+    CutSession s(test::tube());
+    SessionChanges c;
+    s.take_changes(c);
+    EXPECT_TRUE(c.everything);
+    EXPECT_FALSE(s.has_changes());
+    const mesh::TriMesh before = s.mesh();
+    ASSERT_EQ(s.begin(test::begin_across(1)).outcome, EventOutcome::kApplied);
+    ASSERT_EQ(s.end({1, CutEndKind::kCompleted}).outcome, EventOutcome::kApplied);
+    ASSERT_TRUE(s.has_changes());
+    s.take_changes(c);
+    EXPECT_FALSE(c.everything);
+    EXPECT_TRUE(c.bodies);
+    auto covered = [](const std::vector<IndexRange>& ranges, int i) {
+        for (const IndexRange& r : ranges)
+            if (std::uint32_t(i) >= r.first && std::uint32_t(i) < r.first + r.count) return true;
+        return false;
+    };
+    const mesh::TriMesh& after = s.mesh();
+    for (const auto v : after.vertices()) {
+        const bool changed =
+            std::size_t(v.idx()) >= before.n_vertices() || after.point(v) != before.point(v);
+        if (changed) {
+            EXPECT_TRUE(covered(c.vertices, v.idx())) << "vertex " << v.idx();
+        }
+    }
+    for (const auto f : after.faces()) {
+        bool changed = std::size_t(f.idx()) >= before.n_faces();
+        if (!changed) {
+            auto a = after.cfv_iter(f);
+            auto b = before.cfv_iter(mesh::FaceHandle(f.idx()));
+            for (int k = 0; k < 3; ++k, ++a, ++b) changed |= (*a != *b);
+        }
+        if (changed) {
+            EXPECT_TRUE(covered(c.faces, f.idx())) << "face " << f.idx();
+        }
+    }
+    EXPECT_LT(SessionChanges::covered(c.faces), after.n_faces() / 2);
+}
+
+TEST(CutSession, IdleGrowsCapacityOnlyWhenItRunsLow) {
+    CutSession s(test::tube());
+    EXPECT_FALSE(s.idle(1));
+    EXPECT_TRUE(s.idle(std::size_t{1} << 40));
+    EXPECT_EQ(s.counters().capacity_grown, 1u);
+}
+
+TEST(ToRanges, MergesNeighboursAndDropsDuplicates) {
+    std::vector<std::uint32_t> idx{9, 1, 2, 2, 3, 200, 100};
+    std::vector<IndexRange> out;
+    to_ranges(idx, 5, out);
+    ASSERT_EQ(out.size(), 3u);
+    EXPECT_EQ(out[0].first, 1u);
+    EXPECT_EQ(out[0].count, 9u);
+    EXPECT_EQ(out[1].first, 100u);
+    EXPECT_EQ(out[2].first, 200u);
+    EXPECT_EQ(out[2].count, 1u);
+}
+
+}  // namespace
+}  // namespace kerf::cut
