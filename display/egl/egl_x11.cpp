@@ -1,0 +1,113 @@
+// The development window: an Xlib window with an EGL window surface (Xvfb in CI).
+#include <cstdlib>
+
+#include "display/egl/egl_backend.hpp"
+#include "display/render/renderer.hpp"
+// Xlib last: it defines macros (Status, None, Bool) that Kerf's headers must not see.
+#include <X11/Xlib.h>
+#include <X11/Xutil.h>
+
+namespace kerf::egl::detail {
+
+namespace {
+
+struct X11 final : EglOutput::Backend {
+    Display* x = nullptr;
+    Window window = 0;
+    Colormap colormap = 0;
+    Atom wm_delete = 0;
+
+    ~X11() override {
+        // EGL objects first (the base destructor runs after this body), so terminate here.
+        if (display != EGL_NO_DISPLAY) {
+            eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+            if (context != EGL_NO_CONTEXT) eglDestroyContext(display, context);
+            if (surface != EGL_NO_SURFACE) eglDestroySurface(display, surface);
+            eglTerminate(display);
+            display = EGL_NO_DISPLAY;
+        }
+        if (!x) return;
+        if (window) XDestroyWindow(x, window);
+        if (colormap) XFreeColormap(x, colormap);
+        XCloseDisplay(x);
+    }
+
+    bool present(render::Renderer& renderer) override {
+        renderer.present_to(0, width, height);
+        return eglSwapBuffers(display, surface) == EGL_TRUE;
+    }
+
+    bool poll() override {
+        while (XPending(x) > 0) {
+            XEvent e;
+            XNextEvent(x, &e);
+            if (e.type == ClientMessage && static_cast<Atom>(e.xclient.data.l[0]) == wm_delete) {
+                return false;
+            }
+        }
+        return true;
+    }
+};
+
+}  // namespace
+
+Result<std::unique_ptr<EglOutput::Backend>, EglError> make_x11(const EglOptions& o) {
+    auto b = std::make_unique<X11>();
+    b->platform = EglPlatform::kX11;
+    b->width = o.width;
+    b->height = o.height;
+    const char* name = o.x11_display.empty() ? nullptr : o.x11_display.c_str();
+    b->x = XOpenDisplay(name);
+    if (!b->x) {
+        const char* env = std::getenv("DISPLAY");
+        return Err{EglError{std::string("x11: cannot open X display '") +
+                            (name ? name : (env ? env : "(DISPLAY unset)")) + "'"}};
+    }
+    const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    if (!has_extension(client, "EGL_KHR_platform_x11") &&
+        !has_extension(client, "EGL_EXT_platform_x11")) {
+        return Err{EglError{"x11: EGL has no X11 platform (EGL_KHR_platform_x11)"}};
+    }
+    b->display = eglGetPlatformDisplay(EGL_PLATFORM_X11_KHR, b->x, nullptr);
+    if (auto e = initialize(b->display, "x11"); !e.empty()) return Err{EglError{e}};
+    EGLConfig config = nullptr;
+    if (auto e = choose_config(b->display, EGL_WINDOW_BIT, config); !e.empty()) {
+        return Err{EglError{"x11: " + e}};
+    }
+    EGLint visual_id = 0;
+    eglGetConfigAttrib(b->display, config, EGL_NATIVE_VISUAL_ID, &visual_id);
+    XVisualInfo want{};
+    want.visualid = static_cast<VisualID>(visual_id);
+    int count = 0;
+    XVisualInfo* vi = XGetVisualInfo(b->x, VisualIDMask, &want, &count);
+    if (!vi || count < 1) return Err{EglError{"x11: no X visual for the EGL config"}};
+    const Window root = DefaultRootWindow(b->x);
+    XSetWindowAttributes swa{};
+    b->colormap = XCreateColormap(b->x, root, vi->visual, AllocNone);
+    swa.colormap = b->colormap;
+    swa.event_mask = StructureNotifyMask | KeyPressMask;
+    b->window = XCreateWindow(b->x, root, 0, 0, static_cast<unsigned>(o.width),
+                              static_cast<unsigned>(o.height), 0, vi->depth, InputOutput,
+                              vi->visual, CWColormap | CWEventMask, &swa);
+    XFree(vi);
+    XStoreName(b->x, b->window, "kerf-display");
+    b->wm_delete = XInternAtom(b->x, "WM_DELETE_WINDOW", False);
+    XSetWMProtocols(b->x, b->window, &b->wm_delete, 1);
+    XMapWindow(b->x, b->window);
+    XSync(b->x, False);
+    b->surface = eglCreatePlatformWindowSurface(b->display, config, &b->window, nullptr);
+    if (b->surface == EGL_NO_SURFACE) {
+        return Err{EglError{"x11: " + egl_failure("eglCreatePlatformWindowSurface")}};
+    }
+    if (auto e = make_context(b->display, config, b->context); !e.empty()) {
+        return Err{EglError{"x11: " + e}};
+    }
+    if (!eglMakeCurrent(b->display, b->surface, b->surface, b->context)) {
+        return Err{EglError{"x11: " + egl_failure("eglMakeCurrent(window)")}};
+    }
+    eglSwapInterval(b->display, o.vsync ? 1 : 0);
+    describe(*b);
+    return std::unique_ptr<EglOutput::Backend>(std::move(b));
+}
+
+}  // namespace kerf::egl::detail

@@ -1,0 +1,115 @@
+// Renderer on a real headless EGL context (Mesa llvmpipe, surfaceless platform): clear, draw,
+// upload counts, blade, HUD, screenshot.
+#include "display/render/renderer.hpp"
+
+#include <gtest/gtest.h>
+#include <stb_image.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+
+#include "display/egl/egl_output.hpp"
+#include "tests/render/render_scenes.hpp"
+
+namespace kerf::render {
+namespace {
+
+using testing::SceneKind;
+
+struct Pixel {
+    int r, g, b;
+};
+Pixel at(const std::vector<std::uint8_t>& rgba, int w, int x, int y) {
+    const std::size_t i = (static_cast<std::size_t>(y) * w + x) * 4;
+    return {rgba[i], rgba[i + 1], rgba[i + 2]};
+}
+
+class RendererTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        auto out = egl::EglOutput::create({});
+        ASSERT_TRUE(out) << out.error().message;
+        output_ = std::make_unique<egl::EglOutput>(std::move(*out));
+        auto r = Renderer::create({kW, kH});
+        ASSERT_TRUE(r) << r.error().message;
+        renderer_ = std::make_unique<Renderer>(std::move(*r));
+    }
+    static constexpr int kW = 320, kH = 240;
+    std::unique_ptr<egl::EglOutput> output_;
+    std::unique_ptr<Renderer> renderer_;
+};
+
+TEST_F(RendererTest, HeadlessNeedsNoEnvironmentAndReportsItsRenderer) {
+    EXPECT_EQ(output_->platform(), egl::EglPlatform::kHeadless);
+    EXPECT_NE(output_->description().find("headless: "), std::string::npos);
+    EXPECT_NE(output_->description().find("OpenGL ES 3"), std::string::npos);
+}
+
+TEST_F(RendererTest, AnEmptyFrameIsTheBackgroundColour) {
+    renderer_->begin_frame(Camera::framing({-1, -1, -1}, {1, 1, 1}));
+    renderer_->finish_frame();
+    const auto px = renderer_->read_pixels();
+    ASSERT_EQ(px.size(), std::size_t{kW} * kH * 4);
+    const Pixel p = at(px, kW, kW / 2, kH / 2);
+    EXPECT_NEAR(p.r, 0.10 * 255, 2);
+    EXPECT_NEAR(p.g, 0.12 * 255, 2);
+    EXPECT_NEAR(p.b, 0.15 * 255, 2);
+}
+
+TEST_F(RendererTest, DrawsTheBoneInTheMiddleAndTheHudTopLeft) {
+    auto s = testing::make_scene(SceneKind::kUncut, 20000);
+    s.planned.reset();
+    testing::draw_scene(*renderer_, s, true);
+    const auto px = renderer_->read_pixels();
+    const Pixel bone = at(px, kW, kW / 2, kH / 2);
+    EXPECT_GT(bone.r, 120);     // lit ivory, much brighter than the background
+    EXPECT_GT(bone.r, bone.b);  // warm, not grey or blue
+    int hud_ink = 0;            // light text pixels in the HUD corner
+    for (int y = 10; y < 40; ++y)
+        for (int x = 10; x < 200; ++x) hud_ink += at(px, kW, x, y).g > 200;
+    EXPECT_GT(hud_ink, 50);
+}
+
+TEST_F(RendererTest, UploadsOnlyDirtyRangesAfterACut) {
+    auto s = testing::make_scene(SceneKind::kUncut, 20000);
+    const UploadStats first = renderer_->upload(s.render);
+    EXPECT_TRUE(first.reallocated);
+    const UploadStats idle = renderer_->upload(s.render);
+    EXPECT_EQ(idle.bytes, 0u);
+    cut::CutContext ctx(s.mesh);
+    cut::CrossSection cs;
+    ASSERT_TRUE(cut::slice_by_plane(ctx, testing::scene_plane(), cs).ok());
+    s.render.update_after_edit(s.mesh);
+    const UploadStats after = renderer_->upload(s.render);
+    EXPECT_FALSE(after.reallocated);
+    EXPECT_GT(after.bytes, 0u);
+    EXPECT_LT(after.bytes, first.bytes / 4);
+    EXPECT_GT(after.calls, 0u);
+}
+
+TEST_F(RendererTest, ScreenshotIsAPngOfTheFramebuffer) {
+    auto s = testing::make_scene(SceneKind::kMidCut, 20000);
+    testing::draw_scene(*renderer_, s, false);
+    const auto path = std::filesystem::temp_directory_path() / "kerf_render_test_shot.png";
+    ASSERT_TRUE(renderer_->save_png(path.string()));
+    int w = 0, h = 0, n = 0;
+    unsigned char* img = stbi_load(path.c_str(), &w, &h, &n, 4);
+    ASSERT_NE(img, nullptr);
+    EXPECT_EQ(w, kW);
+    EXPECT_EQ(h, kH);
+    const auto px = renderer_->read_pixels();
+    EXPECT_EQ(0, std::memcmp(img, px.data(), px.size()));
+    stbi_image_free(img);
+    std::filesystem::remove(path);
+}
+
+TEST_F(RendererTest, ScreenshotIntoAMissingFolderFailsByName) {
+    renderer_->begin_frame(Camera::framing({-1, -1, -1}, {1, 1, 1}));
+    const auto st = renderer_->save_png("/nonexistent-kerf-dir/shot.png");
+    ASSERT_FALSE(st);
+    EXPECT_NE(st.error().message.find("/nonexistent-kerf-dir/shot.png"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace kerf::render
