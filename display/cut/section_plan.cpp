@@ -305,35 +305,45 @@ CutStatus find_start(ContextState& s, Walker& w, const Plane& plane, FaceHandle 
     return CutStatus::kSeedFarFromCut;
 }
 
-// Walks every loop met in the grid cells along the outer loop's box, then selects the holes
-// inside the outer loop and the islands inside those holes; loops outside stay untouched.
+// Walks every loop met in the grid cells along each selected outer loop's box, then selects the
+// holes inside a selected outer loop and the islands inside those holes; loops outside stay
+// untouched.
 CutStatus add_nested_loops(ContextState& s, Walker& w, const Plane& plane) {
     SectionPlan& plan = s.plan;
-    const PlanLoop outer = plan.loops.front();
-    Vec2 lo(1e300, 1e300), hi(-1e300, -1e300);
-    for (std::uint32_t i = 0; i < outer.count; ++i) {
-        lo.minimize(plan.points[outer.first + i].uv);
-        hi.maximize(plan.points[outer.first + i].uv);
-    }
+    std::vector<std::size_t> outers;
+    for (std::size_t i = 0; i < plan.loops.size(); ++i)
+        if (plan.loops[i].selected && plan.loops[i].area_m2 > 0) outers.push_back(i);
     const auto n = static_cast<int>(s.mesh.n_faces());
-    CutStatus error = CutStatus::kOk;
-    s.grid.for_each_near_plane(plane, lo, hi, s.tolerance_m, [&](std::int32_t fi) {
-        const FaceHandle f(fi);
-        if (error != CutStatus::kOk || fi >= n || s.mesh.status(f).deleted() || s.face_marked(f))
-            return;
-        s.mark_face(f);
-        CutPointKey start;
-        if (!w.start_on(f, start)) return;
-        const std::size_t points_before = plan.points.size();
-        const CutStatus st = w.walk(start);
-        if (st != CutStatus::kOk) {
-            if (inside(plan, outer, plan.points[points_before].uv)) error = st;
-            plan.points.resize(points_before);  // an unrelated broken loop outside: not ours
+    for (const std::size_t o : outers) {
+        const PlanLoop outer = plan.loops[o];
+        Vec2 lo(1e300, 1e300), hi(-1e300, -1e300);
+        for (std::uint32_t i = 0; i < outer.count; ++i) {
+            lo.minimize(plan.points[outer.first + i].uv);
+            hi.maximize(plan.points[outer.first + i].uv);
         }
-    });
-    if (error != CutStatus::kOk) return error;
-    for (PlanLoop& l : plan.loops)
-        if (l.area_m2 < 0 && loop_nested(plan, l, outer)) l.selected = true;
+        CutStatus error = CutStatus::kOk;
+        s.grid.for_each_near_plane(plane, lo, hi, s.tolerance_m, [&](std::int32_t fi) {
+            const FaceHandle f(fi);
+            if (error != CutStatus::kOk || fi >= n || s.mesh.status(f).deleted() ||
+                s.face_marked(f))
+                return;
+            s.mark_face(f);
+            CutPointKey start;
+            if (!w.start_on(f, start)) return;
+            const std::size_t points_before = plan.points.size();
+            const CutStatus st = w.walk(start);
+            if (st != CutStatus::kOk) {
+                if (inside(plan, outer, plan.points[points_before].uv)) error = st;
+                plan.points.resize(points_before);  // an unrelated broken loop outside: not ours
+            }
+        });
+        if (error != CutStatus::kOk) return error;
+    }
+    for (PlanLoop& l : plan.loops) {
+        if (l.selected || l.area_m2 >= 0) continue;
+        for (const std::size_t o : outers)
+            if (loop_nested(plan, l, plan.loops[o])) l.selected = true;
+    }
     for (PlanLoop& l : plan.loops) {
         if (l.selected || l.area_m2 < 0) continue;
         for (const PlanLoop& h : plan.loops)
@@ -505,6 +515,13 @@ CutStatus plan_from_faces(ContextState& s, const Plane& plane,
         s.plan.loops.back().selected = true;
     }
     return s.plan.loops.empty() ? CutStatus::kPlaneMissesMesh : CutStatus::kOk;
+}
+
+CutStatus plan_wall(ContextState& s, const Plane& plane, const std::vector<FaceHandle>& faces) {
+    CutStatus st = plan_from_faces(s, plane, faces);
+    if (st != CutStatus::kOk) return st;
+    Walker w(s, plane);
+    return add_nested_loops(s, w, plane);
 }
 
 }  // namespace kerf::cut::detail

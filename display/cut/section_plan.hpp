@@ -65,6 +65,11 @@ CutStatus plan_localised(ContextState& s, const Plane& plane, const Seed& seed);
 CutStatus plan_from_faces(ContextState& s, const Plane& plane,
                           const std::vector<mesh::FaceHandle>& faces);
 
+/// Plans the loops through `faces` and every loop nested inside one of them (a slab wall: the
+/// loops that bound one slab component, with the canal loops inside them).
+CutStatus plan_wall(ContextState& s, const Plane& plane,
+                    const std::vector<mesh::FaceHandle>& faces);
+
 /// Smallest triangle a cut may create (split parts and cap triangles), relative to the squared
 /// mesh scale.
 inline constexpr double kMinTriangleRelativeArea = 2e-15;

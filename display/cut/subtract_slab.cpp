@@ -22,8 +22,8 @@ std::int64_t now_ns() {
         .count();
 }
 
-// Faces around the planned lower loops' cut points (the faces the lower plane crosses).
-std::vector<FaceHandle> lower_loop_faces(const detail::ContextState& s) {
+// Faces around the cut points of the plan's selected loops (the faces its plane crosses there).
+std::vector<FaceHandle> loop_faces(const detail::ContextState& s) {
     std::vector<FaceHandle> out;
     const TriMesh& m = s.mesh;
     for (const detail::PlanLoop& l : s.plan.loops) {
@@ -41,22 +41,36 @@ std::vector<FaceHandle> lower_loop_faces(const detail::ContextState& s) {
     return out;
 }
 
-// Breadth-first over faces overlapping the slab (some vertex above lower - tol, some vertex
-// below upper) from `start`; returns the faces that cross the upper plane.
-std::vector<FaceHandle> upper_crossings(detail::ContextState& s, const Plane& lower,
-                                        const Plane& upper, std::vector<FaceHandle> frontier) {
+std::size_t selected_loops(const detail::ContextState& s) {
+    std::size_t n = 0;
+    for (const detail::PlanLoop& l : s.plan.loops) n += l.selected;
+    return n;
+}
+
+// The faces of one slab component's walls: those touching the lower and the upper plane.
+struct WallFaces {
+    std::vector<FaceHandle> lower;
+    std::vector<FaceHandle> upper;
+};
+
+// Breadth-first over the faces overlapping the slab (some vertex above lower + tol, some vertex
+// not above upper + tol) from `frontier`: the surface of the slab component(s) it touches.
+// Appends the faces that touch either plane with material on both sides of it.
+void band_walls(detail::ContextState& s, const Plane& lower, const Plane& upper,
+                const std::vector<FaceHandle>& frontier, WallFaces& out) {
     TriMesh& m = s.mesh;
     const double tol = s.tolerance_m;
     s.next_generation();
-    std::vector<FaceHandle> crossing;
     auto in_band = [&](FaceHandle f) {
-        double lo_max = -1e300, up_min = 1e300, up_max = -1e300;
+        double lo_min = 1e300, lo_max = -1e300, up_min = 1e300, up_max = -1e300;
         for (auto v : m.fv_range(f)) {
-            lo_max = std::max(lo_max, lower.signed_distance(m.point(v)));
+            const double dl = lower.signed_distance(m.point(v));
             const double du = upper.signed_distance(m.point(v));
+            lo_min = std::min(lo_min, dl), lo_max = std::max(lo_max, dl);
             up_min = std::min(up_min, du), up_max = std::max(up_max, du);
         }
-        if (up_min < -tol && up_max > tol) crossing.push_back(f);
+        if (lo_min < tol && lo_max > tol) out.lower.push_back(f);
+        if (up_min < -tol && up_max > -tol) out.upper.push_back(f);
         return lo_max > tol && up_min < tol;
     };
     std::vector<FaceHandle> queue;
@@ -71,7 +85,39 @@ std::vector<FaceHandle> upper_crossings(detail::ContextState& s, const Plane& lo
                 s.mark_face(g);
                 if (in_band(g)) queue.push_back(g);
             }
-    return crossing;
+}
+
+// Finds every loop bounding the slab component that holds the seed, on both walls, on the
+// unedited mesh: the seed's loop and its nested loops, then (until nothing new is found) every
+// wall loop the slab surface reaches from the loops found so far, with the loops nested in them.
+CutStatus find_walls(detail::ContextState& s, const Plane& lower, const Plane& upper,
+                     const Seed& seed, WallFaces& walls) {
+    CutStatus st = detail::plan_localised(s, lower, seed);
+    if (st != CutStatus::kOk) return st;
+    walls.lower = loop_faces(s);
+    std::size_t lower_loops = selected_loops(s), upper_loops = 0;
+    for (int round = 0; round < 16; ++round) {
+        std::vector<FaceHandle> frontier = walls.lower;
+        frontier.insert(frontier.end(), walls.upper.begin(), walls.upper.end());
+        WallFaces found;
+        band_walls(s, lower, upper, frontier, found);
+        found.lower.insert(found.lower.end(), walls.lower.begin(), walls.lower.end());
+        found.upper.insert(found.upper.end(), walls.upper.begin(), walls.upper.end());
+        std::size_t up = 0;
+        if (!found.upper.empty()) {
+            st = detail::plan_wall(s, upper, found.upper);
+            if (st != CutStatus::kOk && st != CutStatus::kPlaneMissesMesh) return st;
+            walls.upper = st == CutStatus::kOk ? loop_faces(s) : std::vector<FaceHandle>{};
+            up = st == CutStatus::kOk ? selected_loops(s) : 0;
+        }
+        st = detail::plan_wall(s, lower, found.lower);
+        if (st != CutStatus::kOk) return st;
+        walls.lower = loop_faces(s);
+        const std::size_t lo = selected_loops(s);
+        if (lo == lower_loops && up == upper_loops) return CutStatus::kOk;
+        lower_loops = lo, upper_loops = up;
+    }
+    return CutStatus::kInternalError;
 }
 
 // Faces connected to `start` (the lower wall's inner cap): the slab piece(s).
@@ -110,33 +156,33 @@ CutResult subtract_slab(CutContext& ctx, const Plane& plane, double kerf_width_m
         return done(CutStatus::kInvalidArgument);
     const Plane lower = plane.offset(-0.5 * kerf_width_m);
     const Plane upper = plane.offset(0.5 * kerf_width_m);
-    // Dry run on the unedited mesh: both walls must plan and cap.
-    CutStatus st = detail::plan_localised(s, lower, seed);
+    // Dry run on the unedited mesh: every loop of both walls is found, planned and capped.
+    WallFaces walls;
+    CutStatus st = find_walls(s, lower, upper, seed, walls);
+    if (st == CutStatus::kOk && !walls.upper.empty()) {
+        st = detail::plan_wall(s, upper, walls.upper);
+        if (st == CutStatus::kOk) st = detail::finish_plan(s, upper);
+    }
+    if (st == CutStatus::kOk) st = detail::plan_wall(s, lower, walls.lower);
     if (st == CutStatus::kOk) st = detail::finish_plan(s, lower);
     if (st != CutStatus::kOk) return done(st);
-    const std::vector<FaceHandle> upper_faces =
-        upper_crossings(s, lower, upper, lower_loop_faces(s));
-    if (!upper_faces.empty()) {
-        st = detail::plan_from_faces(s, upper, upper_faces);
-        if (st == CutStatus::kOk) st = detail::finish_plan(s, upper);
-        if (st != CutStatus::kOk && st != CutStatus::kPlaneMissesMesh) return done(st);
-    }
-    // Lower wall.
-    st = detail::plan_localised(s, lower, seed);
-    if (st == CutStatus::kOk) st = detail::finish_plan(s, lower);
-    if (st == CutStatus::kOk) st = detail::apply_plan(s, lower, out.lower, r.stats);
-    if (st != CutStatus::kOk) return done(st == CutStatus::kOk ? st : CutStatus::kInternalError);
-    // Upper wall: every loop reachable from the lower wall's positive side through the slab.
+    // Lower wall (planned last, so the plan is current).
+    st = detail::apply_plan(s, lower, out.lower, r.stats);
+    if (st != CutStatus::kOk) return done(CutStatus::kInternalError);
+    // Upper wall: the loops found above; faces the lower cut split are reached again through the
+    // slab from the lower wall's positive side.
     std::vector<FaceHandle> frontier;
     for (const auto& loop : out.lower.positive.loops)
         for (VertexHandle v : loop)
             for (auto f : s.mesh.vf_range(v)) frontier.push_back(f);
+    WallFaces after;
+    band_walls(s, lower, upper, frontier, after);
+    after.upper.insert(after.upper.end(), walls.upper.begin(), walls.upper.end());
     out.upper.clear();
     out.upper.plane = upper;
-    const std::vector<FaceHandle> crossings = upper_crossings(s, lower, upper, frontier);
-    if (!crossings.empty()) {
+    if (!after.upper.empty()) {
         CutStats upper_stats;
-        st = detail::plan_from_faces(s, upper, crossings);
+        st = detail::plan_wall(s, upper, after.upper);
         if (st == CutStatus::kOk) st = detail::finish_plan(s, upper);
         if (st == CutStatus::kOk) st = detail::apply_plan(s, upper, out.upper, upper_stats);
         if (st != CutStatus::kOk && st != CutStatus::kPlaneMissesMesh)
@@ -144,11 +190,15 @@ CutResult subtract_slab(CutContext& ctx, const Plane& plane, double kerf_width_m
         add(r.stats, upper_stats);
         r.stats.cap_triangles += upper_stats.cap_triangles;
     }
-    // Remove the slab: everything connected to the lower wall's inner cap.
-    const std::vector<FaceHandle> slab = slab_faces(s, out.lower.positive.cap_faces);
+    // Remove the slab: everything connected to the walls' inner caps, all of it between the walls.
+    std::vector<FaceHandle> inner = out.lower.positive.cap_faces;
+    inner.insert(inner.end(), out.upper.negative.cap_faces.begin(),
+                 out.upper.negative.cap_faces.end());
+    const std::vector<FaceHandle> slab = slab_faces(s, inner);
     for (FaceHandle f : slab)
         for (auto v : s.mesh.fv_range(f))
-            if (upper.signed_distance(s.mesh.point(v)) > s.tolerance_m)
+            if (upper.signed_distance(s.mesh.point(v)) > s.tolerance_m ||
+                lower.signed_distance(s.mesh.point(v)) < -s.tolerance_m)
                 return done(CutStatus::kInternalError);
     for (FaceHandle f : slab) s.mesh.delete_face(f, true);
     r.stats.triangles_removed = static_cast<std::uint32_t>(slab.size());

@@ -4,12 +4,14 @@
 //   SlabCut slab;
 //   CutResult r = subtract_slab(ctx, blade_plane, 1.0e-3, seed, slab);   // a 1 mm blade
 //
-// Planes: lower = plane.offset(-kerf/2), upper = plane.offset(+kerf/2). The lower slice is
-// localised from the seed; the upper slice cuts every loop reachable from the lower cross-section
-// through the slab (so both walls belong to the same cut, and the canal too). Everything between
-// the planes that is connected to the lower cross-section, including the two inner caps, is
-// deleted (marked only; garbage collection stays the caller's choice). Material that ends inside
-// the slab (a tip thinner than the kerf) is removed with it.
+// Planes: lower = plane.offset(-kerf/2), upper = plane.offset(+kerf/2). What is removed is exactly
+// the slab component that holds the seed: the connected part of the material between the planes
+// reached from the seed's loop on the lower plane. Its walls are cut on every loop that bounds it,
+// on both planes (a slab through the bridge of a U meets the lower plane in two loops: both are
+// cut), with the loops nested in them (the canal). Found on the unedited mesh by walking the slab
+// surface from the seed's loop until no new wall loop appears. Everything of that component,
+// including the two inner caps, is deleted (marked only; garbage collection stays the caller's
+// choice). Material that ends inside the slab (a tip thinner than the kerf) is removed with it.
 // Failure: every status the slices can return; both planes are validated before the first edit.
 #pragma once
 

@@ -106,6 +106,53 @@ TEST(SubtractSlab, MatchesTwoUniplanarCutsOnATiltedSphere) {
                 1e-9 * signed_volume(shape));
 }
 
+// A seed on a face crossing `plane` whose centroid has the largest y.
+Seed seed_at_largest_y(const TriMesh& m, const Plane& plane) {
+    FaceHandle best;
+    double y = -1e300;
+    for (auto f : m.faces()) {
+        int pos = 0, neg = 0;
+        for (auto v : m.fv_range(f)) {
+            const double d = plane.signed_distance(m.point(v));
+            pos += d > 0, neg += d < 0;
+        }
+        if (pos && neg && centroid(m, f)[1] > y) y = centroid(m, f)[1], best = f;
+    }
+    return Seed{centroid(m, best), best, -1.0};
+}
+
+// Issue 10 item 1: a slab through the bridge of a U meets the lower plane in two loops. Both must
+// be cut; before, only the seed's was, and the flood from the inner cap deleted the solid beyond
+// the other loop (here: nearly the whole ring). The reference is independent: two full-plane
+// slices and the pieces between them.
+TEST(SubtractSlab, ASlabComponentWithTwoLoopsOnOneWallIsCutOnBoth) {
+    const TriMesh shape = mesh::make_torus(0.01, 0.003, 96, 32);
+    // x = 0.0068 misses the ring's inner equator (x = 0.007): two loops; x = 0.0078 crosses it:
+    // one.
+    const Plane plane = *Plane::make(Vec3(0.0073, 0, 0), Vec3(1, 0, 0));
+    const double kerf = 0.001;
+    TriMesh a = shape;
+    CutContext actx(a);
+    SlabCut slab;
+    const auto r =
+        subtract_slab(actx, plane, kerf, seed_at_largest_y(a, plane.offset(-kerf / 2)), slab);
+    ASSERT_EQ(r.status, CutStatus::kOk) << to_string(r.status);
+    const auto rep = expect_closed_2_manifold(a);
+    expect_face_normals_agree(a);
+    EXPECT_EQ(slab.lower.loops_2d.size(), 2u);
+    EXPECT_EQ(slab.upper.loops_2d.size(), 1u);
+    EXPECT_EQ(rep.piece_volumes_m3.size(), 2u);  // the ring beyond the upper wall, and the rest
+    TriMesh b = shape;
+    CutContext bctx(b);
+    CrossSection cs;
+    ASSERT_TRUE(slice_by_plane(bctx, plane.offset(-kerf / 2), cs).ok());
+    ASSERT_TRUE(slice_by_plane(bctx, plane.offset(kerf / 2), cs).ok());
+    const double slab_volume = volume_within(b, plane, kerf / 2 + 1e-9);
+    const double v0 = signed_volume(shape);
+    EXPECT_GT(slab_volume, 0.0);
+    EXPECT_NEAR(v0 - rep.total_volume_m3, slab_volume, 1e-9 * v0);
+}
+
 TEST(SubtractSlab, ATipThinnerThanTheKerfIsRemovedWhole) {
     auto m = uv_sphere(0.01, 16, 32);
     const double v0 = signed_volume(m);
