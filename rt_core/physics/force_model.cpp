@@ -31,6 +31,7 @@ PhysicsOutput ForceModel::step(const CollisionWorld& world, const ToolInput& inp
     out.saw = saw_.step(world, input.pose, input.velocity_m_s, input.twist_rate_rad_s,
                         input.saw_running, out.contact, dt_s);
     Vec3 force;
+    double stored_j = 0;  // energy the environment's springs hold now (for the observer)
     if (out.saw.locked) {
         // In its own kerf the blade cuts: no surface contact; the proxy rides with the tool.
         contact_.reset(tool);
@@ -38,6 +39,12 @@ PhysicsOutput ForceModel::step(const CollisionWorld& world, const ToolInput& inp
         out.contact.proxy_m = tool;
         force = out.saw.force_n;
         out.torque_n_m = out.saw.torque_n_m;
+        const double k_lock = out.saw.material == Material::kCortical
+                                  ? params_.saw.cortical.plane_lock_stiffness_n_per_m
+                                  : params_.saw.cancellous.plane_lock_stiffness_n_per_m;
+        const double off =
+            dot(tool - saw_.current_cut().plane_point_m, saw_.current_cut().plane_normal);
+        stored_j = 0.5 * k_lock * off * off;
     } else {
         if (was_locked) {
             // The cut ended this tick: put the proxy back outside the bone, on the nearest surface.
@@ -51,8 +58,10 @@ PhysicsOutput ForceModel::step(const CollisionWorld& world, const ToolInput& inp
             out.contact = contact_.step(world, tool, input.velocity_m_s, dt_s);
         }
         force = out.contact.force_n;
+        const double d = norm(out.contact.proxy_m - tool);
+        if (out.contact.in_contact) stored_j = 0.5 * params_.contact.stiffness_n_per_m * d * d;
     }
-    const PassivityOutput p = passivity_.step(force, input.velocity_m_s, dt_s);
+    const PassivityOutput p = passivity_.step(force, input.velocity_m_s, stored_j, dt_s);
     out.force_n = p.force_n;
     out.dissipated_j = p.dissipated_j;
     out.proxy_m = contact_.proxy();
