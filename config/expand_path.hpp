@@ -12,8 +12,8 @@
 #include <string>
 #include <string_view>
 
+#include "config/base/result.hpp"
 #include "config/config_error.hpp"
-#include "config/result.hpp"
 
 namespace kerf::config {
 

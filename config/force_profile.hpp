@@ -11,8 +11,8 @@
 #include <string_view>
 #include <vector>
 
+#include "config/base/result.hpp"
 #include "config/config_error.hpp"
-#include "config/result.hpp"
 
 namespace kerf::config {
 

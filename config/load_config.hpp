@@ -8,11 +8,11 @@
 
 #include <filesystem>
 
+#include "config/base/result.hpp"
 #include "config/config_error.hpp"
 #include "config/device_profile.hpp"
 #include "config/force_profile.hpp"
 #include "config/kerf_config.hpp"
-#include "config/result.hpp"
 #include "config/scene.hpp"
 
 namespace kerf::config {

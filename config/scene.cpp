@@ -4,6 +4,7 @@
 #include <system_error>
 
 #include "config/toml_reader.hpp"
+#include "display/mesh/foot_range.hpp"
 
 namespace kerf::config {
 namespace {
@@ -17,8 +18,9 @@ const std::vector<std::string_view> kSourceNames = {"file", "builtin_foot"};
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kQuaternionTolerance = 1e-3;
-constexpr auto kMinTriangles = static_cast<std::int64_t>(kBuiltinFootMinTriangles);
-constexpr auto kMaxTriangles = static_cast<std::int64_t>(kBuiltinFootMaxTriangles);
+// The generator's own range: a scene that loads is a scene the generator builds.
+constexpr auto kMinTriangles = static_cast<std::int64_t>(mesh::kFootMinTriangles);
+constexpr auto kMaxTriangles = static_cast<std::int64_t>(mesh::kFootMaxTriangles);
 
 void read_mesh(TableReader m, MeshSource& out) {
     auto source = m.choice("source", kSourceNames);

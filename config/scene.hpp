@@ -19,9 +19,9 @@
 #include <string_view>
 #include <vector>
 
+#include "config/base/result.hpp"
 #include "config/config_error.hpp"
 #include "config/expand_path.hpp"
-#include "config/result.hpp"
 
 namespace kerf::config {
 
@@ -37,11 +37,6 @@ std::string_view to_string(BodyMaterial material) noexcept;
 /// Where a body's triangles come from.
 enum class MeshSourceKind : std::uint8_t { kFile, kBuiltinFoot };
 std::string_view to_string(MeshSourceKind kind) noexcept;
-
-/// Size range of the built-in forefoot generator (display/mesh/foot_generator.hpp uses these
-/// too, so a scene that loads is a scene the generator builds).
-inline constexpr std::uint64_t kBuiltinFootMinTriangles = 10'000;
-inline constexpr std::uint64_t kBuiltinFootMaxTriangles = 4'000'000;
 
 /// A body's mesh source.
 struct MeshSource {

@@ -18,8 +18,8 @@
 #include <utility>
 #include <vector>
 
+#include "config/base/result.hpp"
 #include "config/config_error.hpp"
-#include "config/result.hpp"
 
 namespace kerf::config::detail {
 

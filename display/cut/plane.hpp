@@ -11,7 +11,7 @@
 
 #include <OpenMesh/Core/Geometry/VectorT.hh>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "display/cut/cut_result.hpp"
 
 namespace kerf::cut {

@@ -29,7 +29,7 @@
 #include <memory>
 #include <span>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "display/cut/cross_section.hpp"
 #include "display/cut/cut_context.hpp"
 #include "display/cut/cut_result.hpp"

@@ -32,7 +32,7 @@
 #include <string_view>
 #include <vector>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 
 namespace kerf::cut {
 

@@ -21,14 +21,11 @@
 #include <string_view>
 #include <vector>
 
-#include "config/result.hpp"
-#include "config/scene.hpp"
+#include "config/base/result.hpp"
+#include "display/mesh/foot_range.hpp"
 #include "display/mesh/tri_mesh.hpp"
 
 namespace kerf::mesh {
-
-inline constexpr std::size_t kFootMinTriangles = config::kBuiltinFootMinTriangles;
-inline constexpr std::size_t kFootMaxTriangles = config::kBuiltinFootMaxTriangles;
 
 struct FootParams {
     std::size_t target_triangles =

@@ -9,7 +9,7 @@
 #include <memory>
 #include <string>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "firmware_host/device/device.hpp"
 #include "firmware_host/falcon/delta_kinematics.hpp"
 #include "firmware_host/falcon/falcon_packet.hpp"

@@ -7,7 +7,7 @@
 #include <memory>
 #include <optional>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "firmware_host/device/device.hpp"
 #include "firmware_host/protocol/kerf_hid_codec.hpp"
 #include "firmware_host/transport/report_transport.hpp"

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "firmware_host/transport/usb_link.hpp"
 
 namespace kerf::firmware_host::falcon {

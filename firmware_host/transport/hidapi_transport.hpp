@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "firmware_host/transport/report_transport.hpp"
 #include "firmware_host/transport/transport_error.hpp"
 

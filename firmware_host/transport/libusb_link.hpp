@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "firmware_host/transport/transport_error.hpp"
 #include "firmware_host/transport/usb_link.hpp"
 

@@ -9,7 +9,7 @@
 #include <span>
 #include <string>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "firmware_host/transport/transport_error.hpp"
 #include "firmware_host/transport/usb_link.hpp"
 

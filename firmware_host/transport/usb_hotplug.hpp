@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <memory>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "firmware_host/transport/transport_error.hpp"
 
 struct libusb_context;

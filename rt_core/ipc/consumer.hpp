@@ -13,7 +13,7 @@
 #include <memory>
 #include <string>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "rt_core/ipc/ipc_error.hpp"
 #include "rt_core/ipc/layout.hpp"
 #include "rt_core/ipc/shm_segment.hpp"

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "rt_core/ipc/ipc_error.hpp"
 #include "rt_core/ipc/layout.hpp"
 

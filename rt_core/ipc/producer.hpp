@@ -12,7 +12,7 @@
 #include <memory>
 #include <string>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "rt_core/ipc/ipc_error.hpp"
 #include "rt_core/ipc/layout.hpp"
 

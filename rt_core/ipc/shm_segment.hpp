@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "rt_core/ipc/ipc_error.hpp"
 #include "rt_core/ipc/layout.hpp"
 

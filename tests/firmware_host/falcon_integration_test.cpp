@@ -6,7 +6,7 @@
 #include <random>
 
 #include "firmware_host/device/falcon_device.hpp"
-#include "firmware_host/device/open_device.hpp"
+#include "firmware_host/open/open_device.hpp"
 #include "firmware_host/transport/socket_usb_link.hpp"
 #include "tests/firmware_host/fault_check.hpp"
 

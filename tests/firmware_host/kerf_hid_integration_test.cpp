@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "firmware_host/device/kerf_hid_device.hpp"
-#include "firmware_host/device/open_device.hpp"
+#include "firmware_host/open/open_device.hpp"
 #include "firmware_host/transport/socket_report_transport.hpp"
 #include "tests/firmware_host/device_loop.hpp"
 #include "tests/firmware_host/fault_check.hpp"

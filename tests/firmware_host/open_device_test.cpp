@@ -1,4 +1,4 @@
-#include "firmware_host/device/open_device.hpp"
+#include "firmware_host/open/open_device.hpp"
 
 #include <gtest/gtest.h>
 

@@ -14,7 +14,7 @@
 #include <string_view>
 #include <vector>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "tools/hapsim/device_model.hpp"
 
 namespace kerf::hapsim {

@@ -7,7 +7,7 @@
 
 #include "config/device_profile.hpp"
 #include "config/expand_path.hpp"
-#include "firmware_host/device/open_device.hpp"
+#include "firmware_host/open/open_device.hpp"
 #include "tools/hapsim/falcon_side.hpp"
 #include "tools/hapsim/kerf_hid_side.hpp"
 #include "tools/hapsim/server.hpp"

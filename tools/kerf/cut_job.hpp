@@ -14,7 +14,7 @@
 #include <string_view>
 #include <vector>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "display/cut/components.hpp"
 #include "display/cut/cut_result.hpp"
 #include "display/cut/plane.hpp"

@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "display/mesh/foot_generator.hpp"
 #include "tools/kerf/cut_job.hpp"
 

@@ -5,7 +5,7 @@
 #include <span>
 #include <string>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "display/mesh/detail/parse_support.hpp"
 #include "display/mesh/indexed_mesh.hpp"
 

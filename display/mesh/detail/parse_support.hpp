@@ -8,7 +8,7 @@
 #include <string>
 #include <string_view>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "display/mesh/indexed_mesh.hpp"
 #include "display/mesh/mesh_error.hpp"
 

@@ -10,9 +10,9 @@
 #include <memory>
 #include <string>
 
+#include "config/base/result.hpp"
 #include "config/device_profile.hpp"
 #include "config/force_profile.hpp"
-#include "config/result.hpp"
 #include "firmware_host/device/device.hpp"
 #include "firmware_host/device/falcon_device.hpp"
 #include "firmware_host/device/kerf_hid_device.hpp"
