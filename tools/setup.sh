@@ -42,6 +42,7 @@ packages=(
   libegl-dev libgles-dev libgbm-dev libegl-mesa0 libgl1-mesa-dri
   libtomlplusplus-dev libspdlog-dev libcli11-dev libstb-dev libboost-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libembree-dev
   valgrind
 )
 if [[ $bench_peers == 1 ]]; then packages+=(libvtk9-dev libcgal-dev); fi

@@ -51,11 +51,17 @@ void store_box(Node& n, const Box& b) noexcept {
     }
 }
 
-/// Builds a median-split tree over `items` (reordered so that every leaf is a contiguous range).
-/// `box_of(item)` and `centre_of(item, axis)` describe the items.
-template <class BoxOf, class CentreOf>
-std::vector<Node> build_tree(std::vector<std::uint32_t>& items, std::uint32_t max_leaf,
-                             const BoxOf& box_of, const CentreOf& centre_of) {
+/// An item to partition: its centre (3 floats) and its index.
+struct Item {
+    float c[3];
+    std::uint32_t id;
+};
+
+/// Splits `items` at the median of the widest centre extent, recursively, until a range holds at
+/// most `max_leaf` items; reorders `items` so every leaf is a contiguous range. Returns the nodes
+/// (boxes unset): leaves have count > 0 and `first` into `items`, inner nodes their children at
+/// [first, first + 1], always after their parent.
+std::vector<Node> split_tree(std::span<Item> items, std::uint32_t max_leaf) {
     std::vector<Node> nodes;
     nodes.reserve(2 * (items.size() / std::max<std::uint32_t>(1, max_leaf)) + 2);
     struct Job {
@@ -66,14 +72,8 @@ std::vector<Node> build_tree(std::vector<std::uint32_t>& items, std::uint32_t ma
     while (!jobs.empty()) {
         const Job job = jobs.back();
         jobs.pop_back();
-        Box box, centres;
-        for (std::uint32_t i = job.begin; i < job.end; ++i) {
-            box.grow(box_of(items[i]));
-            const float c[3] = {centre_of(items[i], 0), centre_of(items[i], 1),
-                                centre_of(items[i], 2)};
-            centres.grow(c);
-        }
-        store_box(nodes[job.node], box);
+        Box centres;
+        for (std::uint32_t i = job.begin; i < job.end; ++i) centres.grow(items[i].c);
         const std::uint32_t count = job.end - job.begin;
         int axis = 0;
         for (int i = 1; i < 3; ++i) {
@@ -86,9 +86,7 @@ std::vector<Node> build_tree(std::vector<std::uint32_t>& items, std::uint32_t ma
         }
         const std::uint32_t mid = job.begin + count / 2;
         std::nth_element(items.begin() + job.begin, items.begin() + mid, items.begin() + job.end,
-                         [&](std::uint32_t a, std::uint32_t b) {
-                             return centre_of(a, axis) < centre_of(b, axis);
-                         });
+                         [axis](const Item& a, const Item& b) { return a.c[axis] < b.c[axis]; });
         const auto left = static_cast<std::uint32_t>(nodes.size());
         nodes.push_back({});
         nodes.push_back({});
@@ -100,10 +98,39 @@ std::vector<Node> build_tree(std::vector<std::uint32_t>& items, std::uint32_t ma
     return nodes;
 }
 
+/// Sets every box of `nodes` bottom-up: a leaf's from `leaf_box(node)`, an inner node's from its
+/// children (which follow it in the array).
+template <class LeafBox>
+void fit_boxes(std::vector<Node>& nodes, const LeafBox& leaf_box) {
+    for (std::size_t n = nodes.size(); n-- > 0;) {
+        Node& node = nodes[n];
+        Box box;
+        if (node.count > 0) {
+            box = leaf_box(node);
+        } else {
+            for (std::uint32_t c = node.first; c < node.first + 2; ++c) {
+                box.grow(nodes[c].lo);
+                box.grow(nodes[c].hi);
+            }
+        }
+        store_box(node, box);
+    }
+}
+
 /// One chunk: its own tree over its triangles' corners.
 struct Chunk {
     std::vector<Node> nodes;
     std::vector<Tri> tris;
+
+    void fit() {
+        fit_boxes(nodes, [&](const Node& leaf) {
+            Box box;
+            for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
+                for (int k = 0; k < 3; ++k) box.grow(&tris[i].v[3 * k]);
+            }
+            return box;
+        });
+    }
 };
 
 constexpr int kStackSize = 128;  ///< > 2 x (top depth + chunk depth) for 2^26 triangles
@@ -114,76 +141,86 @@ struct CollisionBody::Impl {
     std::vector<float> positions;
     std::vector<std::uint32_t> indices;
     std::vector<Material> materials;
-    std::vector<std::uint32_t> chunk_of;  ///< per triangle
-    std::vector<std::shared_ptr<const Chunk>> chunks;
+    std::vector<std::uint32_t> chunk_of;               ///< per triangle: its chunk's slot
+    std::vector<std::shared_ptr<const Chunk>> chunks;  ///< slots; empty slots are null
     std::vector<Node> top;               ///< tree over the chunks; leaves index top_ids
-    std::vector<std::uint32_t> top_ids;  ///< chunk indices in top-leaf order
+    std::vector<std::uint32_t> top_ids;  ///< chunk slots in top-leaf order
     RigidTransform pose;
     BuildOptions options;
 
     const float* corner(std::uint32_t tri, int k) const noexcept {
         return &positions[3 * std::size_t{indices[3 * std::size_t{tri} + k]}];
     }
-    Box tri_box(std::uint32_t tri) const noexcept {
-        Box b;
-        for (int k = 0; k < 3; ++k) b.grow(corner(tri, k));
-        return b;
+    Item item(std::uint32_t tri) const noexcept {
+        Item it{{0, 0, 0}, tri};
+        for (int k = 0; k < 3; ++k) {
+            const float* p = corner(tri, k);
+            for (int a = 0; a < 3; ++a) it.c[a] += p[a];
+        }
+        return it;
     }
-    float tri_centre(std::uint32_t tri, int axis) const noexcept {
-        return corner(tri, 0)[axis] + corner(tri, 1)[axis] + corner(tri, 2)[axis];
-    }
-    std::shared_ptr<const Chunk> build_chunk(std::vector<std::uint32_t> ids) const;
-    void add_chunks(std::vector<std::uint32_t> ids);
+    std::shared_ptr<const Chunk> build_chunk(std::span<Item> items) const;
+    std::shared_ptr<const Chunk> refit_chunk(const Chunk& old) const;
+    void add_chunks(std::vector<Item> items);
     void build_top();
 };
 
-std::shared_ptr<const Chunk> CollisionBody::Impl::build_chunk(
-    std::vector<std::uint32_t> ids) const {
+std::shared_ptr<const Chunk> CollisionBody::Impl::build_chunk(std::span<Item> items) const {
     auto chunk = std::make_shared<Chunk>();
-    chunk->nodes = build_tree(
-        ids, options.leaf_triangles, [&](std::uint32_t t) { return tri_box(t); },
-        [&](std::uint32_t t, int axis) { return tri_centre(t, axis); });
-    chunk->tris.resize(ids.size());
-    for (std::size_t i = 0; i < ids.size(); ++i) {
+    chunk->nodes = split_tree(items, options.leaf_triangles);
+    chunk->tris.resize(items.size());
+    for (std::size_t i = 0; i < items.size(); ++i) {
         Tri& tri = chunk->tris[i];
-        for (int k = 0; k < 3; ++k)
-            std::memcpy(&tri.v[3 * k], corner(ids[i], k), 3 * sizeof(float));
-        tri.id = ids[i];
+        for (int k = 0; k < 3; ++k) std::memcpy(&tri.v[3 * k], corner(items[i].id, k), 12);
+        tri.id = items[i].id;
     }
+    chunk->fit();
     return chunk;
 }
 
-/// Splits `ids` spatially into groups of at most chunk_triangles and builds a chunk of each.
-void CollisionBody::Impl::add_chunks(std::vector<std::uint32_t> ids) {
-    if (ids.empty()) return;
-    const std::vector<Node> groups = build_tree(
-        ids, options.chunk_triangles, [&](std::uint32_t t) { return tri_box(t); },
-        [&](std::uint32_t t, int axis) { return tri_centre(t, axis); });
+/// A copy of `old` with every triangle's corners re-read and every box refitted.
+std::shared_ptr<const Chunk> CollisionBody::Impl::refit_chunk(const Chunk& old) const {
+    auto chunk = std::make_shared<Chunk>(old);
+    for (Tri& tri : chunk->tris) {
+        for (int k = 0; k < 3; ++k) std::memcpy(&tri.v[3 * k], corner(tri.id, k), 12);
+    }
+    chunk->fit();
+    return chunk;
+}
+
+/// Splits `items` spatially into groups of at most chunk_triangles, each a new chunk slot.
+void CollisionBody::Impl::add_chunks(std::vector<Item> items) {
+    if (items.empty()) return;
+    const std::vector<Node> groups = split_tree(items, options.chunk_triangles);
     for (const Node& g : groups) {
         if (g.count == 0) continue;
-        const auto index = static_cast<std::uint32_t>(chunks.size());
-        std::vector<std::uint32_t> members(ids.begin() + g.first, ids.begin() + g.first + g.count);
-        for (std::uint32_t t : members) chunk_of[t] = index;
-        chunks.push_back(build_chunk(std::move(members)));
+        const auto slot = static_cast<std::uint32_t>(chunks.size());
+        const std::span<Item> members(items.data() + g.first, g.count);
+        for (const Item& it : members) chunk_of[it.id] = slot;
+        chunks.push_back(build_chunk(members));
     }
 }
 
 void CollisionBody::Impl::build_top() {
-    std::vector<std::uint32_t> ids(chunks.size());
-    std::iota(ids.begin(), ids.end(), 0u);
-    const auto box_of = [&](std::uint32_t c) {
-        Box b;
+    std::vector<Item> items;
+    for (std::uint32_t c = 0; c < chunks.size(); ++c) {
+        if (!chunks[c]) continue;
         const Node& root = chunks[c]->nodes[0];
-        b.grow(root.lo);
-        b.grow(root.hi);
-        return b;
-    };
-    const auto centre_of = [&](std::uint32_t c, int axis) {
-        const Node& root = chunks[c]->nodes[0];
-        return root.lo[axis] + root.hi[axis];
-    };
-    top = build_tree(ids, 1, box_of, centre_of);
-    top_ids = std::move(ids);
+        items.push_back(
+            {{root.lo[0] + root.hi[0], root.lo[1] + root.hi[1], root.lo[2] + root.hi[2]}, c});
+    }
+    top = split_tree(items, 1);
+    top_ids.resize(items.size());
+    for (std::size_t i = 0; i < items.size(); ++i) top_ids[i] = items[i].id;
+    fit_boxes(top, [&](const Node& leaf) {
+        Box box;
+        for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
+            const Node& root = chunks[top_ids[i]]->nodes[0];
+            box.grow(root.lo);
+            box.grow(root.hi);
+        }
+        return box;
+    });
 }
 
 namespace {
@@ -198,7 +235,6 @@ std::unique_ptr<CollisionBody::Impl> copy_mesh(const CollisionMeshView& mesh,
     } else {
         impl->materials.assign(mesh.materials.begin(), mesh.materials.end());
     }
-    impl->chunk_of.assign(mesh.triangle_count(), 0);
     impl->pose = mesh.world_from_body;
     impl->options = options;
     impl->options.chunk_triangles = std::max<std::uint32_t>(options.chunk_triangles, 1);
@@ -214,9 +250,11 @@ CollisionBody::Built CollisionBody::build(const CollisionMeshView& mesh,
         return Err{problem};
     }
     auto impl = copy_mesh(mesh, options);
-    std::vector<std::uint32_t> ids(mesh.triangle_count());
-    std::iota(ids.begin(), ids.end(), 0u);
-    impl->add_chunks(std::move(ids));
+    const auto n = static_cast<std::uint32_t>(mesh.triangle_count());
+    impl->chunk_of.assign(n, 0);
+    std::vector<Item> items(n);
+    for (std::uint32_t t = 0; t < n; ++t) items[t] = impl->item(t);
+    impl->add_chunks(std::move(items));
     impl->build_top();
     return std::unique_ptr<const CollisionBody>(new CollisionBody(std::move(impl)));
 }
@@ -229,43 +267,58 @@ CollisionBody::Built CollisionBody::update(const CollisionBody& previous,
     const Impl& old = *previous.impl_;
     auto impl = copy_mesh(next, old.options);
     const std::size_t old_count = old.indices.size() / 3, new_count = next.triangle_count();
-    std::vector<char> dirty(old.chunks.size(), 0);
-    for (std::size_t t = 0; t < old_count; ++t) {
-        bool same = t < new_count && impl->materials[t] == old.materials[t];
-        for (int k = 0; same && k < 3; ++k) {
-            const auto tri = static_cast<std::uint32_t>(t);
-            same = old.indices[3 * t + k] == impl->indices[3 * t + k] &&
-                   std::memcmp(old.corner(tri, k), impl->corner(tri, k), 3 * sizeof(float)) == 0;
-        }
+    // Vertices whose position changed (new vertices are only reachable through changed indices).
+    const std::size_t common_vertices = std::min(old.positions.size(), impl->positions.size()) / 3;
+    std::vector<std::uint8_t> moved(common_vertices, 0);
+    for (std::size_t v = 0; v < common_vertices; ++v) {
+        moved[v] = std::memcmp(&old.positions[3 * v], &impl->positions[3 * v], 12) != 0;
+    }
+    std::vector<std::uint8_t> dirty(old.chunks.size(), 0);
+    const std::size_t common = std::min(old_count, new_count);
+    for (std::size_t t = 0; t < common; ++t) {
+        const std::uint32_t* a = &old.indices[3 * t];
+        const std::uint32_t* b = &impl->indices[3 * t];
+        const bool same = a[0] == b[0] && a[1] == b[1] && a[2] == b[2] &&
+                          old.materials[t] == impl->materials[t] && !moved[a[0]] && !moved[a[1]] &&
+                          !moved[a[2]];
         if (!same) dirty[old.chunk_of[t]] = 1;
     }
+    for (std::size_t t = common; t < old_count; ++t) dirty[old.chunk_of[t]] = 1;  // removed
+
+    // Chunk slots stay where they were: unchanged ones shared, changed ones refitted, ones that
+    // lost triangles rebuilt from the survivors (or emptied); new triangles get new slots.
     UpdateStats s;
+    impl->chunk_of.assign(old.chunk_of.begin(), old.chunk_of.begin() + common);
+    impl->chunk_of.resize(new_count, 0);
+    impl->chunks = old.chunks;
     for (std::size_t c = 0; c < old.chunks.size(); ++c) {
-        std::vector<std::uint32_t> members;
-        members.reserve(old.chunks[c]->tris.size());
-        for (const Tri& tri : old.chunks[c]->tris) {
-            if (tri.id < new_count) members.push_back(tri.id);
+        if (!dirty[c] || !old.chunks[c]) continue;
+        const Chunk& chunk = *old.chunks[c];
+        std::vector<Item> survivors;
+        survivors.reserve(chunk.tris.size());
+        for (const Tri& tri : chunk.tris) {
+            if (tri.id < new_count) survivors.push_back(impl->item(tri.id));
         }
-        if (members.empty()) continue;
-        const auto index = static_cast<std::uint32_t>(impl->chunks.size());
-        for (std::uint32_t t : members) impl->chunk_of[t] = index;
-        if (dirty[c]) {
-            s.triangles_rebuilt += members.size();
-            ++s.chunks_rebuilt;
-            impl->chunks.push_back(impl->build_chunk(std::move(members)));
+        s.triangles_touched += survivors.size();
+        if (survivors.size() == chunk.tris.size()) {
+            impl->chunks[c] = impl->refit_chunk(chunk);
+            ++s.chunks_refitted;
         } else {
-            impl->chunks.push_back(old.chunks[c]);  // shared, unchanged
+            impl->chunks[c] = survivors.empty() ? nullptr : impl->build_chunk(survivors);
+            ++s.chunks_rebuilt;
         }
     }
-    std::vector<std::uint32_t> added;
-    for (std::size_t t = old_count; t < new_count; ++t)
-        added.push_back(static_cast<std::uint32_t>(t));
+    std::vector<Item> added;
+    added.reserve(new_count - common);
+    for (std::size_t t = common; t < new_count; ++t) {
+        added.push_back(impl->item(static_cast<std::uint32_t>(t)));
+    }
     const std::size_t before = impl->chunks.size();
-    s.triangles_rebuilt += added.size();
+    s.triangles_touched += added.size();
     impl->add_chunks(std::move(added));
     s.chunks_rebuilt += static_cast<std::uint32_t>(impl->chunks.size() - before);
     impl->build_top();
-    s.chunks_total = static_cast<std::uint32_t>(impl->chunks.size());
+    for (const auto& c : impl->chunks) s.chunks_total += c ? 1 : 0;
     if (stats) *stats = s;
     return std::unique_ptr<const CollisionBody>(new CollisionBody(std::move(impl)));
 }
@@ -276,38 +329,17 @@ CollisionBody::Built CollisionBody::refit(const CollisionBody& previous,
         return Err{problem};
     }
     const Impl& old = *previous.impl_;
-    if (next.indices.size() != old.indices.size())
+    if (next.indices.size() != old.indices.size()) {
         return Err{MeshProblem{MeshError::kIndexOutOfRange, 0}};
+    }
     for (std::size_t i = 0; i < old.indices.size(); ++i) {
         if (old.indices[i] != next.indices[i])
             return Err{MeshProblem{MeshError::kIndexOutOfRange, i}};
     }
     auto impl = copy_mesh(next, old.options);
     impl->chunk_of = old.chunk_of;
-    for (const auto& old_chunk : old.chunks) {
-        auto chunk = std::make_shared<Chunk>(*old_chunk);
-        for (Tri& tri : chunk->tris) {
-            for (int k = 0; k < 3; ++k)
-                std::memcpy(&tri.v[3 * k], impl->corner(tri.id, k), 3 * sizeof(float));
-        }
-        // Children follow their parent in the array, so a backward pass refits bottom-up.
-        for (std::size_t n = chunk->nodes.size(); n-- > 0;) {
-            Node& node = chunk->nodes[n];
-            Box box;
-            if (node.count > 0) {
-                for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
-                    for (int k = 0; k < 3; ++k) box.grow(&chunk->tris[i].v[3 * k]);
-                }
-            } else {
-                for (std::uint32_t c = node.first; c < node.first + 2; ++c) {
-                    box.grow(chunk->nodes[c].lo);
-                    box.grow(chunk->nodes[c].hi);
-                }
-            }
-            store_box(node, box);
-        }
-        impl->chunks.push_back(std::move(chunk));
-    }
+    impl->chunks.reserve(old.chunks.size());
+    for (const auto& c : old.chunks) impl->chunks.push_back(c ? impl->refit_chunk(*c) : nullptr);
     impl->build_top();
     return std::unique_ptr<const CollisionBody>(new CollisionBody(std::move(impl)));
 }
@@ -465,7 +497,7 @@ void CollisionBody::bounds(Vec3& lo, Vec3& hi) const noexcept {
     hi = load(root.hi);
 }
 std::uint32_t CollisionBody::chunk_count() const noexcept {
-    return static_cast<std::uint32_t>(impl_->chunks.size());
+    return static_cast<std::uint32_t>(impl_->top_ids.size());
 }
 std::size_t CollisionBody::memory_bytes() const noexcept {
     std::size_t bytes =
@@ -473,7 +505,7 @@ std::size_t CollisionBody::memory_bytes() const noexcept {
         impl_->indices.capacity() * sizeof(std::uint32_t) + impl_->materials.capacity() +
         impl_->chunk_of.capacity() * sizeof(std::uint32_t) + impl_->top.capacity() * sizeof(Node);
     for (const auto& c : impl_->chunks) {
-        bytes += c->nodes.capacity() * sizeof(Node) + c->tris.capacity() * sizeof(Tri);
+        if (c) bytes += c->nodes.capacity() * sizeof(Node) + c->tris.capacity() * sizeof(Tri);
     }
     return bytes;
 }

@@ -16,9 +16,12 @@
 // chunk has its own flat binary AABB tree (median split, up to `leaf_triangles` per leaf, each
 // triangle's three corners copied into the leaf order); a small top tree over the chunks' boxes is
 // rebuilt on every update. After a cut the new mesh is compared with the previous one triangle by
-// triangle, and only the chunks whose triangles changed, plus new chunks for appended triangles,
-// are rebuilt. Embree's rtcPointQuery is measured against this tree in the same benchmark; the
-// choice and its figures are in rt_core/README.md.
+// triangle (indices, corners, material); a chunk with changed triangles is copied, patched and
+// refitted (a cut shrinks the triangles it splits and moves vertices by half a kerf, so the boxes
+// stay tight), a chunk that lost triangles is rebuilt, appended triangles get new chunks of their
+// own (they are local to the cut), and unchanged chunks are shared with the previous body. Embree's
+// rtcPointQuery is measured against this tree in the same benchmark; the choice and its figures are
+// in rt_core/README.md.
 #pragma once
 
 #include <cstddef>
@@ -36,8 +39,8 @@ inline constexpr std::uint32_t kNoTriangle = 0xFFFFFFFFu;  ///< same value as ip
 
 /// Tuning of the collision structure.
 struct BuildOptions {
-    std::uint32_t chunk_triangles = 16384;  ///< triangles per chunk (the unit a cut rebuilds)
-    std::uint32_t leaf_triangles = 4;       ///< triangles per leaf of a chunk's tree
+    std::uint32_t chunk_triangles = 4096;  ///< triangles per chunk (the unit a cut refits)
+    std::uint32_t leaf_triangles = 4;      ///< triangles per leaf of a chunk's tree
 };
 
 /// The nearest surface point found by a query. Body queries fill body frame; world queries fill
@@ -78,8 +81,9 @@ struct SegmentHit {
 /// What an update() did.
 struct UpdateStats {
     std::uint32_t chunks_total = 0;       ///< chunks in the new body
-    std::uint32_t chunks_rebuilt = 0;     ///< rebuilt or new (the rest reused unchanged)
-    std::uint64_t triangles_rebuilt = 0;  ///< triangles in the rebuilt chunks
+    std::uint32_t chunks_refitted = 0;    ///< copied, changed triangles patched, boxes refitted
+    std::uint32_t chunks_rebuilt = 0;     ///< rebuilt (lost triangles) or new (added triangles)
+    std::uint64_t triangles_touched = 0;  ///< triangles in refitted and rebuilt chunks
 };
 
 /// One triangle's corners, m, body frame.
@@ -93,8 +97,9 @@ public:
 
     /// Validates `mesh` (validate_mesh) and builds the structure from scratch. Off the RT thread.
     static Built build(const CollisionMeshView& mesh, const BuildOptions& options = {});
-    /// Builds the structure of `next` (the same body after a topology edit) reusing every chunk of
-    /// `previous` whose triangles are unchanged; `stats` (optional) says what was rebuilt.
+    /// Builds the structure of `next` (the same body after a topology edit) from `previous`:
+    /// unchanged chunks shared, changed ones refitted, new triangles in new chunks; `stats`
+    /// (optional) says what was done. Off the RT thread.
     static Built update(const CollisionBody& previous, const CollisionMeshView& next,
                         UpdateStats* stats = nullptr);
     /// Same topology, moved vertices: refits every box of `previous` to `next`'s positions (a

@@ -137,8 +137,10 @@ TEST(CollisionBody, UpdateAfterACutRebuildsOnlyTouchedChunks) {
     UpdateStats stats;
     auto updated = CollisionBody::update(*body, after.view(), &stats);
     ASSERT_TRUE(updated);
-    EXPECT_LT(stats.chunks_rebuilt, body->chunk_count() / 2);
-    EXPECT_GT(stats.chunks_rebuilt, 0u);
+    EXPECT_LT(stats.chunks_refitted + stats.chunks_rebuilt, body->chunk_count() / 2);
+    EXPECT_GT(stats.chunks_refitted, 0u);
+    EXPECT_GT(stats.chunks_rebuilt, 0u);  // the appended triangles' chunk
+    EXPECT_LT(stats.triangles_touched, after.triangles() / 2);
     const auto fresh = build(after);
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> coord(-0.03, 0.03);
@@ -148,6 +150,29 @@ TEST(CollisionBody, UpdateAfterACutRebuildsOnlyTouchedChunks) {
                     1e-12);
     }
     EXPECT_EQ((*updated)->triangle_count(), after.triangles());
+    // And back: triangles removed (their chunks rebuilt from the survivors).
+    auto back = CollisionBody::update(**updated, before.view(), &stats);
+    ASSERT_TRUE(back);
+    EXPECT_EQ((*back)->triangle_count(), before.triangles());
+    EXPECT_GT(stats.chunks_rebuilt, 0u);
+    for (int i = 0; i < 300; ++i) {
+        const Vec3 p{coord(rng), coord(rng), coord(rng)};
+        EXPECT_NEAR((*back)->closest_point(p, 1).distance, body->closest_point(p, 1).distance,
+                    1e-12);
+    }
+    // Moving vertices only: the chunks holding them are refitted, none rebuilt.
+    TestMesh moved = before;
+    for (std::size_t v = 0; v < 30; ++v) moved.positions[3 * v] *= 1.01f;
+    auto refitted = CollisionBody::update(*body, moved.view(), &stats);
+    ASSERT_TRUE(refitted);
+    EXPECT_EQ(stats.chunks_rebuilt, 0u);
+    EXPECT_GT(stats.chunks_refitted, 0u);
+    const auto moved_fresh = build(moved);
+    for (int i = 0; i < 300; ++i) {
+        const Vec3 p{coord(rng), coord(rng), coord(rng)};
+        EXPECT_NEAR((*refitted)->closest_point(p, 1).distance,
+                    moved_fresh->closest_point(p, 1).distance, 1e-12);
+    }
 }
 
 TEST(CollisionBody, RefitFollowsMovedVertices) {

@@ -1,0 +1,147 @@
+// Shared by the kerf_physics benchmarks: the real bone refined to benchmark sizes, a slow walk
+// over its surface, per-call timing into a preallocated array, and percentiles. A custom main
+// (KERF_PHYSICS_BENCH_MAIN) runs small meshes only under the ctest smoke run
+// (--benchmark_min_time=0.001), so the smoke test stays cheap on a loaded CI machine.
+#pragma once
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <random>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "rt_core/physics/collision_world.hpp"
+#include "tests/physics/physics_test_shapes.hpp"
+
+namespace kerf::physics::bench {
+
+inline bool& quick_mode() {
+    static bool quick = false;
+    return quick;
+}
+
+/// `m` with every triangle split into 4, `levels` times (conforming: shared edge midpoints).
+inline test::TestMesh refine_fast(const test::TestMesh& in, int levels) {
+    test::TestMesh m = in;
+    for (int l = 0; l < levels; ++l) {
+        test::TestMesh out;
+        out.positions = m.positions;
+        out.positions.reserve(m.positions.size() * 4);
+        out.indices.reserve(m.indices.size() * 4);
+        out.materials.reserve(m.materials.size() * 4);
+        std::unordered_map<std::uint64_t, std::uint32_t> mid;
+        mid.reserve(m.indices.size() * 2);
+        const auto middle = [&](std::uint32_t a, std::uint32_t b) {
+            const std::uint64_t key = (std::uint64_t{std::min(a, b)} << 32) | std::max(a, b);
+            auto [it, added] = mid.try_emplace(key, 0);
+            if (added) it->second = out.add_vertex((m.vertex(a) + m.vertex(b)) * 0.5);
+            return it->second;
+        };
+        for (std::size_t i = 0; i < m.indices.size(); i += 3) {
+            const std::uint32_t a = m.indices[i], b = m.indices[i + 1], c = m.indices[i + 2];
+            const std::uint32_t ab = middle(a, b), bc = middle(b, c), ca = middle(c, a);
+            const Material mat = m.materials[i / 3];
+            out.add_triangle(a, ab, ca, mat), out.add_triangle(b, bc, ab, mat);
+            out.add_triangle(c, ca, bc, mat), out.add_triangle(ab, bc, ca, mat);
+        }
+        m = std::move(out);
+    }
+    return m;
+}
+
+/// The calcaneus (58,334 triangles, CT-segmented, mm -> m) refined `levels` times (x4 each),
+/// cached per level. Empty when the shared meshes are absent.
+inline const test::TestMesh& bone(int levels) {
+    static std::map<int, std::unique_ptr<test::TestMesh>> cache;
+    auto& slot = cache[levels];
+    if (!slot) {
+        const auto file =
+            std::filesystem::path(KERF_SHARED_MESHES) / "jma_norm01_calcaneus_right.stl";
+        const test::TestMesh raw = test::read_binary_stl(file.string(), 0.001);
+        slot = std::make_unique<test::TestMesh>(raw.triangles() ? refine_fast(raw, levels) : raw);
+    }
+    return *slot;
+}
+
+/// An icosphere of radius 3 cm with 20 * 4^levels triangles (levels 8: 1.31M), cached.
+inline const test::TestMesh& sphere(int levels) {
+    static std::map<int, std::unique_ptr<test::TestMesh>> cache;
+    auto& slot = cache[levels];
+    if (!slot) slot = std::make_unique<test::TestMesh>(test::make_sphere({}, 0.03, levels));
+    return *slot;
+}
+
+/// A slow walk over the surface: `ticks` points circling the body's centre, each projected onto
+/// the surface and offset along the surface normal by `offset_min_m..offset_max_m` (negative:
+/// inside), varying slowly. About 5-30 mm/s along the surface: what a hand does.
+inline std::vector<Vec3> surface_walk(const CollisionBody& body, int ticks, double offset_min_m,
+                                      double offset_max_m) {
+    Vec3 lo, hi;
+    body.bounds(lo, hi);
+    const Vec3 centre = (lo + hi) * 0.5;
+    const double radius = 0.5 * norm(hi - lo);
+    std::vector<Vec3> path;
+    path.reserve(ticks);
+    for (int i = 0; i < ticks; ++i) {
+        const double a = 2 * M_PI * i / 40000.0, b = 0.7 * std::sin(2 * M_PI * i / 23000.0);
+        const Vec3 far =
+            centre +
+            Vec3{std::cos(a) * std::cos(b), std::sin(a) * std::cos(b), std::sin(b)} * radius;
+        const SurfaceHit hit = body.closest_point(far, 10 * radius);
+        const double s = 0.5 + 0.5 * std::sin(2 * M_PI * i / 1700.0);
+        path.push_back(hit.point + hit.normal * (offset_min_m + s * (offset_max_m - offset_min_m)));
+    }
+    return path;
+}
+
+/// Per-call timings of one pass, ns.
+struct Timings {
+    std::vector<double> ns;
+    double percentile(double p) {
+        std::sort(ns.begin(), ns.end());
+        return ns.empty() ? 0 : ns[std::min(ns.size() - 1, std::size_t(p * double(ns.size())))];
+    }
+};
+
+inline double now_ns() {
+    return double(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                      std::chrono::steady_clock::now().time_since_epoch())
+                      .count());
+}
+
+/// Minimum and maximum over repetitions (Google Benchmark adds mean, median, stddev).
+template <class B>
+B* with_min_max(B* b) {
+    return b
+        ->ComputeStatistics(
+            "min",
+            [](const std::vector<double>& v) { return *std::min_element(v.begin(), v.end()); })
+        ->ComputeStatistics("max", [](const std::vector<double>& v) {
+            return *std::max_element(v.begin(), v.end());
+        });
+}
+
+}  // namespace kerf::physics::bench
+
+/// main(): quick mode under the ctest smoke run, then Google Benchmark as usual.
+#define KERF_PHYSICS_BENCH_MAIN(register_all)                              \
+    int main(int argc, char** argv) {                                      \
+        for (int i = 1; i < argc; ++i) {                                   \
+            if (std::strcmp(argv[i], "--benchmark_min_time=0.001") == 0) { \
+                kerf::physics::bench::quick_mode() = true;                 \
+            }                                                              \
+        }                                                                  \
+        register_all();                                                    \
+        benchmark::Initialize(&argc, argv);                                \
+        if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;  \
+        benchmark::RunSpecifiedBenchmarks();                               \
+        benchmark::Shutdown();                                             \
+        return 0;                                                          \
+    }
