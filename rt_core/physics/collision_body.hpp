@@ -30,7 +30,7 @@
 #include <span>
 #include <vector>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "rt_core/physics/collision_mesh.hpp"
 
 namespace kerf::physics {
