@@ -44,6 +44,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libembree-dev
   valgrind
+  libx11-dev libdrm-dev xvfb
 )
 if [[ $bench_peers == 1 ]]; then packages+=(libvtk9-dev libcgal-dev); fi
 

@@ -259,14 +259,43 @@ MeshSyncStats RenderMesh::update_all(const TriMesh& m) {
     return s;
 }
 
+void RenderMesh::write_vertex_and_caps(const TriMesh& m, VertexHandle v) {
+    write_vertex(m, v);
+    if (m.status(v).deleted()) return;
+    for (FaceHandle f : m.vf_range(v))
+        if (cap_slot_of_face_[static_cast<std::uint32_t>(f.idx())] != kNoSlot) write_face(m, f);
+}
+
+void RenderMesh::set_one_body(const TriMesh& m, VertexHandle v, std::uint8_t body) {
+    std::uint8_t& b = body_of_vertex_[static_cast<std::uint32_t>(v.idx())];
+    if (b == body) return;
+    b = body;
+    write_vertex_and_caps(m, v);
+}
+
 void RenderMesh::set_body(const TriMesh& m, std::span<const VertexHandle> vertices,
                           std::uint8_t body) {
-    for (VertexHandle v : vertices) {
-        body_of_vertex_[static_cast<std::uint32_t>(v.idx())] = body;
-        write_vertex(m, v);
-        for (FaceHandle f : m.vf_range(v))
-            if (cap_slot_of_face_[static_cast<std::uint32_t>(f.idx())] != kNoSlot) write_face(m, f);
+    for (VertexHandle v : vertices) set_one_body(m, v, body < kMaxBodies ? body : 0);
+}
+
+MeshSyncStats RenderMesh::apply(const TriMesh& m, const cut::SessionChanges& changes) {
+    if (changes.everything || !fits(m)) return update_all(m);
+    MeshSyncStats s;
+    vertex_count_ = static_cast<std::uint32_t>(m.n_vertices());
+    face_count_ = static_cast<std::uint32_t>(m.n_faces());
+    for (const cut::IndexRange& r : changes.vertices) {
+        for (std::uint32_t i = r.first; i < r.first + r.count && i < vertex_count_; ++i) {
+            write_vertex_and_caps(m, VertexHandle(static_cast<int>(i)));
+            ++s.vertices_written;
+        }
     }
+    for (const cut::IndexRange& r : changes.faces) {
+        for (std::uint32_t f = r.first; f < r.first + r.count && f < face_count_; ++f) {
+            write_face(m, FaceHandle(static_cast<int>(f)));
+            ++s.faces_written;
+        }
+    }
+    return s;
 }
 
 }  // namespace kerf::render

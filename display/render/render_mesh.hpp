@@ -18,6 +18,7 @@
 #include <span>
 #include <vector>
 
+#include "display/cut/session_changes.hpp"
 #include "display/mesh/tri_mesh.hpp"
 
 namespace kerf::render {
@@ -41,8 +42,10 @@ struct RenderVertex {
 };
 static_assert(sizeof(RenderVertex) == 36);
 
-/// Most rigid bodies one mesh may hold (body 0 is the scene; severed pieces get 1, 2, ...).
-inline constexpr int kMaxBodies = 16;
+/// Most rigid bodies one mesh may hold (body 0 is the scene; severed pieces get 1, 2, ...):
+/// 32 body matrices are 128 of the 256 vertex uniform vectors every GLES 3 implementation has.
+/// A vertex of a body >= kMaxBodies is drawn with body 0's transform.
+inline constexpr int kMaxBodies = 32;
 
 /// Half-open element ranges [first, first + count) that changed, merged and sorted.
 class DirtyRanges {
@@ -95,6 +98,21 @@ public:
     /// after edits whose extent is unknown (garbage_collection(), a loaded snapshot).
     MeshSyncStats update_all(const mesh::TriMesh& mesh);
 
+    /// Applies what a cut::CutSession reports (take_changes()): rewrites the listed vertices
+    /// (and the cap corners on them) and faces; `everything` compares all (update_all()).
+    /// Bodies are not read here: call assign_bodies() when `changes.bodies` is set.
+    MeshSyncStats apply(const mesh::TriMesh& mesh, const cut::SessionChanges& changes);
+
+    /// Re-reads every vertex's body from `body_of(VertexHandle) -> uint32` (O(n); after a cut
+    /// severed pieces). Bodies >= kMaxBodies are stored as 0.
+    template <class BodyOf>
+    void assign_bodies(const mesh::TriMesh& mesh, BodyOf&& body_of) {
+        for (auto v : mesh.vertices()) {
+            const auto b = static_cast<std::uint32_t>(body_of(v));
+            set_one_body(mesh, v, b < kMaxBodies ? static_cast<std::uint8_t>(b) : 0);
+        }
+    }
+
     /// Puts vertices `vertices` (and the cap corners on them) into rigid body `body`.
     /// @pre body < kMaxBodies
     void set_body(const mesh::TriMesh& mesh, std::span<const mesh::VertexHandle> vertices,
@@ -122,6 +140,8 @@ public:
     std::uint64_t generation() const noexcept { return generation_; }
 
 private:
+    void set_one_body(const mesh::TriMesh& m, mesh::VertexHandle v, std::uint8_t body);
+    void write_vertex_and_caps(const mesh::TriMesh& m, mesh::VertexHandle v);
     void write_vertex(const mesh::TriMesh& m, mesh::VertexHandle v);
     void write_face(const mesh::TriMesh& m, mesh::FaceHandle f);
     std::uint32_t cap_slot(std::uint32_t face);

@@ -350,6 +350,11 @@ void Renderer::set_body_transform(int body, const glm::dmat4& body_to_world) noe
     s_->bodies[static_cast<std::size_t>(body)] = glm::mat4(body_to_world);
 }
 
+void Renderer::set_body_transform(int body, const std::array<float, 16>& m) noexcept {
+    if (body < 0 || body >= kMaxBodies) return;
+    s_->bodies[static_cast<std::size_t>(body)] = glm::make_mat4(m.data());
+}
+
 void Renderer::set_planned_cut(const std::optional<PlannedCut>& cut) noexcept { s_->planned = cut; }
 
 void Renderer::begin_frame(const Camera& camera) {

@@ -86,6 +86,8 @@ public:
     /// Places rigid body `body` (see RenderVertex::body) in the world: body -> world, metres.
     /// Ignored for body >= kMaxBodies.
     void set_body_transform(int body, const glm::dmat4& body_to_world) noexcept;
+    /// The same from a column-major matrix (cut::RigidPose::matrix()).
+    void set_body_transform(int body, const std::array<float, 16>& body_to_world) noexcept;
     /// The planned cut drawn as a translucent guide, or none.
     void set_planned_cut(const std::optional<PlannedCut>& cut) noexcept;
 

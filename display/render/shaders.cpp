@@ -26,8 +26,9 @@ void main() {
 )";
 
 // Cut surfaces: a Worley (cellular) pattern in plane coordinates gives the trabecular network of
-// cancellous bone: cells are marrow-filled pores, their borders the trabeculae. Pores widen
-// towards the canal (v_material.y) and close up at the cortical rim.
+// cancellous bone: round marrow-filled pores around the cells' feature points, the bone between
+// them the trabeculae. Pores widen towards the canal (v_material.y, interpolated from the cap
+// corners' rim material) and close up at the cortical rim (compact bone).
 const char* const kBoneFragmentShader = R"(#version 300 es
 precision highp float;
 in vec3 v_position;
@@ -65,13 +66,13 @@ void main() {
     if (v_material.x > 0.5) {
         vec2 c = worley(v_plane_uv * u_pore_scale);
         vec2 c2 = worley(v_plane_uv * u_pore_scale * 2.7 + 17.0);
-        float wall = c.y - c.x;                        // 0 on a trabecula, large in a pore
-        float porosity = mix(0.10, 0.34, v_material.y);
-        float pore = smoothstep(porosity, porosity + 0.12, wall);
-        float fine = smoothstep(0.25, 0.45, c2.y - c2.x) * 0.35;
+        // Pore radius (in cells): closed at the cortical rim, wide open towards the canal.
+        float radius = mix(0.06, 0.46, pow(v_material.y, 0.7));
+        float pore = 1.0 - smoothstep(radius - 0.07, radius + 0.03, c.x);
+        float fine = (1.0 - smoothstep(0.05, 0.16, c2.x)) * 0.5 * v_material.y;
         vec3 trabecula = vec3(0.90, 0.83, 0.68);
         vec3 marrow = vec3(0.50, 0.17, 0.12);
-        base = mix(trabecula, marrow, clamp(pore + fine * (1.0 - pore) * v_material.y, 0.0, 1.0));
+        base = mix(trabecula, marrow, clamp(max(pore, fine), 0.0, 1.0));
         base *= 0.92 + 0.08 * c2.x;
         spec_k = 0.06;
         shininess = 8.0;

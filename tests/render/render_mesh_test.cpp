@@ -7,9 +7,11 @@
 #include <vector>
 
 #include "display/cut/cut_context.hpp"
+#include "display/cut/cut_session.hpp"
 #include "display/cut/separate.hpp"
 #include "display/cut/slice_by_plane.hpp"
 #include "display/mesh/shapes.hpp"
+#include "tests/display/session_scenes.hpp"
 
 namespace kerf::render {
 namespace {
@@ -130,6 +132,44 @@ TEST(RenderMesh, GrowingPastCapacityRebuildsAndSaysSo) {
     EXPECT_TRUE(st.rebuilt);
     EXPECT_TRUE(rm.needs_realloc());
     EXPECT_TRUE(same_arrays(rm, RenderMesh::build(m)));
+}
+
+TEST(RenderMesh, FollowsACutSessionThroughBeginProgressAndEnd) {
+    cut::CutSession session(cut::test::tube());
+    cut::SessionChanges changes;
+    session.take_changes(changes);
+    RenderMesh rm = RenderMesh::build(session.mesh());
+    rm.dirty_vertices().clear();
+    rm.dirty_indices().clear();
+    const auto sync = [&] {
+        session.take_changes(changes);
+        rm.apply(session.mesh(), changes);
+        if (changes.bodies)
+            rm.assign_bodies(session.mesh(),
+                             [&](mesh::VertexHandle v) { return session.body_of(v); });
+        EXPECT_TRUE(same_arrays(rm, RenderMesh::build(session.mesh())) || changes.bodies);
+    };
+    ASSERT_EQ(session.begin(cut::test::begin_across(1)).outcome, cut::EventOutcome::kApplied);
+    sync();
+    EXPECT_GT(rm.cap_vertex_count(), 0u);
+    EXPECT_LT(rm.dirty_vertices().element_count(), session.mesh().n_vertices() / 4);
+    cut::CutProgress p;
+    p.cut_id = 1;
+    p.blade = cut::test::blade_across(0.0);
+    p.swept = {-0.01, 0.01, -0.01, 0.0};
+    session.progress(p);
+    sync();
+    session.end({1, cut::CutEndKind::kCompleted});
+    sync();
+    ASSERT_GE(session.bodies().size(), 2u);
+    // Every vertex carries its session body; a fresh build with the same bodies draws the same.
+    RenderMesh fresh = RenderMesh::build(session.mesh());
+    fresh.assign_bodies(session.mesh(), [&](mesh::VertexHandle v) { return session.body_of(v); });
+    EXPECT_TRUE(same_arrays(rm, fresh));
+    int moved_piece = 0;
+    for (auto v : session.mesh().vertices())
+        moved_piece += rm.vertices()[static_cast<std::size_t>(v.idx())].body == 1;
+    EXPECT_GT(moved_piece, 0);
 }
 
 }  // namespace

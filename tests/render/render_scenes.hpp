@@ -51,8 +51,9 @@ inline Scene make_scene(SceneKind kind, std::size_t triangles = 60000) {
     const glm::dvec3 n(plane.normal()[0], plane.normal()[1], plane.normal()[2]);
     const glm::dvec3 u(plane.u()[0], plane.u()[1], plane.u()[2]);
     const glm::dvec3 p0(0.0, 0.0, kLength / 2);
-    // Blade lying in the plane: edge along u, body extending along v = n x u (feed along -v).
-    const glm::dmat3 frame(u, glm::cross(n, u), n);
+    // Blade lying in the plane, its body over the swept side (plane v < 2 mm), edge at v = 2 mm.
+    const glm::dvec3 vp(plane.v()[0], plane.v()[1], plane.v()[2]);
+    const glm::dmat3 frame(glm::cross(-vp, n), -vp, n);
     s.blade.orientation = glm::quat_cast(frame);
     s.blade.thickness_m = kKerf;
     s.blade.length_m = 0.03;
@@ -70,7 +71,7 @@ inline Scene make_scene(SceneKind kind, std::size_t triangles = 60000) {
                 {-1.0, -1.0}, {1.0, -1.0}, {1.0, 0.002}, {-1.0, 0.002}};
             sep->sweep(half);  // the blade has come up from -v to v = 2 mm
             s.blade.visible = true;
-            s.blade.position_m = p0 + glm::dvec3(plane.v()[0], plane.v()[1], plane.v()[2]) * 0.002;
+            s.blade.position_m = p0 + vp * 0.002;
         } else {
             sep->sweep_all();
         }
@@ -84,14 +85,20 @@ inline Scene make_scene(SceneKind kind, std::size_t triangles = 60000) {
                 if (glm::dot(q - p0, n) > 0) far.push_back(v);
             }
             s.render.set_body(s.mesh, far, 1);
-            s.body1 = glm::translate(glm::dmat4(1.0), glm::dvec3(0.012, -0.004, 0.012)) *
+            s.body1 = glm::translate(glm::dmat4(1.0), glm::dvec3(0.010, 0.010, 0.004)) *
                       glm::rotate(glm::dmat4(1.0), 0.5, glm::dvec3(0, 1, 0.3));
         }
     }
     if (kind == SceneKind::kUncut) s.render = RenderMesh::build(s.mesh);
     s.camera =
         Camera::framing({-kOuter, -kOuter, 0}, {kOuter, kOuter, kLength}, CameraPreset::kIsometric);
-    s.camera.orbit(0.3, -0.15);
+    s.camera.orbit(0.3, kind == SceneKind::kSevered ? 0.3 : -0.15);
+    if (kind == SceneKind::kSevered) s.camera.zoom(1.1);
+    if (kind == SceneKind::kMidCut) {
+        s.camera.set_target(p0);
+        s.camera.orbit(-0.75, 0.25);
+        s.camera.zoom(0.45);
+    }
     return s;
 }
 
