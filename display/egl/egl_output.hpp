@@ -19,7 +19,7 @@
 #include <string>
 #include <string_view>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 
 namespace kerf::render {
 class Renderer;

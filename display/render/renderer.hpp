@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "display/render/camera.hpp"
 #include "display/render/hud.hpp"
 #include "display/render/render_mesh.hpp"
