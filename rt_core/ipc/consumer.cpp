@@ -276,6 +276,7 @@ std::uint64_t Consumer::next_sequence() const noexcept { return impl_->expected;
 std::uint32_t Consumer::slot() const noexcept { return impl_->slot; }
 const ConsumerStats& Consumer::stats() const noexcept { return impl_->stats; }
 const SegmentLayout& Consumer::layout() const noexcept { return impl_->segment.layout(); }
+SegmentLayout& Consumer::writable_layout() noexcept { return impl_->segment.layout(); }
 
 ConsumerBuilder& ConsumerBuilder::segment_name(std::string name) {
     name_ = std::move(name);

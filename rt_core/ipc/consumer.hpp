@@ -58,6 +58,9 @@ public:
     std::uint32_t slot() const noexcept;
     const ConsumerStats& stats() const noexcept;
     const SegmentLayout& layout() const noexcept;
+    /// The mapped segment, writable: for the display's MeshMailboxWriter (the mailbox is the one
+    /// part of the segment a consumer writes besides its slot).
+    SegmentLayout& writable_layout() noexcept;
 
 private:
     struct Impl;

@@ -1,0 +1,309 @@
+#include "display/app/display_app.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <atomic>
+#include <csignal>
+#include <ctime>
+#include <fstream>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "config/load_config.hpp"
+#include "display/app/render_sync.hpp"
+#include "display/app/scene_mesh.hpp"
+#include "display/app/session_follower.hpp"
+#include "display/egl/egl_output.hpp"
+#include "display/render/renderer.hpp"
+
+namespace kerf::display {
+namespace {
+
+std::atomic<bool> g_stop{false};
+extern "C" void on_signal(int) { g_stop.store(true); }
+
+std::uint64_t monotonic_ns() {
+    timespec ts{};
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return std::uint64_t(ts.tv_sec) * 1'000'000'000ull + std::uint64_t(ts.tv_nsec);
+}
+
+/// What the cutting worker hands the frame loop (guarded by `mutex`).
+struct Handover {
+    std::mutex mutex;
+    RenderSync sync;
+    std::uint64_t edits = 0;            ///< batches handed over
+    std::uint64_t newest_event_ns = 0;  ///< newest event in an edit not yet drawn (0: none)
+    std::uint64_t cuts_completed = 0;
+};
+
+/// Event -> pixels latencies and frame times, for the HUD, the status file and benchmarks.
+struct Measures {
+    render::FrameStats frames;
+    std::vector<double> latency_ms;  ///< one per edit that reached the screen (bounded)
+    render::UploadStats last_upload;
+    std::uint64_t uploads = 0;
+};
+
+double median(std::vector<double> v) {
+    if (v.empty()) return -1;
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
+std::string hex(std::uint64_t v) {
+    char buf[17];
+    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
+    return buf;
+}
+
+/// Writes the status JSON next to `path` and renames it into place.
+void write_status(const std::string& path, const FollowerStatus& s, const Measures& m,
+                  std::uint64_t frame) {
+    if (path.empty()) return;
+    const std::string tmp = path + ".tmp";
+    {
+        std::ofstream f(tmp, std::ios::trunc);
+        const double lat_max =
+            m.latency_ms.empty() ? -1 : *std::max_element(m.latency_ms.begin(), m.latency_ms.end());
+        f << "{\"frames\": " << frame << ", \"fps\": " << m.frames.fps()
+          << ", \"frame_p99_ms\": " << m.frames.percentile_ms(0.99)
+          << ", \"attached\": " << (s.attached ? "true" : "false")
+          << ", \"next_sequence\": " << s.next_sequence << ", \"hash\": \"" << hex(s.hash)
+          << "\", \"hash_valid\": " << (s.hash_valid ? "true" : "false")
+          << ", \"hash_sequence\": " << s.hash_sequence << ", \"applied\": " << s.session.applied
+          << ", \"refused\": " << s.session.refused << ", \"ignored\": " << s.session.ignored
+          << ", \"cuts_completed\": " << s.session.cuts_completed << ", \"bodies\": " << s.bodies
+          << ", \"cut_open\": " << (s.cut_open ? "true" : "false")
+          << ", \"from_journal\": " << s.consumer.from_journal
+          << ", \"ring_gaps\": " << s.consumer.ring_gaps << ", \"lost\": " << s.consumer.lost
+          << ", \"rejected_records\": " << s.consumer.rejected_records
+          << ", \"rejected_indices\": " << s.consumer.rejected_indices
+          << ", \"publishes\": " << s.publishes << ", \"publish_failures\": " << s.publish_failures
+          << ", \"last_batch_ms\": " << double(s.last_batch_ns) * 1e-6
+          << ", \"latency_samples\": " << m.latency_ms.size()
+          << ", \"latency_median_ms\": " << median(m.latency_ms)
+          << ", \"latency_max_ms\": " << lat_max
+          << ", \"upload_bytes_last\": " << m.last_upload.bytes
+          << ", \"upload_calls_last\": " << m.last_upload.calls << "}\n";
+        if (!f) {
+            spdlog::warn("kerf-display: cannot write status {}", tmp);
+            return;
+        }
+    }
+    std::rename(tmp.c_str(), path.c_str());
+}
+
+egl::EglPlatform platform_of(config::DisplayMode mode) {
+    switch (mode) {
+        case config::DisplayMode::kHeadless:
+            return egl::EglPlatform::kHeadless;
+        case config::DisplayMode::kWindow:
+            return egl::EglPlatform::kX11;
+        case config::DisplayMode::kKms:
+            return egl::EglPlatform::kKms;
+    }
+    return egl::EglPlatform::kHeadless;
+}
+
+render::BladePose blade_of(const FollowerStatus& s) {
+    render::BladePose b;
+    b.visible = s.state_valid;
+    if (!s.state_valid) return b;
+    const auto& st = s.state;
+    b.position_m = glm::dvec3(st.tool_position_m[0], st.tool_position_m[1], st.tool_position_m[2]);
+    b.orientation = glm::dquat(st.tool_orientation_wxyz[0], st.tool_orientation_wxyz[1],
+                               st.tool_orientation_wxyz[2], st.tool_orientation_wxyz[3]);
+    return b;
+}
+
+}  // namespace
+
+ParsedArgs parse_display_args(int argc, char** argv) {
+    ParsedArgs out;
+    DisplayOptions& o = out.options;
+    CLI::App app{
+        "kerf-display: applies the cuts from the session's events, renders the bone and "
+        "publishes the collision mesh"};
+    std::string size;
+    app.add_option("--config", o.config_path, "kerf.toml to read")->check(CLI::ExistingFile);
+    app.add_option("--mode", o.mode, "headless | window | kms (overrides [display] mode)")
+        ->check(CLI::IsMember({"headless", "window", "kms"}));
+    app.add_option("--size", size, "WIDTHxHEIGHT in pixels (overrides [display])");
+    app.add_option("--session", o.session, "session segment name (overrides [shm] session_name)");
+    app.add_option("--frames", o.frames, "stop after N frames (0: run until closed)");
+    auto* shot = app.add_option("--screenshot", o.screenshot, "write a PNG of one frame");
+    app.add_option("--at-frame", o.screenshot_at_frame, "1-based frame to shoot (default: last)")
+        ->needs(shot);
+    app.add_flag("--on-cut-end", o.screenshot_on_cut_end, "shoot the first frame after a cut ends")
+        ->needs(shot);
+    app.add_option("--exit-after-events", o.exit_after_events,
+                   "exit after N events are applied, printing the mesh hash");
+    app.add_option("--status", o.status_path, "write counters as JSON to this file");
+    try {
+        app.parse(argc, argv);
+        if (!size.empty()) {
+            int w = 0, h = 0;
+            char x = 0;
+            if (std::sscanf(size.c_str(), "%d%c%d", &w, &x, &h) != 3 || x != 'x' || w < 1 ||
+                h < 1 || w > 8192 || h > 8192) {
+                throw CLI::ValidationError("--size",
+                                           "'" + size + "' is not WIDTHxHEIGHT (1..8192)");
+            }
+            o.width = w;
+            o.height = h;
+        }
+    } catch (const CLI::ParseError& e) {
+        out.exit_code = app.exit(e);
+    }
+    return out;
+}
+
+int run_display(const DisplayOptions& o) {
+    auto cfg = config::load_config(o.config_path);
+    if (!cfg) {
+        spdlog::error("kerf-display: {}", cfg.error().message());
+        return 2;
+    }
+    config::DisplayMode mode = cfg->main.display.mode;
+    if (o.mode)
+        mode = *o.mode == "window" ? config::DisplayMode::kWindow
+               : *o.mode == "kms"  ? config::DisplayMode::kKms
+                                   : config::DisplayMode::kHeadless;
+    egl::EglOptions eo;
+    eo.platform = platform_of(mode);
+    eo.width = o.width.value_or(static_cast<int>(cfg->main.display.width_px));
+    eo.height = o.height.value_or(static_cast<int>(cfg->main.display.height_px));
+    eo.vsync = cfg->main.display.vsync;
+    auto output = egl::EglOutput::create(eo);
+    if (!output) {
+        spdlog::error("kerf-display: {}", output.error().message);
+        return 3;
+    }
+    auto renderer =
+        render::Renderer::create({output->width(), output->height(), {0.10f, 0.12f, 0.15f}});
+    if (!renderer) {
+        spdlog::error("kerf-display: renderer: {}", renderer.error().message);
+        return 3;
+    }
+    spdlog::info("kerf-display: {}", output->description());
+
+    Handover handover;
+    const config::Config config = *cfg;
+    auto follower = SessionFollower::start(
+        FollowerOptions{o.session.value_or(cfg->main.shm.session_name), true,
+                        std::uint64_t{cfg->main.shm.heartbeat_timeout_ms} * 1'000'000u, 1000},
+        [config] { return build_scene_mesh(config); },
+        [&handover](const cut::CutSession& session, const cut::SessionChanges& changes,
+                    std::uint64_t newest_event_ns) {
+            const std::lock_guard lock(handover.mutex);
+            handover.sync.apply(session, changes);
+            ++handover.edits;
+            if (newest_event_ns) handover.newest_event_ns = newest_event_ns;
+            handover.cuts_completed = session.counters().cuts_completed;
+        });
+    if (!follower) {
+        spdlog::error("kerf-display: {}", follower.error());
+        return 4;
+    }
+    std::signal(SIGINT, on_signal);
+    std::signal(SIGTERM, on_signal);
+
+    Measures measures;
+    std::optional<render::Camera> camera;
+    std::uint64_t frame = 0, cuts_seen = 0, last_status_ns = 0;
+    bool shot_taken = false, exiting = false;
+    std::string backend = output->description();
+    while (!g_stop.load() && output->poll()) {
+        bool scene_ready = false;
+        {
+            const std::lock_guard lock(handover.mutex);
+            scene_ready = handover.sync.mesh().has_value();
+        }
+        if (!scene_ready) {  // frames start once the worker has built the scene
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+            continue;
+        }
+        const std::uint64_t t0 = monotonic_ns();
+        std::uint64_t drawn_event_ns = 0;
+        bool cut_ended = false;
+        {
+            const std::lock_guard lock(handover.mutex);
+            auto& rm = handover.sync.mesh();
+            if (rm) {
+                measures.last_upload = renderer->upload(*rm);
+                ++measures.uploads;
+                if (!camera) {
+                    camera = render::Camera::framing(handover.sync.bounds_min(),
+                                                     handover.sync.bounds_max());
+                }
+                const auto& t = handover.sync.transforms();
+                for (int b = 0; b < render::kMaxBodies; ++b)
+                    renderer->set_body_transform(b, t[std::size_t(b)]);
+            }
+            drawn_event_ns = std::exchange(handover.newest_event_ns, 0);
+            cut_ended = handover.cuts_completed > cuts_seen;
+            cuts_seen = handover.cuts_completed;
+        }
+        const FollowerStatus status = (*follower)->status();
+        renderer->begin_frame(
+            camera.value_or(render::Camera::framing({-0.1, -0.1, -0.1}, {0.1, 0.1, 0.1})));
+        renderer->draw_blade(blade_of(status));
+        render::HudState hud;
+        hud.fps = measures.frames.fps();
+        hud.frame_p99_ms = measures.frames.percentile_ms(0.99);
+        hud.haptic_overruns = status.state_valid ? status.state.overrun_count : 0;
+        hud.wake_latency_us = status.state_valid ? status.state.period_ns_max * 1e-3 : -1;
+        hud.device_state = status.attached ? "attached" : "waiting for kerf-rt";
+        hud.cut_state = status.cut_open                 ? "cutting"
+                        : status.session.cuts_completed ? "severed"
+                                                        : "idle";
+        hud.event_backlog = status.backlog;
+        hud.backend = backend;
+        renderer->draw_hud(hud);
+        renderer->finish_frame();
+        output->present(*renderer);
+        ++frame;
+        const std::uint64_t t1 = monotonic_ns();
+        measures.frames.add(double(t1 - t0) * 1e-9);
+        if (drawn_event_ns && t1 > drawn_event_ns && measures.latency_ms.size() < 100'000)
+            measures.latency_ms.push_back(double(t1 - drawn_event_ns) * 1e-6);
+
+        const bool last_frame = (o.frames && frame >= o.frames) || exiting;
+        if (!o.screenshot.empty() && !shot_taken &&
+            ((o.screenshot_on_cut_end && cut_ended) ||
+             (!o.screenshot_on_cut_end && o.screenshot_at_frame == frame) ||
+             (!o.screenshot_on_cut_end && o.screenshot_at_frame == 0 && last_frame))) {
+            if (auto saved = renderer->save_png(o.screenshot); !saved) {
+                spdlog::error("kerf-display: screenshot: {}", saved.error().message);
+            }
+            shot_taken = true;
+        }
+        if (t1 - last_status_ns > 500'000'000) {
+            write_status(o.status_path, status, measures, frame);
+            last_status_ns = t1;
+        }
+        if (last_frame) break;
+        if (o.exit_after_events && status.next_sequence >= o.exit_after_events &&
+            status.hash_valid && status.hash_sequence >= o.exit_after_events) {
+            exiting = true;  // one more frame, so the screen shows the last edit
+        }
+    }
+    (*follower)->stop();
+    const FollowerStatus final_status = (*follower)->status();
+    write_status(o.status_path, final_status, measures, frame);
+    if (o.exit_after_events) std::printf("mesh hash %s\n", hex(final_status.hash).c_str());
+    std::printf(
+        "kerf-display: %llu frames, %.1f fps, p99 %.2f ms, %llu events applied, "
+        "event->pixels median %.2f ms (%zu samples)\n",
+        static_cast<unsigned long long>(frame), measures.frames.fps(),
+        measures.frames.percentile_ms(0.99),
+        static_cast<unsigned long long>(final_status.next_sequence), median(measures.latency_ms),
+        measures.latency_ms.size());
+    return 0;
+}
+
+}  // namespace kerf::display

@@ -1,0 +1,86 @@
+#include "display/app/scene_mesh.hpp"
+
+#include <array>
+#include <vector>
+
+#include "display/mesh/foot_generator.hpp"
+#include "display/mesh/mesh_io.hpp"
+
+namespace kerf::display {
+namespace {
+
+mesh::Units units_of(config::LengthUnit unit) {
+    switch (unit) {
+        case config::LengthUnit::kMetre:
+            return mesh::Units::kMetres;
+        case config::LengthUnit::kCentimetre:
+            return mesh::Units::kCentimetres;
+        case config::LengthUnit::kMillimetre:
+            return mesh::Units::kMillimetres;
+        case config::LengthUnit::kMicrometre:
+            return mesh::Units::kMicrometres;
+        case config::LengthUnit::kInch:
+            return mesh::Units::kInches;
+    }
+    return mesh::Units::kMetres;
+}
+
+/// Row-major rotation of a unit quaternion (w, x, y, z).
+std::array<double, 9> rotation(const std::array<double, 4>& q) {
+    const double w = q[0], x = q[1], y = q[2], z = q[3];
+    return {1 - 2 * (y * y + z * z), 2 * (x * y - w * z),     2 * (x * z + w * y),
+            2 * (x * y + w * z),     1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
+            2 * (x * z - w * y),     2 * (y * z + w * x),     1 - 2 * (x * x + y * y)};
+}
+
+mesh::Point rotate(const std::array<double, 9>& r, const mesh::Point& p) {
+    return {r[0] * p[0] + r[1] * p[1] + r[2] * p[2], r[3] * p[0] + r[4] * p[1] + r[5] * p[2],
+            r[6] * p[0] + r[7] * p[1] + r[8] * p[2]};
+}
+
+/// Appends `part`, placed by `t`, to `scene` (every vertex attribute copied).
+void append_placed(mesh::TriMesh& scene, const mesh::TriMesh& part,
+                   const config::RigidTransform& t) {
+    const auto r = rotation(t.rotation_wxyz);
+    const mesh::Point shift(t.translation_m[0], t.translation_m[1], t.translation_m[2]);
+    const int offset = static_cast<int>(scene.n_vertices());
+    for (const auto v : part.vertices()) {
+        const auto w = scene.add_vertex(rotate(r, part.point(v)) + shift);
+        scene.set_normal(w, rotate(r, part.normal(v)));
+        scene.set_texcoord2D(w, part.texcoord2D(v));
+        scene.set_color(w, part.color(v));
+        scene.data(w).set_material(part.data(v).material());
+    }
+    std::vector<mesh::VertexHandle> corners;
+    for (const auto f : part.faces()) {
+        corners.clear();
+        for (const auto v : part.fv_range(f)) corners.emplace_back(v.idx() + offset);
+        scene.add_face(corners);
+    }
+}
+
+}  // namespace
+
+Result<mesh::TriMesh, std::string> build_scene_mesh(const config::Config& config) {
+    mesh::TriMesh scene = mesh::make_mesh();
+    const config::PathVars vars = config::path_vars(config);
+    for (const config::SceneBody& body : config.scene.bodies) {
+        const std::string where = "scene " + config.scene.name + ", body " + body.name + ": ";
+        if (body.mesh.kind == config::MeshSourceKind::kBuiltinFoot) {
+            auto foot = mesh::generate_foot(
+                {static_cast<std::size_t>(body.mesh.target_triangles), body.mesh.seed});
+            if (!foot) return Err{where + foot.error()};
+            append_placed(scene, foot->mesh, body.transform);
+            continue;
+        }
+        auto path = config::resolve_mesh_path(body, vars);
+        if (!path) return Err{where + path.error().message()};
+        auto loaded = mesh::load_mesh(*path, units_of(body.mesh.units));
+        if (!loaded) return Err{where + loaded.error().to_string()};
+        append_placed(scene, *loaded, body.transform);
+    }
+    scene.update_face_normals();
+    return scene;
+}
+
+}  // namespace kerf::display

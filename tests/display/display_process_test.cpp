@@ -1,0 +1,241 @@
+// kerf-display as a real process against a real session segment (a test producer standing in for
+// kerf-rt): the mesh it reaches from a recorded event stream is the mesh CutSession reaches in
+// this test from the same records; so is the mesh after kill -9 mid-cut and a restart; so is the
+// mesh while another process scribbles over the segment.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+
+#include "config/load_config.hpp"
+#include "display/app/scene_mesh.hpp"
+#include "display/app/session_events_ipc.hpp"
+#include "display/mesh/mesh_io.hpp"
+#include "tests/display/process_support.hpp"
+#include "tests/display/session_scenes.hpp"
+
+namespace kerf::display {
+namespace {
+
+namespace fs = std::filesystem;
+using cut::test::kCutZ;
+using cut::test::kKerf;
+using cut::test::kOuterRadius;
+using cut::test::kSecondX;
+using test::Child;
+
+constexpr double kTimeout_s = 120.0;  // generous: CI runs this on a loaded 2-core machine
+
+std::string replace(std::string text, const std::string& from, const std::string& to) {
+    const auto at = text.find(from);
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+    return text;
+}
+
+/// A scratch folder with kerf.toml (scene: two tubes from tubes.ply), the profiles it names,
+/// the recorded events, and a unique session name.
+struct Scratch {
+    Scratch() {
+        char tmpl[] = "/tmp/kerf-display-XXXXXX";
+        dir = mkdtemp(tmpl);
+        static std::atomic<int> counter{0};
+        session = "kerfdisp_" + std::to_string(getpid()) + "_" + std::to_string(counter++);
+        const fs::path config = fs::path(KERF_SOURCE_DIR) / "config";
+        fs::create_directories(dir / "devices");
+        fs::create_directories(dir / "force");
+        fs::create_directories(dir / "scenes");
+        fs::copy_file(config / "devices/simulated.toml", dir / "devices/simulated.toml");
+        fs::copy_file(config / "force/default.toml", dir / "force/default.toml");
+        std::string toml = test::read_file((config / "kerf.toml").string());
+        toml = replace(toml, "scene = \"builtin_foot\"", "scene = \"tubes\"");
+        toml = replace(toml, "session_name = \"kerf\"", "session_name = \"" + session + "\"");
+        toml = replace(toml, "width_px = 1280", "width_px = 320");
+        toml = replace(toml, "height_px = 720", "height_px = 240");
+        std::ofstream(dir / "kerf.toml") << toml;
+        std::ofstream(dir / "scenes/tubes.toml")
+            << "name = \"tubes\"\ndescription = \"two bone-like tubes\"\n[[bodies]]\n"
+               "name = \"tubes\"\nmaterial = \"cortical\"\n[bodies.mesh]\nsource = \"file\"\n"
+               "path = \"${config}/tubes.ply\"\nunits = \"m\"\n[bodies.transform]\n"
+               "translation_m = [0.0, 0.0, 0.0]\nrotation_quaternion_wxyz = [1.0, 0.0, 0.0, 0.0]\n";
+        const auto saved =
+            mesh::save_mesh(cut::test::two_tubes(), dir / "tubes.ply", mesh::Units::kMetres);
+        EXPECT_TRUE(saved.has_value());
+    }
+    ~Scratch() {
+        std::error_code ec;
+        fs::remove_all(dir, ec);
+    }
+    std::string path(const char* name) const { return (dir / name).string(); }
+
+    fs::path dir;
+    std::string session;
+};
+
+/// The recorded stream: cut 1 through tube 0 (begin, 12 progress steps, completed), the severed
+/// end moved away, cut 2 into tube 1 (begin, 5 steps, withdrawn).
+std::vector<ipc::EventRecord> script() {
+    std::vector<ipc::EventRecord> out;
+    cut::CutBegin first = cut::test::begin_across(1);
+    first.blade = cut::test::blade_across(0.4);
+    out.push_back(make_record(first));
+    for (int i = 0; i <= 12; ++i) {
+        const double front = -kOuterRadius + 2 * kOuterRadius * i / 12.0;
+        out.push_back(
+            make_record(cut::CutProgress{1, first.blade, {-0.02, front, -0.02, 0.02}}, first));
+    }
+    out.push_back(make_record(cut::CutEnd{1, cut::CutEndKind::kCompleted}, first));
+    const double a = 0.1;
+    out.push_back(make_record(cut::BodyMoved{
+        2, cut::RigidPose{cut::Vec3(0, 0, 0.01), {std::cos(a), 0, 0, std::sin(a)}}}));
+    cut::CutBegin second = cut::test::begin_across(2);
+    second.body_id = 1;
+    second.blade = cut::test::blade_across(-0.3, kSecondX);
+    second.blade.point_m[2] = 0.0302;
+    second.seed_m = cut::Vec3(kSecondX + kOuterRadius, 0, 0.0302);
+    out.push_back(make_record(second));
+    for (int i = 0; i < 5; ++i) {
+        const double front = -kOuterRadius + kOuterRadius * i / 5.0;
+        out.push_back(
+            make_record(cut::CutProgress{2, second.blade, {-0.02, front, -0.02, 0.02}}, second));
+    }
+    out.push_back(make_record(cut::CutEnd{2, cut::CutEndKind::kWithdrawn}, second));
+    return out;
+}
+
+/// The hash CutSession reaches in this process from the scene and `records`.
+std::string reference_hash(const Scratch& s, const std::vector<ipc::EventRecord>& records) {
+    auto config = config::load_config(s.dir / "kerf.toml");
+    EXPECT_TRUE(config.has_value()) << (config ? "" : config.error().message());
+    auto scene = build_scene_mesh(*config);
+    EXPECT_TRUE(scene.has_value());
+    cut::CutSession session(std::move(*scene));
+    EXPECT_EQ(session.bodies().size(), 2u);
+    for (const auto& r : records) apply_record(session, r);
+    EXPECT_EQ(session.counters().refused, 0u) << "the script must cut, not be refused";
+    EXPECT_EQ(session.bodies().size(), 3u);
+    char buf[17];
+    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(session.hash()));
+    return buf;
+}
+
+void write_records(const std::string& path, const std::vector<ipc::EventRecord>& records) {
+    std::ofstream out(path, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(records.data()),
+              static_cast<std::streamsize>(records.size() * sizeof(ipc::EventRecord)));
+}
+
+std::string hash_printed(const std::string& output) {
+    std::smatch m;
+    return std::regex_search(output, m, std::regex("mesh hash ([0-9a-f]{16})")) ? m[1].str() : "";
+}
+
+std::vector<std::string> producer_args(const Scratch& s, std::vector<std::string> extra = {}) {
+    std::vector<std::string> args{test::bin("display_test_producer"),
+                                  "--segment",
+                                  s.session,
+                                  "--journal-dir",
+                                  s.dir.string(),
+                                  "--records",
+                                  s.path("events.bin")};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+}
+
+std::vector<std::string> display_args(const Scratch& s, const char* status,
+                                      std::vector<std::string> extra = {}) {
+    std::vector<std::string> args{test::bin("kerf-display"), "--config", s.path("kerf.toml"),
+                                  "--status", s.path(status)};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+}
+
+/// The number after `"key": ` in the display's status JSON, or -1.
+double status_value(const Scratch& s, const char* file, const std::string& key) {
+    const std::string text = test::read_file(s.path(file));
+    const auto at = text.find("\"" + key + "\": ");
+    return at == std::string::npos ? -1 : std::atof(text.c_str() + at + key.size() + 4);
+}
+
+TEST(DisplayProcess, AppliesARecordedStreamToTheSameMeshAsCutSessionInTheTest) {
+    Scratch s;
+    const auto records = script();
+    write_records(s.path("events.bin"), records);
+    const std::string expected = reference_hash(s, records);
+
+    Child producer(producer_args(s), s.path("producer.out"));
+    ASSERT_TRUE(producer.wait_output("ready", kTimeout_s)) << producer.output();
+    const std::string n = std::to_string(records.size());
+    Child display(display_args(s, "status.json", {"--exit-after-events", n}),
+                  s.path("display.out"));
+    ASSERT_EQ(display.wait_exit(kTimeout_s), std::optional<int>(0)) << display.output();
+    EXPECT_EQ(hash_printed(display.output()), expected) << display.output();
+    EXPECT_GE(status_value(s, "status.json", "publishes"), 1.0) << "collision mesh published";
+    EXPECT_EQ(status_value(s, "status.json", "refused"), 0.0);
+    producer.kill(SIGTERM);
+}
+
+TEST(DisplayProcess, KilledMidCutAndRestartedItCatchesUpToTheSameMesh) {
+    Scratch s;
+    const auto records = script();
+    write_records(s.path("events.bin"), records);
+    const std::string expected = reference_hash(s, records);
+    const std::size_t hold = 6;  // CutBegin and five progress events: mid-cut
+
+    Child producer(producer_args(s, {"--hold-after", std::to_string(hold), "--go", s.path("go")}),
+                   s.path("producer.out"));
+    ASSERT_TRUE(producer.wait_output("published " + std::to_string(hold), kTimeout_s))
+        << producer.output();
+    {
+        Child first(display_args(s, "first.json"), s.path("first.out"));
+        ASSERT_TRUE(test::wait_for(
+            [&] { return status_value(s, "first.json", "next_sequence") >= double(hold); },
+            kTimeout_s))
+            << first.output();
+        EXPECT_NE(test::read_file(s.path("first.json")).find("\"cut_open\": true"),
+                  std::string::npos)
+            << "killed mid-cut";
+        first.kill(SIGKILL);
+        ASSERT_EQ(first.wait_exit(kTimeout_s), std::optional<int>(128 + SIGKILL));
+    }
+    std::ofstream(s.path("go")) << "go\n";
+    ASSERT_TRUE(producer.wait_output("published " + std::to_string(records.size()), kTimeout_s));
+    Child second(
+        display_args(s, "second.json", {"--exit-after-events", std::to_string(records.size())}),
+        s.path("second.out"));
+    ASSERT_EQ(second.wait_exit(kTimeout_s), std::optional<int>(0)) << second.output();
+    EXPECT_EQ(hash_printed(second.output()), expected) << second.output();
+    EXPECT_GE(status_value(s, "second.json", "from_journal"), 1.0) << "caught up from the journal";
+    producer.kill(SIGTERM);
+}
+
+TEST(DisplayProcess, AScribblerInTheSegmentChangesNothing) {
+    Scratch s;
+    const auto records = script();
+    write_records(s.path("events.bin"), records);
+    const std::string expected = reference_hash(s, records);
+
+    // Events arrive slowly (every 50 ms) while the scribbler works for two seconds.
+    Child producer(producer_args(s, {"--period-ms", "50"}), s.path("producer.out"));
+    ASSERT_TRUE(producer.wait_output("ready", kTimeout_s)) << producer.output();
+    Child display(
+        display_args(s, "status.json", {"--exit-after-events", std::to_string(records.size())}),
+        s.path("display.out"));
+    Child scribbler({test::bin("display_test_scribbler"), "--segment", s.session, "--seconds", "2"},
+                    s.path("scribbler.out"));
+    ASSERT_EQ(scribbler.wait_exit(kTimeout_s), std::optional<int>(0)) << scribbler.output();
+    ASSERT_EQ(display.wait_exit(kTimeout_s), std::optional<int>(0)) << display.output();
+    EXPECT_EQ(hash_printed(display.output()), expected) << display.output();
+    const double rejected = status_value(s, "status.json", "rejected_records") +
+                            status_value(s, "status.json", "rejected_indices") +
+                            status_value(s, "status.json", "ring_gaps");
+    std::printf("scribbler: %s; display counted %.0f rejections and gaps\n",
+                scribbler.output().c_str(), rejected);
+    producer.kill(SIGTERM);
+}
+
+}  // namespace
+}  // namespace kerf::display
