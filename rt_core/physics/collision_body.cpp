@@ -358,9 +358,20 @@ Vec3 tri_normal(const Tri& t) noexcept {
 
 /// Visits the leaves of `nodes` whose boxes pass `enter(node)`, nearest first by `key(node)`
 /// (smaller is nearer; `enter` sees the current bound), calling `leaf(node)`.
+/// Squared distance from `p` to the centre of `n`'s box: orders children whose boxes both
+/// contain the query point (box distance 0), common for points inside a body.
+double centre_distance2(const Vec3& p, const Node& n) noexcept {
+    double d2 = 0;
+    for (int i = 0; i < 3; ++i) {
+        const double e = p[i] - 0.5 * (double(n.lo[i]) + double(n.hi[i]));
+        d2 += e * e;
+    }
+    return d2;
+}
+
 template <class Key, class Enter, class Leaf>
-void traverse(const std::vector<Node>& nodes, const Key& key, const Enter& enter,
-              const Leaf& leaf) noexcept {
+void traverse(const std::vector<Node>& nodes, const Vec3& origin, const Key& key,
+              const Enter& enter, const Leaf& leaf) noexcept {
     std::uint32_t stack[kStackSize];
     int top = 0;
     if (nodes.empty() || !enter(nodes[0], key(nodes[0]))) return;
@@ -374,7 +385,8 @@ void traverse(const std::vector<Node>& nodes, const Key& key, const Enter& enter
         }
         const std::uint32_t a = node.first, b = node.first + 1;
         const double ka = key(nodes[a]), kb = key(nodes[b]);
-        const bool a_first = ka <= kb;
+        const bool a_first = ka < kb || (ka == kb && centre_distance2(origin, nodes[a]) <=
+                                                         centre_distance2(origin, nodes[b]));
         const std::uint32_t near = a_first ? a : b, far = a_first ? b : a;
         const double k_near = a_first ? ka : kb, k_far = a_first ? kb : ka;
         if (top + 2 > kStackSize) return;  // cannot happen for trees this library builds
@@ -385,9 +397,9 @@ void traverse(const std::vector<Node>& nodes, const Key& key, const Enter& enter
 
 /// Visits the chunks whose boxes pass `enter`, nearest first by `key`.
 template <class Key, class Enter, class Visit>
-void for_each_chunk(const CollisionBody::Impl& impl, const Key& key, const Enter& enter,
-                    const Visit& visit) noexcept {
-    traverse(impl.top, key, enter, [&](const Node& top_leaf) {
+void for_each_chunk(const CollisionBody::Impl& impl, const Vec3& origin, const Key& key,
+                    const Enter& enter, const Visit& visit) noexcept {
+    traverse(impl.top, origin, key, enter, [&](const Node& top_leaf) {
         for (std::uint32_t i = top_leaf.first; i < top_leaf.first + top_leaf.count; ++i) {
             const Chunk& chunk = *impl.chunks[impl.top_ids[i]];
             if (enter(chunk.nodes[0], key(chunk.nodes[0]))) visit(chunk);
@@ -405,8 +417,8 @@ SurfaceHit CollisionBody::closest_point(const Vec3& p, double max_distance,
     const bool filter = (materials & kAllMaterials) != kAllMaterials;
     const auto key = [&](const Node& n) { return box_distance2(p, n.lo, n.hi); };
     const auto enter = [&](const Node&, double d2) { return d2 <= best2; };
-    for_each_chunk(*impl_, key, enter, [&](const Chunk& chunk) {
-        traverse(chunk.nodes, key, enter, [&](const Node& leaf) {
+    for_each_chunk(*impl_, p, key, enter, [&](const Chunk& chunk) {
+        traverse(chunk.nodes, p, key, enter, [&](const Node& leaf) {
             for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
                 const Tri& t = chunk.tris[i];
                 if (filter && !((materials >> static_cast<int>(impl_->materials[t.id])) & 1u))
@@ -439,8 +451,8 @@ SegmentHit CollisionBody::first_hit(const Vec3& from, const Vec3& to,
     const auto enter = [&](const Node& n, double) {
         return segment_hits_box(from, inv, best_t, n.lo, n.hi);
     };
-    for_each_chunk(*impl_, key, enter, [&](const Chunk& chunk) {
-        traverse(chunk.nodes, key, enter, [&](const Node& leaf) {
+    for_each_chunk(*impl_, from, key, enter, [&](const Chunk& chunk) {
+        traverse(chunk.nodes, from, key, enter, [&](const Node& leaf) {
             for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
                 const Tri& t = chunk.tris[i];
                 const double s = segment_triangle_t(from, d, best_t, load(t.v), load(t.v + 3),
@@ -465,8 +477,8 @@ std::size_t CollisionBody::triangles_near(const Vec3& center, double radius,
     const double r2 = radius * radius;
     const auto key = [&](const Node& n) { return box_distance2(center, n.lo, n.hi); };
     const auto enter = [&](const Node&, double d2) { return d2 <= r2; };
-    for_each_chunk(*impl_, key, enter, [&](const Chunk& chunk) {
-        traverse(chunk.nodes, key, enter, [&](const Node& leaf) {
+    for_each_chunk(*impl_, center, key, enter, [&](const Chunk& chunk) {
+        traverse(chunk.nodes, center, key, enter, [&](const Node& leaf) {
             for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
                 const Tri& t = chunk.tris[i];
                 const Vec3 q =

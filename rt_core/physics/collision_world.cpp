@@ -2,6 +2,7 @@
 #include "rt_core/physics/collision_world.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "rt_core/physics/triangle_geometry.hpp"
 
@@ -66,7 +67,32 @@ SurfaceHit CollisionWorld::closest_point(const Vec3& p, double max_distance,
 
 bool CollisionWorld::inside(const Vec3& p, double max_distance) const noexcept {
     const SurfaceHit hit = closest_point(p, max_distance, kBoneSurfaces);
-    return hit.found && dot(p - hit.point, hit.normal) < 0;
+    if (!hit.found) return false;
+    const Slot& s = slots_[hit.body];
+    const Vec3 q = s.pose.apply_inverse(hit.point), d = s.pose.apply_inverse(p) - q;
+    // The sign of (p - q) against the angle-weighted pseudonormal at q (Baerentzen & Aanaes): a
+    // single face normal misjudges points whose nearest point is on a sharp edge or vertex.
+    constexpr std::size_t kMaxIncident = 64;
+    std::uint32_t incident[kMaxIncident];
+    const std::size_t count = std::min(s.body->triangles_near(q, 1e-8, incident), kMaxIncident);
+    Vec3 pseudo;
+    for (std::size_t i = 0; i < count; ++i) {
+        if (s.body->material(incident[i]) == Material::kCutSurface) continue;
+        const TriangleCorners c = s.body->corners(incident[i]);
+        const Vec3 n = normalized(cross(c.b - c.a, c.c - c.a));
+        const Vec3* v[3] = {&c.a, &c.b, &c.c};
+        double weight = M_PI;  // q on the face or on an edge: the face counts fully
+        for (int k = 0; k < 3; ++k) {
+            if (norm2(*v[k] - q) < 1e-16) {  // q is this corner: weight by the corner's angle
+                const Vec3 e1 = normalized(*v[(k + 1) % 3] - *v[k]);
+                const Vec3 e2 = normalized(*v[(k + 2) % 3] - *v[k]);
+                weight = std::acos(std::clamp(dot(e1, e2), -1.0, 1.0));
+            }
+        }
+        pseudo += n * weight;
+    }
+    if (norm2(pseudo) == 0) pseudo = s.pose.rotate_inverse(hit.normal);
+    return dot(d, pseudo) < 0;
 }
 
 SegmentHit CollisionWorld::first_hit(const Vec3& from, const Vec3& to,

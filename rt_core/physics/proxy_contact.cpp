@@ -103,8 +103,12 @@ ContactOutput ProxyContact::step(const CollisionWorld& world, const Vec3& device
             sliding_ = true;
             held = free - tangential * (dynamic_bound / t_length);
         }
-        // The friction-held point must be reachable without crossing a surface.
-        if (!world.first_hit(proxy_, held, HitSides::kFront).found) next = held;
+        // The friction-held point must be reachable without crossing a surface (a move shorter
+        // than the skin cannot cross one: the proxy keeps that gap).
+        if (norm2(held - proxy_) < 0.25 * params_.skin_m * params_.skin_m ||
+            !world.first_hit(proxy_, held, HitSides::kFront).found) {
+            next = held;
+        }
     } else {
         sliding_ = false;
     }

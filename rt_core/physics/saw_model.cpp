@@ -34,8 +34,6 @@ const char* to_string(CutEndReason reason) noexcept {
 
 namespace {
 
-constexpr double kEdgeSamples = 5;  ///< points along the edge tested for "left the bone"
-
 /// The in-plane (u, v) frame of a locked cut.
 struct PlaneFrame {
     Vec3 origin, u, v, n;
@@ -67,7 +65,11 @@ bool SawModel::begin_cut(const CollisionWorld& world, const ToolPose& pose,
     const double half = 0.5 * params_.blade.length_m;
     const SegmentHit edge_hit =
         world.first_hit(pose.position_m - u * half, pose.position_m + u * half, HitSides::kBoth);
-    if (!contact.in_contact && !edge_hit.found) return false;
+    if (!contact.in_contact && !edge_hit.found) {
+        armed_ = true;  // clear of the bone: the next touch may start a cut
+        return false;
+    }
+    if (!armed_) return false;  // still touching where the last cut ended
     cut_ = CutEvent{};
     cut_.cut_id = next_cut_id_++;
     if (edge_hit.found) {
@@ -101,6 +103,7 @@ void SawModel::end_cut(CutEndReason reason, SawOutput& out) noexcept {
     emit(CutEventType::kEnd, out);
     cut_.end_reason = CutEndReason::kNone;
     locked_ = false;
+    armed_ = false;
 }
 
 SawOutput SawModel::step(const CollisionWorld& world, const ToolPose& pose,
@@ -160,12 +163,10 @@ SawOutput SawModel::step(const CollisionWorld& world, const ToolPose& pose,
     }
     if (out.event_count == 0 && been_inside_ && cut_.feed_depth_m > params_.blade.kerf_width_m &&
         b < -params_.withdraw_margin_m) {
-        bool outside = true;
-        for (double i = 0; outside && i < kEdgeSamples; ++i) {
-            const double w = (i / (kEdgeSamples - 1) - 0.5) * params_.blade.length_m;
-            outside = !world.inside(pose.position_m + u_in * w, params_.blade.length_m);
-        }
-        if (outside) {
+        // Through: no part of the edge is in bone (no surface crossing along it, centre outside).
+        const Vec3 e0 = pose.position_m - u_in * half, e1 = pose.position_m + u_in * half;
+        if (!world.first_hit(e0, e1, HitSides::kBoth).found &&
+            !world.inside(pose.position_m, params_.blade.length_m)) {
             end_cut(CutEndReason::kCompleted, out);
             out.locked = false;
             return out;

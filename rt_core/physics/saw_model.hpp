@@ -14,8 +14,10 @@
 //  - surface contact is off (the blade is in its own kerf): the caller parks the proxy;
 //  - CutProgress every progress_period_s or progress_advance_m of new sweep;
 //  - CutEnd{kWithdrawn} when the edge comes back above the entry by withdraw_margin_m,
-//    CutEnd{kCompleted} when the whole edge has left the bone on the far side (cut through),
+//    CutEnd{kCompleted} when the whole edge has left the bone on the far side (cut through: no
+//    surface crossing along the edge and its centre outside),
 //    CutEnd{kAborted} when the saw stops or the blade is forced off-plane beyond max_off_plane_m.
+// After any CutEnd a new cut can begin only once the blade has been clear of bone for a tick.
 // 3-DoF-force devices get the force only; the plane's orientation cannot be held by them.
 #pragma once
 
@@ -96,6 +98,8 @@ private:
     double reported_extent_m_ = 0;  ///< swept width + height at the last CutProgress
     bool swept_changed_ = false;    ///< the swept region grew since the last CutProgress
     bool been_inside_ = false;      ///< the edge was inside the bone since the lock
+    bool armed_ = true;             ///< a touch may start a cut (false until the blade is clear
+                                    ///< of bone after a cut ended)
 };
 
 }  // namespace kerf::physics

@@ -3,6 +3,8 @@
 // field-for-field agreement of CutEvent with ipc::CutPayload.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <vector>
 
 #include "rt_core/ipc/mesh_layout.hpp"
@@ -229,6 +231,52 @@ TEST(SawModel, StoppingTheSawMidCutAbortsAndPutsTheProxyBackOutside) {
         twisted.step(scene.world, tool_at({0, 0.004, -0.002}, {}, true), 1e-3);
     ASSERT_EQ(off.saw.event_count, 1u);
     EXPECT_EQ(off.saw.events[0].end_reason, CutEndReason::kAborted);
+}
+
+TEST(SawModel, AScriptedCutThroughARealBoneBeginsProgressesAndCompletes) {
+    const std::filesystem::path file =
+        std::filesystem::path(KERF_SHARED_MESHES) / "bp3d_right_first_metatarsal.stl";
+    if (!std::filesystem::exists(file)) GTEST_SKIP() << "no shared meshes at " << file;
+    const TestMesh bone = test::read_binary_stl(file.string(), 0.001);
+    auto built = CollisionBody::build(bone.view());
+    ASSERT_TRUE(built);
+    CollisionWorld world;
+    world.set_body(0, built->get());
+    Vec3 lo, hi;
+    (*built)->bounds(lo, hi);
+    const Vec3 centre = (lo + hi) * 0.5, size = hi - lo;
+    // Saw across the long axis: normal along it, edge along the next-longest, feed along the third.
+    int axes[3] = {0, 1, 2};
+    std::sort(axes, axes + 3, [&](int a, int b) { return size[a] > size[b]; });
+    const auto unit = [](int axis) {
+        return Vec3{axis == 0 ? 1.0 : 0.0, axis == 1 ? 1.0 : 0.0, axis == 2 ? 1.0 : 0.0};
+    };
+    const Vec3 n = unit(axes[0]), u = unit(axes[1]), v = cross(n, u);
+    ToolInput in;
+    for (int r = 0; r < 3; ++r) {
+        in.pose.orientation.m[r][0] = u[r], in.pose.orientation.m[r][1] = v[r];
+        in.pose.orientation.m[r][2] = n[r];
+    }
+    in.saw_running = true;
+    const double reach = 0.5 * norm(size) + 0.005;
+    const Vec3 from = centre + v * reach, to = centre - v * reach;
+    const int ticks = int(2 * reach / 0.02 / 1e-3);  // 20 mm/s
+    ForceModel model;
+    model.reset(from);
+    std::vector<CutEvent> events;
+    for (int i = 0; i <= ticks; ++i) {
+        in.pose.position_m = from + (to - from) * (double(i) / ticks);
+        in.velocity_m_s = (to - from) * (1.0 / (ticks * 1e-3));
+        const PhysicsOutput out = model.step(world, in, 1e-3);
+        for (std::uint32_t e = 0; e < out.saw.event_count; ++e) events.push_back(out.saw.events[e]);
+    }
+    ASSERT_GE(events.size(), 3u);
+    EXPECT_EQ(events.front().type, CutEventType::kBegin);
+    EXPECT_LT(events.front().triangle_hint, bone.triangles());
+    EXPECT_EQ(events.back().type, CutEventType::kEnd);
+    EXPECT_EQ(events.back().end_reason, CutEndReason::kCompleted);
+    EXPECT_GT(events.back().feed_depth_m, 0.5 * size[axes[2]]);
+    EXPECT_LT(test::winding_number(bone, model.contact().proxy()), 0.5);
 }
 
 TEST(ForceModel, StepAllocatesNothingThroughAWholeCut) {
