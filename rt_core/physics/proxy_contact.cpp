@@ -18,7 +18,21 @@ Vec3 onto(const Vec3& g, const Vec3& n, double c) noexcept { return g - n * (dot
 void ProxyContact::reset(const Vec3& position_m) noexcept {
     if (is_finite(position_m)) proxy_ = position_m;
     sliding_ = false;
+    resting_ = false;
 }
+
+namespace {
+
+bool same_pose(const RigidTransform& a, const RigidTransform& b) noexcept {
+    for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) {
+            if (a.rotation.m[r][c] != b.rotation.m[r][c]) return false;
+        }
+    }
+    return a.translation == b.translation;
+}
+
+}  // namespace
 
 Vec3 ProxyContact::constrained_move(const CollisionWorld& world, const Vec3& goal, Plane* planes,
                                     int& plane_count) const noexcept {
@@ -67,6 +81,13 @@ ContactOutput ProxyContact::step(const CollisionWorld& world, const Vec3& device
     out.proxy_m = proxy_;
     if (!is_finite(device_m) || !is_finite(device_velocity_m_s) || !(dt_s > 0)) return out;
 
+    // The body the proxy rests on moved since the last tick: the proxy moves with it.
+    if (resting_ && world.body(resting_body_) == resting_on_ &&
+        !same_pose(world.pose(resting_body_), resting_pose_)) {
+        proxy_ = world.pose(resting_body_).apply(resting_pose_.apply_inverse(proxy_));
+    }
+    resting_ = false;
+
     Plane planes[3];
     int plane_count = 0;
     const Vec3 free = constrained_move(world, device_m, planes, plane_count);
@@ -103,12 +124,8 @@ ContactOutput ProxyContact::step(const CollisionWorld& world, const Vec3& device
             sliding_ = true;
             held = free - tangential * (dynamic_bound / t_length);
         }
-        // The friction-held point must be reachable without crossing a surface (a move shorter
-        // than the skin cannot cross one: the proxy keeps that gap).
-        if (norm2(held - proxy_) < 0.25 * params_.skin_m * params_.skin_m ||
-            !world.first_hit(proxy_, held, HitSides::kFront).found) {
-            next = held;
-        }
+        // The friction-held point must be reachable without crossing a surface.
+        if (held == proxy_ || !world.first_hit(proxy_, held, HitSides::kFront).found) next = held;
     } else {
         sliding_ = false;
     }
@@ -120,6 +137,10 @@ ContactOutput ProxyContact::step(const CollisionWorld& world, const Vec3& device
     if (fn < 0) force -= n * fn;  // a surface pushes, never pulls
 
     const Plane& touched = planes[plane_count - 1];
+    resting_ = true;
+    resting_body_ = touched.body;
+    resting_on_ = world.body(touched.body);
+    resting_pose_ = world.pose(touched.body);
     out.force_n = force;
     out.proxy_m = proxy_;
     out.normal = n;

@@ -12,7 +12,9 @@
 // forces, capped by the normal force (no friction without load): min(static_friction_n, |F_n|).
 //
 // Meshes must be closed and outward-oriented (what the display publishes): only front faces stop
-// the proxy, so a proxy that was ever put inside (reset) leaves through the surface.
+// the proxy, so a proxy that was ever put inside (reset) leaves through the surface. A body that
+// moves (CollisionWorld::set_pose: a severed piece dragged) carries the proxy resting on it along,
+// so the proxy stays on its surface instead of ending up inside it.
 #pragma once
 
 #include <cstdint>
@@ -73,6 +75,10 @@ private:
     ContactParams params_;
     Vec3 proxy_;
     bool sliding_ = false;
+    bool resting_ = false;                       ///< the proxy ended the last tick on a surface
+    std::uint32_t resting_body_ = 0;             ///< ... of this world slot
+    const CollisionBody* resting_on_ = nullptr;  ///< ... holding this body (identity check only)
+    RigidTransform resting_pose_;                ///< ... whose pose was this
 };
 
 }  // namespace kerf::physics

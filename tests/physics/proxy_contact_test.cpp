@@ -12,10 +12,16 @@
 #include "tests/allocation_counter.hpp"
 #include "tests/physics/physics_test_shapes.hpp"
 
+// The stress build (kerf_physics_stress_tests, label stress) runs 20x the paths of each property.
+#ifndef KERF_PROXY_PATH_SCALE
+#define KERF_PROXY_PATH_SCALE 1
+#endif
+
 namespace kerf::physics {
 namespace {
 
 using test::TestMesh;
+constexpr int kScale = KERF_PROXY_PATH_SCALE;
 
 struct Scene {
     explicit Scene(const TestMesh& m) : mesh(m) {
@@ -140,7 +146,7 @@ TEST(ProxyContact, RandomApproachesIntoASphereNeverLeaveTheProxyInside) {
     std::uniform_real_distribution<double> depth(0.0, 0.009);
     ProxyContact contact({.stiffness_n_per_m = 1500, .damping_n_s_per_m = 2});
     int touching = 0;
-    for (int path = 0; path < 60; ++path) {
+    for (int path = 0; path < 60 * kScale; ++path) {
         const Vec3 from = Vec3{0.001, -0.002, 0.003} + random_direction(rng) * 0.02;
         const Vec3 to = Vec3{0.001, -0.002, 0.003} + random_direction(rng) * depth(rng);
         contact.reset(from);
@@ -156,7 +162,7 @@ TEST(ProxyContact, AThinPlateStopsTheProxyEvenWhenTheDeviceJumpsThroughIt) {
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> xy(-0.015, 0.015), side(0, 1);
     ProxyContact contact;
-    for (int path = 0; path < 100; ++path) {
+    for (int path = 0; path < 100 * kScale; ++path) {
         const double sign = side(rng) < 0.5 ? 1 : -1;
         const Vec3 from{xy(rng), xy(rng), 0.00015 + sign * 0.01};
         const Vec3 to{xy(rng), xy(rng), 0.00015 - sign * 0.01};
@@ -173,7 +179,7 @@ TEST(ProxyContact, PathsAimedAtEdgesAndVerticesNeverEnterABox) {
     std::mt19937 rng(9);
     ProxyContact contact;
     std::uniform_real_distribution<double> unit(-1, 1);
-    for (int path = 0; path < 120; ++path) {
+    for (int path = 0; path < 120 * kScale; ++path) {
         // A target on an edge or a vertex, approached from outside, pushed inwards past it.
         Vec3 target{unit(rng) > 0 ? 0.01 : -0.01, unit(rng) > 0 ? 0.01 : -0.01, unit(rng) * 0.01};
         if (path % 3 == 0) target.z = target.z > 0 ? 0.01 : -0.01;
@@ -197,7 +203,7 @@ TEST(ProxyContact, RandomApproachesIntoARealBoneNeverLeaveTheProxyInside) {
     std::mt19937 rng(21);
     ProxyContact contact;
     int touching = 0;
-    for (int path = 0; path < 40; ++path) {
+    for (int path = 0; path < 40 * kScale; ++path) {
         // Aim at a random surface vertex, then push 5 mm past it.
         const Vec3 target = bone.vertex(std::uint32_t(rng() % (bone.positions.size() / 3)));
         const Vec3 from = centre + random_direction(rng) * reach;
@@ -206,6 +212,27 @@ TEST(ProxyContact, RandomApproachesIntoARealBoneNeverLeaveTheProxyInside) {
         touching += drive(scene, contact, approach(from, beyond, 60, 40, 0.001, rng), 4);
     }
     EXPECT_GT(touching, 400);
+}
+
+TEST(ProxyContact, APieceDraggedIntoTheHeldProxyCarriesItAlong) {
+    // The proxy rests on top of a block; the block is moved up by 3 mm in one tick (a severed
+    // piece dragged): the proxy is carried to the new top instead of ending inside.
+    const TestMesh block = test::make_box({-0.02, -0.02, -0.02}, {0.02, 0.02, 0});
+    auto built = CollisionBody::build(block.view());
+    ASSERT_TRUE(built);
+    CollisionWorld world;
+    world.set_body(0, built->get());
+    ProxyContact contact;
+    contact.reset({0, 0, 0.002});
+    ContactOutput out = contact.step(world, {0, 0, -0.001}, {}, 1e-3);
+    ASSERT_TRUE(out.in_contact);
+    RigidTransform lifted;
+    lifted.translation = {0, 0, 0.003};
+    world.set_pose(0, lifted);
+    out = contact.step(world, {0, 0, -0.001}, {}, 1e-3);
+    EXPECT_TRUE(out.in_contact);
+    EXPECT_GE(out.proxy_m.z, 0.003);
+    EXPECT_NEAR(out.force_n.z, 1500 * 0.004, 0.05);
 }
 
 TEST(ProxyContact, StepAllocatesNothingAndIgnoresNonFiniteInput) {
