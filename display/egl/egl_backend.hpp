@@ -22,6 +22,9 @@ struct EglOutput::Backend {
     std::string description;
 
     virtual ~Backend();
+    /// Unbinds and destroys the context and surface and terminates the display (idempotent);
+    /// platforms call it before freeing what the surface draws into.
+    void release_egl() noexcept;
     /// Blit + swap (+ page flip); headless: nothing.
     virtual bool present(render::Renderer& renderer) = 0;
     virtual bool poll() { return true; }

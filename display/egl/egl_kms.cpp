@@ -43,13 +43,7 @@ struct Kms final : EglOutput::Backend {
     bool modeset_done = false;
 
     ~Kms() override {
-        if (display != EGL_NO_DISPLAY) {
-            eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-            if (context != EGL_NO_CONTEXT) eglDestroyContext(display, context);
-            if (surface != EGL_NO_SURFACE) eglDestroySurface(display, surface);
-            eglTerminate(display);
-            display = EGL_NO_DISPLAY;
-        }
+        release_egl();
         if (shown_fb) drmModeRmFB(fd, shown_fb);
         if (shown) gbm_surface_release_buffer(gbm_surf, shown);
         if (mode_blob) drmModeDestroyPropertyBlob(fd, mode_blob);

@@ -35,12 +35,17 @@ bool parse_platform(std::string_view text, EglPlatform& out) noexcept {
     return false;
 }
 
-EglOutput::Backend::~Backend() {
+EglOutput::Backend::~Backend() { release_egl(); }
+
+void EglOutput::Backend::release_egl() noexcept {
     if (display == EGL_NO_DISPLAY) return;
     eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     if (context != EGL_NO_CONTEXT) eglDestroyContext(display, context);
     if (surface != EGL_NO_SURFACE) eglDestroySurface(display, surface);
     eglTerminate(display);
+    display = EGL_NO_DISPLAY;
+    context = EGL_NO_CONTEXT;
+    surface = EGL_NO_SURFACE;
 }
 
 namespace detail {

@@ -18,14 +18,8 @@ struct X11 final : EglOutput::Backend {
     Atom wm_delete = 0;
 
     ~X11() override {
-        // EGL objects first (the base destructor runs after this body), so terminate here.
-        if (display != EGL_NO_DISPLAY) {
-            eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-            if (context != EGL_NO_CONTEXT) eglDestroyContext(display, context);
-            if (surface != EGL_NO_SURFACE) eglDestroySurface(display, surface);
-            eglTerminate(display);
-            display = EGL_NO_DISPLAY;
-        }
+        // EGL first: the surface draws into the window, which goes next.
+        release_egl();
         if (!x) return;
         if (window) XDestroyWindow(x, window);
         if (colormap) XFreeColormap(x, colormap);

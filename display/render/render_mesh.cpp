@@ -140,6 +140,15 @@ void RenderMesh::rebuild(const TriMesh& m, double growth) {
     ++generation_;
 }
 
+bool RenderMesh::rebuild_if_full(const TriMesh& m, MeshSyncStats& s) {
+    if (fits(m)) return false;
+    rebuild(m, growth_);
+    s.rebuilt = true;
+    s.vertices_written = vertex_count_;
+    s.faces_written = face_count_;
+    return true;
+}
+
 bool RenderMesh::fits(const TriMesh& m) const noexcept {
     return m.n_vertices() <= vertex_capacity_ && m.n_faces() <= face_capacity_;
 }
@@ -204,13 +213,7 @@ void RenderMesh::write_face(const TriMesh& m, FaceHandle f) {
 MeshSyncStats RenderMesh::update_after_edit(const TriMesh& m, std::span<const VertexHandle> moved,
                                             std::span<const FaceHandle> touched) {
     MeshSyncStats s;
-    if (!fits(m)) {
-        rebuild(m, growth_);
-        s.rebuilt = true;
-        s.vertices_written = vertex_count_;
-        s.faces_written = face_count_;
-        return s;
-    }
+    if (rebuild_if_full(m, s)) return s;
     const auto old_vertices = vertex_count_;
     const auto old_faces = face_count_;
     vertex_count_ = static_cast<std::uint32_t>(m.n_vertices());
@@ -240,13 +243,7 @@ MeshSyncStats RenderMesh::update_after_edit(const TriMesh& m, std::span<const Ve
 
 MeshSyncStats RenderMesh::update_all(const TriMesh& m) {
     MeshSyncStats s;
-    if (!fits(m)) {
-        rebuild(m, growth_);
-        s.rebuilt = true;
-        s.vertices_written = vertex_count_;
-        s.faces_written = face_count_;
-        return s;
-    }
+    if (rebuild_if_full(m, s)) return s;
     const auto old_faces = face_count_;
     vertex_count_ = static_cast<std::uint32_t>(m.n_vertices());
     face_count_ = static_cast<std::uint32_t>(m.n_faces());

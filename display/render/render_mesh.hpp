@@ -146,6 +146,8 @@ private:
     void write_face(const mesh::TriMesh& m, mesh::FaceHandle f);
     std::uint32_t cap_slot(std::uint32_t face);
     bool fits(const mesh::TriMesh& m) const noexcept;
+    /// Rebuilds with more capacity when `m` no longer fits (filling `s`); true if it did.
+    bool rebuild_if_full(const mesh::TriMesh& m, MeshSyncStats& s);
     void rebuild(const mesh::TriMesh& m, double growth);
 
     std::vector<RenderVertex> vertices_;

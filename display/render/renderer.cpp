@@ -157,6 +157,16 @@ struct Renderer::State {
         glDeleteBuffers(6, bufs);
     }
 
+    /// Binds the solid program with `model`, the frame's camera, `color` (alpha) and specular.
+    void use_solid(const glm::mat4& model, const glm::vec4& color, float specular) const {
+        glUseProgram(solid_program);
+        glUniformMatrix4fv(s_model, 1, GL_FALSE, glm::value_ptr(model));
+        glUniformMatrix4fv(s_view_proj, 1, GL_FALSE, glm::value_ptr(view_proj));
+        glUniform3fv(s_eye, 1, glm::value_ptr(eye));
+        glUniform4fv(s_color, 1, glm::value_ptr(color));
+        glUniform1f(s_specular, specular);
+    }
+
     Status<RenderError> make_targets();
     Status<RenderError> make_programs();
     void make_geometry();
@@ -391,12 +401,7 @@ void Renderer::begin_frame(const Camera& camera) {
         m[1] = glm::dvec4(v * p.half_extent_m, 0);
         m[2] = glm::dvec4(n, 0);
         m[3] = glm::dvec4(p.point_m, 1);
-        glUseProgram(s.solid_program);
-        glUniformMatrix4fv(s.s_model, 1, GL_FALSE, glm::value_ptr(glm::mat4(m)));
-        glUniformMatrix4fv(s.s_view_proj, 1, GL_FALSE, glm::value_ptr(s.view_proj));
-        glUniform3fv(s.s_eye, 1, glm::value_ptr(s.eye));
-        glUniform4f(s.s_color, 0.25f, 0.75f, 0.95f, 0.28f);
-        glUniform1f(s.s_specular, 0.0f);
+        s.use_solid(glm::mat4(m), {0.25f, 0.75f, 0.95f, 0.28f}, 0.0f);
         glEnable(GL_BLEND);
         glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
         glDepthMask(GL_FALSE);
@@ -410,6 +415,24 @@ void Renderer::begin_frame(const Camera& camera) {
     glBindVertexArray(0);
 }
 
+BladePose blade_pose_from(const ipc::LatestState& state, const BladePose& like) noexcept {
+    BladePose b = like;
+    const double* p = state.tool_position_m;
+    const double* q = state.tool_orientation_wxyz;
+    b.position_m = glm::dvec3(p[0], p[1], p[2]);
+    b.orientation = glm::dquat(q[0], q[1], q[2], q[3]);
+    const double n = glm::length(b.orientation);
+    const bool finite =
+        std::isfinite(n) && std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+    if (!finite || n < 1e-9) {
+        b.visible = false;
+        b.orientation = glm::dquat(1, 0, 0, 0);
+        return b;
+    }
+    b.orientation /= n;
+    return b;
+}
+
 void Renderer::draw_blade(const BladePose& pose) {
     if (!pose.visible) return;
     State& s = *s_;
@@ -418,12 +441,7 @@ void Renderer::draw_blade(const BladePose& pose) {
                    glm::scale(glm::dmat4(1.0), glm::dvec3(pose.length_m, pose.depth_m,
                                                           std::max(pose.thickness_m, 1e-5)));
     glBindFramebuffer(GL_FRAMEBUFFER, s.fbo);
-    glUseProgram(s.solid_program);
-    glUniformMatrix4fv(s.s_model, 1, GL_FALSE, glm::value_ptr(glm::mat4(m)));
-    glUniformMatrix4fv(s.s_view_proj, 1, GL_FALSE, glm::value_ptr(s.view_proj));
-    glUniform3fv(s.s_eye, 1, glm::value_ptr(s.eye));
-    glUniform4f(s.s_color, 0.62f, 0.66f, 0.72f, 1.0f);
-    glUniform1f(s.s_specular, 0.8f);
+    s.use_solid(glm::mat4(m), {0.62f, 0.66f, 0.72f, 1.0f}, 0.8f);
     glEnable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     glBindVertexArray(s.blade_vao);

@@ -28,6 +28,7 @@
 #include "display/render/camera.hpp"
 #include "display/render/hud.hpp"
 #include "display/render/render_mesh.hpp"
+#include "rt_core/ipc/records.hpp"
 
 namespace kerf::render {
 
@@ -53,6 +54,11 @@ struct BladePose {
     double thickness_m = 0.0006;                 ///< kerf, m
     bool visible = true;
 };
+
+/// The blade at the tool pose of a kerf-rt LatestState sample (read it from the seqlock right
+/// before draw_blade()); size and visibility come from `like`. A non-finite or zero quaternion
+/// gives an invisible blade.
+BladePose blade_pose_from(const ipc::LatestState& state, const BladePose& like = {}) noexcept;
 
 /// A planned cut drawn as a translucent square of plane around `point_m`.
 struct PlannedCut {

@@ -61,9 +61,10 @@ double coverage(const unsigned char* rgba, std::size_t pixels, const unsigned ch
 }
 
 // Runs the reference once; returns its fps (< 0 on failure) and its triangle count.
+// With `png`: no overlay (-q), so that the screenshot's coverage is the ellipsoid's alone.
 double run_reference(const Args& a, long tris, int frames, const char* png, long& ref_tris) {
     std::string cmd = a.ref + " -p surfaceless -c 1 -t " + std::to_string(tris) + " -n " +
-                      std::to_string(frames) + (png ? std::string(" -o ") + png : "") + " 2>&1";
+                      std::to_string(frames) + (png ? std::string(" -q -o ") + png : "") + " 2>&1";
     FILE* p = popen(cmd.c_str(), "r");
     if (!p) return -1;
     char line[1024];
@@ -84,7 +85,8 @@ double run_reference(const Args& a, long tris, int frames, const char* png, long
 double now_s() { return std::chrono::duration<double>(Clock::now().time_since_epoch()).count(); }
 
 // Draws `frames` frames of `s`, orbiting a little each frame like the reference; returns fps.
-double run_kerf(Renderer& r, testing::Scene& s, int frames, FrameStats& stats) {
+// `extras`: the blade and the HUD too (off only for measuring the bone's coverage).
+double run_kerf(Renderer& r, testing::Scene& s, int frames, FrameStats& stats, bool extras = true) {
     HudState hud;
     hud.device_state = "connected";
     hud.cut_state = "severed";
@@ -97,10 +99,12 @@ double run_kerf(Renderer& r, testing::Scene& s, int frames, FrameStats& stats) {
         r.upload(s.render);
         r.set_body_transform(1, s.body1);
         r.begin_frame(s.camera);
-        r.draw_blade(s.blade);
-        hud.fps = stats.fps();
-        hud.frame_p99_ms = stats.percentile_ms(0.99);
-        r.draw_hud(hud);
+        if (extras) {
+            r.draw_blade(s.blade);
+            hud.fps = stats.fps();
+            hud.frame_p99_ms = stats.percentile_ms(0.99);
+            r.draw_hud(hud);
+        }
         r.finish_frame();
         stats.add(now_s() - fs);
     }
@@ -201,7 +205,7 @@ int main(int argc, char** argv) {
         FrameStats warm;
         double cov = 0;
         for (int it = 0; it < 4; ++it) {
-            run_kerf(*r, s, 1, warm);
+            run_kerf(*r, s, 1, warm, false);  // the bone alone
             const auto px = r->read_pixels();
             cov = coverage(px.data(), px.size() / 4, bg);
             if (ref_cov <= 0 || std::abs(cov - ref_cov) < 0.01) break;
