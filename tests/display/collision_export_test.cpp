@@ -1,0 +1,47 @@
+// The collision mesh kerf-display publishes: every body in its own frame with its pose, a
+// material per triangle, accepted by the mailbox's own validation and read back intact.
+#include "display/app/collision_export.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+#include "tests/display/session_scenes.hpp"
+
+namespace kerf::display {
+namespace {
+
+TEST(CollisionExport, EveryBodyWithItsPoseAndCapsAsCutSurface) {
+    cut::CutSession s(cut::test::two_tubes());
+    ASSERT_EQ(s.begin(cut::test::begin_across(1)).outcome, cut::EventOutcome::kApplied);
+    ASSERT_EQ(s.end({1, cut::CutEndKind::kCompleted}).outcome, cut::EventOutcome::kApplied);
+    ASSERT_EQ(s.move_body({2, cut::RigidPose{cut::Vec3(0.01, 0, 0), {1, 0, 0, 0}}}).outcome,
+              cut::EventOutcome::kApplied);
+    auto out = std::make_unique<ipc::CollisionMesh>();
+    ASSERT_TRUE(export_collision(s, *out).has_value());
+    EXPECT_EQ(out->body_count, 3u);
+    EXPECT_EQ(out->vertex_count, s.mesh().n_vertices());
+    EXPECT_EQ(out->index_count, 3 * s.mesh().n_faces());
+    EXPECT_EQ(out->bodies[2].world_from_body[12], 0.01f);  // translation x, column-major
+    std::size_t cut_surface = 0, cancellous = 0;
+    for (std::uint32_t t = 0; t < out->index_count / 3; ++t) {
+        cut_surface += out->materials[t] == std::uint8_t(ipc::TriangleMaterial::kCutSurface);
+        cancellous += out->materials[t] == std::uint8_t(ipc::TriangleMaterial::kCancellous);
+    }
+    EXPECT_GT(cut_surface, 0u);  // both caps of the cut
+    EXPECT_GT(cancellous, 0u);   // the canal walls
+    std::string where;
+    EXPECT_EQ(ipc::validate_mesh(*out, where), ipc::MeshFault::kNone) << where;
+}
+
+TEST(CollisionExport, AMeshLargerThanTheMailboxIsRefusedByCount) {
+    cut::CutSession s(cut::test::tube(512, 200));  // 4 * 512 * 200 + 4 * 512 > 2^18 triangles
+    auto out = std::make_unique<ipc::CollisionMesh>();
+    const auto r = export_collision(s, *out);
+    ASSERT_FALSE(r.has_value());
+    EXPECT_NE(r.error().find("the mailbox holds"), std::string::npos) << r.error();
+}
+
+}  // namespace
+}  // namespace kerf::display
