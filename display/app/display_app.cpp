@@ -43,7 +43,10 @@ struct Handover {
 /// Event -> pixels latencies and frame times, for the HUD, the status file and benchmarks.
 struct Measures {
     render::FrameStats frames;
-    std::vector<double> latency_ms;  ///< one per edit that reached the screen (bounded)
+    std::vector<double> latency_ms;        ///< one per edit that reached the screen (bounded)
+    std::vector<double> upload_bytes;      ///< bytes uploaded by the frame of each latency sample
+    std::uint64_t whole_buffer_bytes = 0;  ///< vertex + index buffers at capacity
+    std::vector<double> frame_ms;          ///< every frame time (bounded)
     render::UploadStats last_upload;
     std::uint64_t uploads = 0;
 };
@@ -52,6 +55,16 @@ double median(std::vector<double> v) {
     if (v.empty()) return -1;
     std::sort(v.begin(), v.end());
     return v[v.size() / 2];
+}
+
+std::string json_array(const std::vector<double>& v) {
+    std::string out = "[";
+    char buf[32];
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        std::snprintf(buf, sizeof buf, "%s%.3f", i ? ", " : "", v[i]);
+        out += buf;
+    }
+    return out + "]";
 }
 
 std::string hex(std::uint64_t v) {
@@ -88,7 +101,12 @@ void write_status(const std::string& path, const FollowerStatus& s, const Measur
           << ", \"latency_median_ms\": " << median(m.latency_ms)
           << ", \"latency_max_ms\": " << lat_max
           << ", \"upload_bytes_last\": " << m.last_upload.bytes
-          << ", \"upload_calls_last\": " << m.last_upload.calls << "}\n";
+          << ", \"upload_calls_last\": " << m.last_upload.calls
+          << ", \"whole_buffer_bytes\": " << m.whole_buffer_bytes
+          << ", \"frame_median_ms\": " << median(m.frame_ms)
+          << ", \"latency_samples_ms\": " << json_array(m.latency_ms)
+          << ", \"upload_bytes_samples\": " << json_array(m.upload_bytes)
+          << ", \"edit_ms\": " << json_array(s.edit_ms) << "}\n";
         if (!f) {
             spdlog::warn("kerf-display: cannot write status {}", tmp);
             return;
@@ -236,6 +254,8 @@ int run_display(const DisplayOptions& o) {
             if (rm) {
                 measures.last_upload = renderer->upload(*rm);
                 ++measures.uploads;
+                measures.whole_buffer_bytes = rm->vertices().size() * sizeof(render::RenderVertex) +
+                                              rm->indices().size() * sizeof(std::uint32_t);
                 if (!camera) {
                     camera = render::Camera::framing(handover.sync.bounds_min(),
                                                      handover.sync.bounds_max());
@@ -262,6 +282,10 @@ int run_display(const DisplayOptions& o) {
                         : status.session.cuts_completed ? "severed"
                                                         : "idle";
         hud.event_backlog = status.backlog;
+        {
+            const std::lock_guard lock(handover.mutex);
+            if (handover.sync.mesh()) hud.triangles = handover.sync.mesh()->triangle_count();
+        }
         hud.backend = backend;
         renderer->draw_hud(hud);
         renderer->finish_frame();
@@ -269,8 +293,11 @@ int run_display(const DisplayOptions& o) {
         ++frame;
         const std::uint64_t t1 = monotonic_ns();
         measures.frames.add(double(t1 - t0) * 1e-9);
-        if (drawn_event_ns && t1 > drawn_event_ns && measures.latency_ms.size() < 100'000)
+        if (measures.frame_ms.size() < 100'000) measures.frame_ms.push_back(double(t1 - t0) * 1e-6);
+        if (drawn_event_ns && t1 > drawn_event_ns && measures.latency_ms.size() < 100'000) {
             measures.latency_ms.push_back(double(t1 - drawn_event_ns) * 1e-6);
+            measures.upload_bytes.push_back(double(measures.last_upload.bytes));
+        }
 
         const bool last_frame = (o.frames && frame >= o.frames) || exiting;
         if (!o.screenshot.empty() && !shot_taken &&

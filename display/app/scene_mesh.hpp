@@ -4,8 +4,8 @@
 
 #include <string>
 
-#include "config/load_config.hpp"
 #include "config/base/result.hpp"
+#include "config/load_config.hpp"
 #include "display/mesh/tri_mesh.hpp"
 
 namespace kerf::display {

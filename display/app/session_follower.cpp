@@ -169,6 +169,8 @@ void SessionFollower::Impl::run() {
             hand_over(newest_ns);
             local.last_batch_ns =
                 std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count();
+            if (newest_ns != 0 && local.edit_ms.size() < 256)
+                local.edit_ms.push_back(double(local.last_batch_ns) * 1e-6);
         }
         const bool busy = newest_ns != 0 || reset;
         if (!busy) {

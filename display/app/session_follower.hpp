@@ -17,6 +17,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "config/base/result.hpp"
 #include "display/cut/cut_session.hpp"
@@ -55,6 +56,7 @@ struct FollowerStatus {
     std::uint32_t bodies = 0;
     bool cut_open = false;
     std::int64_t last_batch_ns = 0;   ///< worker time of the last batch of edits
+    std::vector<double> edit_ms;      ///< worker time of each batch of edits (first 256), ms
     std::uint64_t hash = 0;           ///< CutSession::hash() at `hash_sequence`
     std::uint64_t hash_sequence = 0;  ///< next_sequence when `hash` was taken
     bool hash_valid = false;
