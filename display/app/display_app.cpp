@@ -213,7 +213,8 @@ int run_display(const DisplayOptions& o) {
     const config::Config config = *cfg;
     auto follower = SessionFollower::start(
         FollowerOptions{o.session.value_or(cfg->main.shm.session_name), true,
-                        std::uint64_t{cfg->main.shm.heartbeat_timeout_ms} * 1'000'000u, 1000},
+                        std::uint64_t{cfg->main.shm.heartbeat_timeout_ms} * 1'000'000u, 1000,
+                        o.exit_after_events},
         [config] { return build_scene_mesh(config); },
         [&handover](const cut::CutSession& session, const cut::SessionChanges& changes,
                     std::uint64_t newest_event_ns) {

@@ -174,9 +174,11 @@ void SessionFollower::Impl::run() {
         }
         const bool busy = newest_ns != 0 || reset;
         if (!busy) {
-            const bool hash_stale =
-                !local.hash_valid || local.hash_sequence != consumer->next_sequence();
-            if (hash_stale && Clock::now() - last_hash >= kHashPeriod) {
+            const std::uint64_t applied = consumer->next_sequence();
+            const bool hash_wanted = options.hash_at_sequence != 0 &&
+                                     applied >= options.hash_at_sequence &&
+                                     (!local.hash_valid || local.hash_sequence != applied);
+            if (hash_wanted && Clock::now() - last_hash >= kHashPeriod) {
                 local.hash = session->hash();
                 local.hash_sequence = consumer->next_sequence();
                 local.hash_valid = true;

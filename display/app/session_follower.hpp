@@ -40,6 +40,9 @@ struct FollowerOptions {
     bool publish_collision = true;  ///< publish the collision mesh after edits
     std::uint64_t stale_after_ns = 200'000'000;  ///< producer heartbeat limit when attaching
     std::uint32_t poll_period_us = 1000;  ///< sleep when there is nothing to do (never spins)
+    /// Take CutSession::hash() (O(mesh) on the worker, so it would slow the frames sharing its
+    /// core) once this many events are applied and the follower is idle; 0: never.
+    std::uint64_t hash_at_sequence = 0;
 };
 
 /// A copy of the follower's counters (status() takes it under a lock).
