@@ -15,6 +15,7 @@
 #include "display/app/scene_mesh.hpp"
 #include "display/app/session_events_ipc.hpp"
 #include "display/mesh/mesh_io.hpp"
+#include "tests/display/event_script.hpp"
 #include "tests/display/process_support.hpp"
 #include "tests/display/session_scenes.hpp"
 
@@ -22,10 +23,6 @@ namespace kerf::display {
 namespace {
 
 namespace fs = std::filesystem;
-using cut::test::kCutZ;
-using cut::test::kKerf;
-using cut::test::kOuterRadius;
-using cut::test::kSecondX;
 using test::Child;
 
 constexpr double kTimeout_s = 120.0;  // generous: CI runs this on a loaded 2-core machine
@@ -74,37 +71,6 @@ struct Scratch {
     fs::path dir;
     std::string session;
 };
-
-/// The recorded stream: cut 1 through tube 0 (begin, 12 progress steps, completed), the severed
-/// end moved away, cut 2 into tube 1 (begin, 5 steps, withdrawn).
-std::vector<ipc::EventRecord> script() {
-    std::vector<ipc::EventRecord> out;
-    cut::CutBegin first = cut::test::begin_across(1);
-    first.blade = cut::test::blade_across(0.4);
-    out.push_back(make_record(first));
-    for (int i = 0; i <= 12; ++i) {
-        const double front = -kOuterRadius + 2 * kOuterRadius * i / 12.0;
-        out.push_back(
-            make_record(cut::CutProgress{1, first.blade, {-0.02, front, -0.02, 0.02}}, first));
-    }
-    out.push_back(make_record(cut::CutEnd{1, cut::CutEndKind::kCompleted}, first));
-    const double a = 0.1;
-    out.push_back(make_record(cut::BodyMoved{
-        2, cut::RigidPose{cut::Vec3(0, 0, 0.01), {std::cos(a), 0, 0, std::sin(a)}}}));
-    cut::CutBegin second = cut::test::begin_across(2);
-    second.body_id = 1;
-    second.blade = cut::test::blade_across(-0.3, kSecondX);
-    second.blade.point_m[2] = 0.0302;
-    second.seed_m = cut::Vec3(kSecondX + kOuterRadius, 0, 0.0302);
-    out.push_back(make_record(second));
-    for (int i = 0; i < 5; ++i) {
-        const double front = -kOuterRadius + kOuterRadius * i / 5.0;
-        out.push_back(
-            make_record(cut::CutProgress{2, second.blade, {-0.02, front, -0.02, 0.02}}, second));
-    }
-    out.push_back(make_record(cut::CutEnd{2, cut::CutEndKind::kWithdrawn}, second));
-    return out;
-}
 
 /// The hash CutSession reaches in this process from the scene and `records`.
 std::string reference_hash(const Scratch& s, const std::vector<ipc::EventRecord>& records) {
@@ -162,7 +128,7 @@ double status_value(const Scratch& s, const char* file, const std::string& key) 
 
 TEST(DisplayProcess, AppliesARecordedStreamToTheSameMeshAsCutSessionInTheTest) {
     Scratch s;
-    const auto records = script();
+    const auto records = test::script();
     write_records(s.path("events.bin"), records);
     const std::string expected = reference_hash(s, records);
 
@@ -180,7 +146,7 @@ TEST(DisplayProcess, AppliesARecordedStreamToTheSameMeshAsCutSessionInTheTest) {
 
 TEST(DisplayProcess, KilledMidCutAndRestartedItCatchesUpToTheSameMesh) {
     Scratch s;
-    const auto records = script();
+    const auto records = test::script();
     write_records(s.path("events.bin"), records);
     const std::string expected = reference_hash(s, records);
     const std::size_t hold = 6;  // CutBegin and five progress events: mid-cut
@@ -214,7 +180,7 @@ TEST(DisplayProcess, KilledMidCutAndRestartedItCatchesUpToTheSameMesh) {
 
 TEST(DisplayProcess, AScribblerInTheSegmentChangesNothing) {
     Scratch s;
-    const auto records = script();
+    const auto records = test::script();
     write_records(s.path("events.bin"), records);
     const std::string expected = reference_hash(s, records);
 
