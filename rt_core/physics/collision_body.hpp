@@ -2,9 +2,8 @@
 // per-tick queries the 1 kHz loop asks of it.
 //
 // Construction (off the real-time thread; allocates):
-//   auto body = CollisionBody::build(view);              // Result<unique_ptr<const ...>,
-//   MeshProblem> auto next = CollisionBody::update(*body, new_view);  // after a cut: rebuilds
-//   touched chunks only
+//   auto body = CollisionBody::build(view);               // Result<unique_ptr<...>, ...>
+//   auto next = CollisionBody::update(**body, new_view);  // after a cut: touched chunks only
 // Swap (the loop's business, not this library's): keep the unique_ptr alive off the RT thread,
 // hand the raw pointer to CollisionWorld::set_body() at a tick boundary, and free the previous body
 // off the RT thread once the loop has stopped using it.

@@ -12,7 +12,9 @@
 
 namespace kerf::physics {
 
-/// What a triangle's surface is made of; decides feed resistance under the saw.
+/// What a triangle's surface is made of; decides feed resistance under the saw. Values equal
+/// ipc::TriangleMaterial's, so the mailbox's material bytes may be viewed as Material
+/// (validate_mesh refuses values outside the enum).
 enum class Material : std::uint8_t {
     kCortical = 0,    ///< dense outer bone (the default surface)
     kCancellous = 1,  ///< spongy inner bone

@@ -4,7 +4,7 @@
 //   ForceModel model(params);                 // configure: off the RT thread
 //   model.reset(tool_position);               // the proxy starts at the tool (must be outside)
 //   each tick: PhysicsOutput out = model.step(world, input, dt);   // noexcept, no allocation
-//   -> out.force_n to ForceSafety and the device; out.events[0..event_count) to the rings;
+//   -> out.force_n to ForceSafety and the device; out.saw.events[0..saw.event_count) to the rings;
 //      out.contact_flags / penetration_m / dissipated_j to telemetry.
 // The model keeps no pointer to the world: swapping a body between ticks is safe.
 #pragma once
