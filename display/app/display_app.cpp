@@ -261,6 +261,14 @@ int run_display(const DisplayOptions& o) {
                     camera = render::Camera::framing(handover.sync.bounds_min(),
                                                      handover.sync.bounds_max());
                 }
+                const egl::WindowInput in = output->take_input();  // X11: drag, wheel, 1-4
+                if (in.preset >= 0) {
+                    camera = render::Camera::framing(handover.sync.bounds_min(),
+                                                     handover.sync.bounds_max(),
+                                                     static_cast<render::CameraPreset>(in.preset));
+                }
+                camera->orbit(in.orbit_yaw_rad, in.orbit_pitch_rad);
+                camera->zoom(in.zoom_factor);
                 const auto& t = handover.sync.transforms();
                 for (int b = 0; b < render::kMaxBodies; ++b)
                     renderer->set_body_transform(b, t[std::size_t(b)]);

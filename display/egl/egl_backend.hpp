@@ -20,6 +20,7 @@ struct EglOutput::Backend {
     EglPlatform platform = EglPlatform::kHeadless;
     int width = 0, height = 0;
     std::string description;
+    WindowInput input;  ///< gathered by poll()
 
     virtual ~Backend();
     /// Unbinds and destroys the context and surface and terminates the display (idempotent);

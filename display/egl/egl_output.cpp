@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <cstring>
+#include <utility>
 
 #include "display/egl/egl_backend.hpp"
 
@@ -222,6 +223,7 @@ EglOutput::~EglOutput() = default;
 
 bool EglOutput::present(render::Renderer& renderer) { return b_->present(renderer); }
 bool EglOutput::poll() { return b_->poll(); }
+WindowInput EglOutput::take_input() noexcept { return std::exchange(b_->input, WindowInput{}); }
 EglPlatform EglOutput::platform() const noexcept { return b_->platform; }
 int EglOutput::width() const noexcept { return b_->width; }
 int EglOutput::height() const noexcept { return b_->height; }

@@ -46,6 +46,16 @@ struct EglOptions {
     std::string drm_device;   ///< KMS: e.g. "/dev/dri/card0", empty = first card found
 };
 
+/// What the user did in the window since the last take_input() (X11; other platforms: nothing).
+/// Left-drag orbits, the wheel zooms, keys 1-4 pick a camera preset, q / Escape quit.
+struct WindowInput {
+    double orbit_yaw_rad = 0.0;    ///< accumulated drag, rad (to Camera::orbit)
+    double orbit_pitch_rad = 0.0;  ///< rad
+    double zoom_factor = 1.0;      ///< product of wheel steps (to Camera::zoom)
+    int preset = -1;               ///< last key 1..4 as 0..3 (CameraPreset order), -1 for none
+    bool quit = false;             ///< window closed or q / Escape pressed
+};
+
 class EglOutput {
 public:
     /// Opens the platform and makes a GLES 3 context current on this thread.
@@ -59,8 +69,10 @@ public:
     /// headless: nothing to show (the frame stays in the renderer's FBO). False on a lost output.
     bool present(render::Renderer& renderer);
 
-    /// Handles pending window-system events; false once the user closed the window.
+    /// Handles pending window-system events; false once the user closed the window (or quit).
     bool poll();
+    /// The input gathered by poll() since the last call, then starts afresh.
+    WindowInput take_input() noexcept;
 
     EglPlatform platform() const noexcept;
     int width() const noexcept;

@@ -6,6 +6,7 @@
 // Xlib last: it defines macros (Status, None, Bool) that Kerf's headers must not see.
 #include <X11/Xlib.h>
 #include <X11/Xutil.h>
+#include <X11/keysym.h>
 
 namespace kerf::egl::detail {
 
@@ -35,12 +36,49 @@ struct X11 final : EglOutput::Backend {
         while (XPending(x) > 0) {
             XEvent e;
             XNextEvent(x, &e);
-            if (e.type == ClientMessage && static_cast<Atom>(e.xclient.data.l[0]) == wm_delete) {
-                return false;
-            }
+            handle(e);
         }
-        return true;
+        return !input.quit;
     }
+
+    // Turns one X event into WindowInput (left drag: 0.01 rad per pixel; wheel: 10 % per step).
+    void handle(const XEvent& e) {
+        switch (e.type) {
+            case ClientMessage:
+                if (static_cast<Atom>(e.xclient.data.l[0]) == wm_delete) input.quit = true;
+                break;
+            case ButtonPress:
+                if (e.xbutton.button == Button1) {
+                    dragging = true;
+                    last_x = e.xbutton.x;
+                    last_y = e.xbutton.y;
+                }
+                if (e.xbutton.button == Button4) input.zoom_factor *= 0.9;
+                if (e.xbutton.button == Button5) input.zoom_factor /= 0.9;
+                break;
+            case ButtonRelease:
+                if (e.xbutton.button == Button1) dragging = false;
+                break;
+            case MotionNotify:
+                if (!dragging) break;
+                input.orbit_yaw_rad -= 0.01 * (e.xmotion.x - last_x);
+                input.orbit_pitch_rad += 0.01 * (e.xmotion.y - last_y);
+                last_x = e.xmotion.x;
+                last_y = e.xmotion.y;
+                break;
+            case KeyPress: {
+                const KeySym k = XLookupKeysym(const_cast<XKeyEvent*>(&e.xkey), 0);
+                if (k >= XK_1 && k <= XK_4) input.preset = static_cast<int>(k - XK_1);
+                if (k == XK_q || k == XK_Escape) input.quit = true;
+                break;
+            }
+            default:
+                break;
+        }
+    }
+
+    bool dragging = false;
+    int last_x = 0, last_y = 0;
 };
 
 }  // namespace
@@ -79,7 +117,8 @@ Result<std::unique_ptr<EglOutput::Backend>, EglError> make_x11(const EglOptions&
     XSetWindowAttributes swa{};
     b->colormap = XCreateColormap(b->x, root, vi->visual, AllocNone);
     swa.colormap = b->colormap;
-    swa.event_mask = StructureNotifyMask | KeyPressMask;
+    swa.event_mask = StructureNotifyMask | KeyPressMask | ButtonPressMask | ButtonReleaseMask |
+                     Button1MotionMask;
     b->window = XCreateWindow(b->x, root, 0, 0, static_cast<unsigned>(o.width),
                               static_cast<unsigned>(o.height), 0, vi->depth, InputOutput,
                               vi->visual, CWColormap | CWEventMask, &swa);

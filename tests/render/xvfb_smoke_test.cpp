@@ -17,6 +17,7 @@
 // Xlib last (its macros must not meet Kerf's headers).
 #include <X11/Xlib.h>
 #include <X11/Xutil.h>
+#include <X11/keysym.h>
 
 namespace kerf::render {
 namespace {
