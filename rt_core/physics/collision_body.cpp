@@ -268,20 +268,38 @@ CollisionBody::Built CollisionBody::update(const CollisionBody& previous,
     auto impl = copy_mesh(next, old.options);
     const std::size_t old_count = old.indices.size() / 3, new_count = next.triangle_count();
     // Vertices whose position changed (new vertices are only reachable through changed indices).
-    const std::size_t common_vertices = std::min(old.positions.size(), impl->positions.size()) / 3;
-    std::vector<std::uint8_t> moved(common_vertices, 0);
-    for (std::size_t v = 0; v < common_vertices; ++v) {
-        moved[v] = std::memcmp(&old.positions[3 * v], &impl->positions[3 * v], 12) != 0;
+    // Blocks that compare equal as bytes are skipped: a cut appends vertices and leaves the old
+    // ones where they were.
+    constexpr std::size_t kBlock = 1024;
+    const std::size_t old_vertices = old.positions.size() / 3;
+    const std::size_t common_vertices = std::min(old_vertices, impl->positions.size() / 3);
+    std::vector<std::uint8_t> moved(old_vertices, 1);  // vertices past the new count are gone
+    std::fill(moved.begin(), moved.begin() + common_vertices, 0);
+    bool any_moved = common_vertices < old_vertices;
+    for (std::size_t v0 = 0; v0 < common_vertices; v0 += kBlock) {
+        const std::size_t n = std::min(kBlock, common_vertices - v0);
+        if (std::memcmp(&old.positions[3 * v0], &impl->positions[3 * v0], 12 * n) == 0) continue;
+        for (std::size_t v = v0; v < v0 + n; ++v) {
+            moved[v] = std::memcmp(&old.positions[3 * v], &impl->positions[3 * v], 12) != 0;
+            any_moved = any_moved || moved[v];
+        }
     }
     std::vector<std::uint8_t> dirty(old.chunks.size(), 0);
     const std::size_t common = std::min(old_count, new_count);
-    for (std::size_t t = 0; t < common; ++t) {
-        const std::uint32_t* a = &old.indices[3 * t];
-        const std::uint32_t* b = &impl->indices[3 * t];
-        const bool same = a[0] == b[0] && a[1] == b[1] && a[2] == b[2] &&
-                          old.materials[t] == impl->materials[t] && !moved[a[0]] && !moved[a[1]] &&
-                          !moved[a[2]];
-        if (!same) dirty[old.chunk_of[t]] = 1;
+    for (std::size_t t0 = 0; t0 < common; t0 += kBlock) {
+        const std::size_t n = std::min(kBlock, common - t0);
+        if (!any_moved && std::memcmp(&old.indices[3 * t0], &impl->indices[3 * t0], 12 * n) == 0 &&
+            std::memcmp(&old.materials[t0], &impl->materials[t0], n) == 0) {
+            continue;
+        }
+        for (std::size_t t = t0; t < t0 + n; ++t) {
+            const std::uint32_t* a = &old.indices[3 * t];
+            const std::uint32_t* b = &impl->indices[3 * t];
+            const bool same = a[0] == b[0] && a[1] == b[1] && a[2] == b[2] &&
+                              old.materials[t] == impl->materials[t] && !moved[a[0]] &&
+                              !moved[a[1]] && !moved[a[2]];
+            if (!same) dirty[old.chunk_of[t]] = 1;
+        }
     }
     for (std::size_t t = common; t < old_count; ++t) dirty[old.chunk_of[t]] = 1;  // removed
 
