@@ -135,12 +135,17 @@ TEST(DisplayProcess, AppliesARecordedStreamToTheSameMeshAsCutSessionInTheTest) {
     Child producer(producer_args(s), s.path("producer.out"));
     ASSERT_TRUE(producer.wait_output("ready", kTimeout_s)) << producer.output();
     const std::string n = std::to_string(records.size());
-    Child display(display_args(s, "status.json", {"--exit-after-events", n}),
-                  s.path("display.out"));
+    Child display(
+        display_args(s, "status.json",
+                     {"--exit-after-events", n, "--screenshot", s.path("cut.png"), "--on-cut-end"}),
+        s.path("display.out"));
     ASSERT_EQ(display.wait_exit(kTimeout_s), std::optional<int>(0)) << display.output();
     EXPECT_EQ(hash_printed(display.output()), expected) << display.output();
     EXPECT_GE(status_value(s, "status.json", "publishes"), 1.0) << "collision mesh published";
     EXPECT_EQ(status_value(s, "status.json", "refused"), 0.0);
+    EXPECT_GT(fs::file_size(s.path("cut.png")), 1000u) << "the frame after the completed cut";
+    if (const char* keep = std::getenv("KERF_KEEP_SCREENSHOT"))
+        fs::copy_file(s.path("cut.png"), keep);
     producer.kill(SIGTERM);
 }
 
@@ -201,6 +206,23 @@ TEST(DisplayProcess, AScribblerInTheSegmentChangesNothing) {
     std::printf("scribbler: %s; display counted %.0f rejections and gaps\n",
                 scribbler.output().c_str(), rejected);
     producer.kill(SIGTERM);
+}
+
+}  // namespace
+}  // namespace kerf::display
+
+namespace kerf::display {
+namespace {
+
+TEST(DisplayProcess, RunsInAnX11WindowUnderXvfb) {
+    if (!std::filesystem::exists("/usr/bin/xvfb-run")) GTEST_SKIP() << "xvfb-run not installed";
+    Scratch s;
+    Child display({"/usr/bin/xvfb-run", "-a", test::bin("kerf-display"), "--config",
+                   s.path("kerf.toml"), "--mode", "window", "--frames", "3"},
+                  s.path("window.out"));
+    ASSERT_EQ(display.wait_exit(kTimeout_s), std::optional<int>(0)) << display.output();
+    EXPECT_NE(display.output().find("3 frames"), std::string::npos) << display.output();
+    EXPECT_NE(display.output().find("x11"), std::string::npos) << display.output();
 }
 
 }  // namespace
