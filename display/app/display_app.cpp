@@ -138,6 +138,96 @@ render::BladePose blade_of(const FollowerStatus& s) {
     return b;
 }
 
+/// What the frame takes from the worker's hand-over, under its lock.
+struct FrameInput {
+    std::uint64_t drawn_event_ns = 0;  ///< newest event in the edits this frame uploads (0: none)
+    bool cut_ended = false;            ///< a cut completed since the previous frame
+    std::uint32_t triangles = 0;
+};
+
+/// Uploads the dirty ranges, places the bodies, frames the camera once. Short: under the lock.
+FrameInput take_handover(Handover& h, egl::EglOutput& output, render::Renderer& renderer,
+                         Measures& m, std::optional<render::Camera>& camera,
+                         std::uint64_t& cuts_seen) {
+    FrameInput in;
+    const std::lock_guard lock(h.mutex);
+    auto& rm = h.sync.mesh();
+    if (rm) {
+        m.last_upload = renderer.upload(*rm);
+        ++m.uploads;
+        m.whole_buffer_bytes = rm->vertices().size() * sizeof(render::RenderVertex) +
+                               rm->indices().size() * sizeof(std::uint32_t);
+        if (!camera) camera = render::Camera::framing(h.sync.bounds_min(), h.sync.bounds_max());
+        const egl::WindowInput input = output.take_input();  // X11: drag, wheel, 1-4
+        if (input.preset >= 0) {
+            camera = render::Camera::framing(h.sync.bounds_min(), h.sync.bounds_max(),
+                                             static_cast<render::CameraPreset>(input.preset));
+        }
+        camera->orbit(input.orbit_yaw_rad, input.orbit_pitch_rad);
+        camera->zoom(input.zoom_factor);
+        const auto& t = h.sync.transforms();
+        for (int b = 0; b < render::kMaxBodies; ++b)
+            renderer.set_body_transform(b, t[std::size_t(b)]);
+        in.triangles = rm->triangle_count();
+    }
+    in.drawn_event_ns = std::exchange(h.newest_event_ns, 0);
+    in.cut_ended = h.cuts_completed > cuts_seen;
+    cuts_seen = h.cuts_completed;
+    return in;
+}
+
+bool scene_ready(Handover& h) {
+    const std::lock_guard lock(h.mutex);
+    return h.sync.mesh().has_value();
+}
+
+render::HudState make_hud(const FollowerStatus& s, const Measures& m, std::uint32_t triangles,
+                          std::string_view backend) {
+    render::HudState hud;
+    hud.fps = m.frames.fps();
+    hud.frame_p99_ms = m.frames.percentile_ms(0.99);
+    hud.haptic_overruns = s.state_valid ? s.state.overrun_count : 0;
+    hud.wake_latency_us = s.state_valid ? s.state.period_ns_max * 1e-3 : -1;
+    hud.device_state = s.attached ? "attached" : "waiting for kerf-rt";
+    hud.cut_state = s.cut_open ? "cutting" : s.session.cuts_completed ? "severed" : "idle";
+    hud.event_backlog = s.backlog;
+    hud.triangles = triangles;
+    hud.backend = backend;
+    return hud;
+}
+
+void record_frame(Measures& m, std::uint64_t t0, std::uint64_t t1, std::uint64_t event_ns) {
+    m.frames.add(double(t1 - t0) * 1e-9);
+    if (m.frame_ms.size() < 100'000) m.frame_ms.push_back(double(t1 - t0) * 1e-6);
+    if (event_ns && t1 > event_ns && m.latency_ms.size() < 100'000) {
+        m.latency_ms.push_back(double(t1 - event_ns) * 1e-6);
+        m.upload_bytes.push_back(double(m.last_upload.bytes));
+    }
+}
+
+bool wants_screenshot(const DisplayOptions& o, std::uint64_t frame, bool cut_ended,
+                      bool last_frame) {
+    if (o.screenshot.empty()) return false;
+    if (o.screenshot_on_cut_end) return cut_ended;
+    return o.screenshot_at_frame == frame || (o.screenshot_at_frame == 0 && last_frame);
+}
+
+Result<egl::EglOutput, egl::EglError> open_output(const DisplayOptions& o,
+                                                  const config::Config& cfg) {
+    config::DisplayMode mode = cfg.main.display.mode;
+    if (o.mode) {
+        mode = *o.mode == "window" ? config::DisplayMode::kWindow
+               : *o.mode == "kms"  ? config::DisplayMode::kKms
+                                   : config::DisplayMode::kHeadless;
+    }
+    egl::EglOptions eo;
+    eo.platform = platform_of(mode);
+    eo.width = o.width.value_or(static_cast<int>(cfg.main.display.width_px));
+    eo.height = o.height.value_or(static_cast<int>(cfg.main.display.height_px));
+    eo.vsync = cfg.main.display.vsync;
+    return egl::EglOutput::create(eo);
+}
+
 }  // namespace
 
 ParsedArgs parse_display_args(int argc, char** argv) {
@@ -186,17 +276,7 @@ int run_display(const DisplayOptions& o) {
         spdlog::error("kerf-display: {}", cfg.error().message());
         return 2;
     }
-    config::DisplayMode mode = cfg->main.display.mode;
-    if (o.mode)
-        mode = *o.mode == "window" ? config::DisplayMode::kWindow
-               : *o.mode == "kms"  ? config::DisplayMode::kKms
-                                   : config::DisplayMode::kHeadless;
-    egl::EglOptions eo;
-    eo.platform = platform_of(mode);
-    eo.width = o.width.value_or(static_cast<int>(cfg->main.display.width_px));
-    eo.height = o.height.value_or(static_cast<int>(cfg->main.display.height_px));
-    eo.vsync = cfg->main.display.vsync;
-    auto output = egl::EglOutput::create(eo);
+    auto output = open_output(o, *cfg);
     if (!output) {
         spdlog::error("kerf-display: {}", output.error().message);
         return 3;
@@ -237,82 +317,25 @@ int run_display(const DisplayOptions& o) {
     bool shot_taken = false, exiting = false;
     std::string backend = output->description();
     while (!g_stop.load() && output->poll()) {
-        bool scene_ready = false;
-        {
-            const std::lock_guard lock(handover.mutex);
-            scene_ready = handover.sync.mesh().has_value();
-        }
-        if (!scene_ready) {  // frames start once the worker has built the scene
+        if (!scene_ready(handover)) {  // frames start once the worker has built the scene
             std::this_thread::sleep_for(std::chrono::milliseconds(5));
             continue;
         }
         const std::uint64_t t0 = monotonic_ns();
-        std::uint64_t drawn_event_ns = 0;
-        bool cut_ended = false;
-        {
-            const std::lock_guard lock(handover.mutex);
-            auto& rm = handover.sync.mesh();
-            if (rm) {
-                measures.last_upload = renderer->upload(*rm);
-                ++measures.uploads;
-                measures.whole_buffer_bytes = rm->vertices().size() * sizeof(render::RenderVertex) +
-                                              rm->indices().size() * sizeof(std::uint32_t);
-                if (!camera) {
-                    camera = render::Camera::framing(handover.sync.bounds_min(),
-                                                     handover.sync.bounds_max());
-                }
-                const egl::WindowInput in = output->take_input();  // X11: drag, wheel, 1-4
-                if (in.preset >= 0) {
-                    camera = render::Camera::framing(handover.sync.bounds_min(),
-                                                     handover.sync.bounds_max(),
-                                                     static_cast<render::CameraPreset>(in.preset));
-                }
-                camera->orbit(in.orbit_yaw_rad, in.orbit_pitch_rad);
-                camera->zoom(in.zoom_factor);
-                const auto& t = handover.sync.transforms();
-                for (int b = 0; b < render::kMaxBodies; ++b)
-                    renderer->set_body_transform(b, t[std::size_t(b)]);
-            }
-            drawn_event_ns = std::exchange(handover.newest_event_ns, 0);
-            cut_ended = handover.cuts_completed > cuts_seen;
-            cuts_seen = handover.cuts_completed;
-        }
-        const FollowerStatus status = (*follower)->status();
-        renderer->begin_frame(
-            camera.value_or(render::Camera::framing({-0.1, -0.1, -0.1}, {0.1, 0.1, 0.1})));
+        const FrameInput in =
+            take_handover(handover, *output, *renderer, measures, camera, cuts_seen);
+        renderer->begin_frame(*camera);
+        const FollowerStatus status = (*follower)->status();  // the latest pose, after the bone
         renderer->draw_blade(blade_of(status));
-        render::HudState hud;
-        hud.fps = measures.frames.fps();
-        hud.frame_p99_ms = measures.frames.percentile_ms(0.99);
-        hud.haptic_overruns = status.state_valid ? status.state.overrun_count : 0;
-        hud.wake_latency_us = status.state_valid ? status.state.period_ns_max * 1e-3 : -1;
-        hud.device_state = status.attached ? "attached" : "waiting for kerf-rt";
-        hud.cut_state = status.cut_open                 ? "cutting"
-                        : status.session.cuts_completed ? "severed"
-                                                        : "idle";
-        hud.event_backlog = status.backlog;
-        {
-            const std::lock_guard lock(handover.mutex);
-            if (handover.sync.mesh()) hud.triangles = handover.sync.mesh()->triangle_count();
-        }
-        hud.backend = backend;
-        renderer->draw_hud(hud);
+        renderer->draw_hud(make_hud(status, measures, in.triangles, backend));
         renderer->finish_frame();
         output->present(*renderer);
         ++frame;
         const std::uint64_t t1 = monotonic_ns();
-        measures.frames.add(double(t1 - t0) * 1e-9);
-        if (measures.frame_ms.size() < 100'000) measures.frame_ms.push_back(double(t1 - t0) * 1e-6);
-        if (drawn_event_ns && t1 > drawn_event_ns && measures.latency_ms.size() < 100'000) {
-            measures.latency_ms.push_back(double(t1 - drawn_event_ns) * 1e-6);
-            measures.upload_bytes.push_back(double(measures.last_upload.bytes));
-        }
+        record_frame(measures, t0, t1, in.drawn_event_ns);
 
         const bool last_frame = (o.frames && frame >= o.frames) || exiting;
-        if (!o.screenshot.empty() && !shot_taken &&
-            ((o.screenshot_on_cut_end && cut_ended) ||
-             (!o.screenshot_on_cut_end && o.screenshot_at_frame == frame) ||
-             (!o.screenshot_on_cut_end && o.screenshot_at_frame == 0 && last_frame))) {
+        if (!shot_taken && wants_screenshot(o, frame, in.cut_ended, last_frame)) {
             if (auto saved = renderer->save_png(o.screenshot); !saved) {
                 spdlog::error("kerf-display: screenshot: {}", saved.error().message);
             }

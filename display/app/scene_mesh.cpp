@@ -1,8 +1,8 @@
 #include "display/app/scene_mesh.hpp"
 
-#include <array>
 #include <vector>
 
+#include "display/cut/session_events.hpp"
 #include "display/mesh/foot_generator.hpp"
 #include "display/mesh/mesh_io.hpp"
 
@@ -25,28 +25,16 @@ mesh::Units units_of(config::LengthUnit unit) {
     return mesh::Units::kMetres;
 }
 
-/// Row-major rotation of a unit quaternion (w, x, y, z).
-std::array<double, 9> rotation(const std::array<double, 4>& q) {
-    const double w = q[0], x = q[1], y = q[2], z = q[3];
-    return {1 - 2 * (y * y + z * z), 2 * (x * y - w * z),     2 * (x * z + w * y),
-            2 * (x * y + w * z),     1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
-            2 * (x * z - w * y),     2 * (y * z + w * x),     1 - 2 * (x * x + y * y)};
-}
-
-mesh::Point rotate(const std::array<double, 9>& r, const mesh::Point& p) {
-    return {r[0] * p[0] + r[1] * p[1] + r[2] * p[2], r[3] * p[0] + r[4] * p[1] + r[5] * p[2],
-            r[6] * p[0] + r[7] * p[1] + r[8] * p[2]};
-}
-
 /// Appends `part`, placed by `t`, to `scene` (every vertex attribute copied).
 void append_placed(mesh::TriMesh& scene, const mesh::TriMesh& part,
                    const config::RigidTransform& t) {
-    const auto r = rotation(t.rotation_wxyz);
-    const mesh::Point shift(t.translation_m[0], t.translation_m[1], t.translation_m[2]);
+    const cut::RigidPose place{
+        cut::Vec3(t.translation_m[0], t.translation_m[1], t.translation_m[2]), t.rotation_wxyz};
+    const cut::RigidPose turn{cut::Vec3(0, 0, 0), t.rotation_wxyz};
     const int offset = static_cast<int>(scene.n_vertices());
     for (const auto v : part.vertices()) {
-        const auto w = scene.add_vertex(rotate(r, part.point(v)) + shift);
-        scene.set_normal(w, rotate(r, part.normal(v)));
+        const auto w = scene.add_vertex(place.to_world(part.point(v)));
+        scene.set_normal(w, turn.to_world(part.normal(v)));
         scene.set_texcoord2D(w, part.texcoord2D(v));
         scene.set_color(w, part.color(v));
         scene.data(w).set_material(part.data(v).material());
