@@ -45,6 +45,7 @@ packages=(
   libembree-dev
   valgrind
   libx11-dev libdrm-dev xvfb
+  nlohmann-json3-dev
 )
 if [[ $bench_peers == 1 ]]; then packages+=(libvtk9-dev libcgal-dev); fi
 

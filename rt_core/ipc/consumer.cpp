@@ -1,5 +1,6 @@
 #include "rt_core/ipc/consumer.hpp"
 
+#include <fcntl.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
@@ -147,8 +148,14 @@ struct Consumer::Impl {
 
     bool open_journal() {
         if (journal) return true;
-        const std::string path = journal_path_of(seg().header);
-        auto opened = JournalReader::open(path, seg().header.session_id);
+        // Only the descriptor the producer served: a path read from the segment is never opened.
+        const int served = segment.journal_fd();
+        const std::string label = journal_path_of(seg().header);
+        auto opened = served < 0
+                          ? Result<JournalReader, IpcError>(Err{make_error(
+                                IpcErrc::kJournal, "the producer served no journal descriptor")})
+                          : JournalReader::adopt(fcntl(served, F_DUPFD_CLOEXEC, 0), label,
+                                                 seg().header.session_id);
         if (!opened) {
             if (!journal_error_logged) {
                 spdlog::warn("kerf ipc: segment {}: {}", segment.name(), opened.error().message);

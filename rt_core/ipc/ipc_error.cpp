@@ -25,6 +25,8 @@ const char* to_string(IpcErrc code) noexcept {
             return "journal";
         case IpcErrc::kCorrupt:
             return "corrupt";
+        case IpcErrc::kUntrusted:
+            return "untrusted";
     }
     return "unknown";
 }

@@ -18,6 +18,7 @@ enum class IpcErrc {
     kBadArgument,   ///< caller passed an invalid name, size or option
     kJournal,       ///< journal file missing, unreadable or corrupt
     kCorrupt,       ///< segment content failed validation
+    kUntrusted,     ///< owner, mode or peer of a segment/session is not one this user may trust
 };
 
 /// Stable lower-case name of an error code ("in_use").

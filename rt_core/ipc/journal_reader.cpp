@@ -14,12 +14,27 @@ namespace kerf::ipc {
 
 Result<JournalReader, IpcError> JournalReader::open(const std::string& path,
                                                     std::uint64_t expected_session_id) {
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK);
     if (fd < 0) {
         const int e = errno;
         if (e == ENOENT)
             return Err{make_error(IpcErrc::kNotFound, "journal " + path + ": missing")};
+        if (e == ELOOP) {
+            return Err{
+                make_error(IpcErrc::kJournal, "journal " + path + ": is a symbolic link; refused")};
+        }
         return Err{os_error("journal " + path + ": open", e)};
+    }
+    return adopt(fd, path, expected_session_id);
+}
+
+Result<JournalReader, IpcError> JournalReader::adopt(int fd, const std::string& path,
+                                                     std::uint64_t expected_session_id) {
+    struct stat st {};
+    if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        if (fd >= 0) ::close(fd);
+        return Err{
+            make_error(IpcErrc::kJournal, "journal " + path + ": not a regular file; refused")};
     }
     JournalFileHeader h{};
     const ssize_t n = ::pread(fd, &h, sizeof h, 0);

@@ -20,9 +20,14 @@ enum class JournalRead : std::uint8_t {
 
 class JournalReader {
 public:
-    /// Opens `path` and checks its header; `expected_session_id` 0 accepts any session.
+    /// Opens `path` (a regular file; never follows a final symbolic link, never blocks on a
+    /// FIFO) and checks its header; `expected_session_id` 0 accepts any session.
     static Result<JournalReader, IpcError> open(const std::string& path,
                                                 std::uint64_t expected_session_id);
+    /// Takes `fd` (e.g. served by the producer; closed on failure too), requires a regular file
+    /// and checks its header; `label` names it in messages.
+    static Result<JournalReader, IpcError> adopt(int fd, const std::string& label,
+                                                 std::uint64_t expected_session_id);
     JournalReader(JournalReader&& other) noexcept;
     JournalReader& operator=(JournalReader&&) = delete;
     JournalReader(const JournalReader&) = delete;

@@ -1,6 +1,7 @@
 #include "rt_core/ipc/journal_writer.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -41,11 +42,18 @@ bool write_all(int fd, const void* data, std::size_t bytes) noexcept {
 }  // namespace
 
 Result<std::unique_ptr<JournalWriter>, IpcError> JournalWriter::create(
-    SegmentLayout& segment, std::uint64_t flush_period_ns) {
+    SegmentLayout& segment, std::uint64_t flush_period_ns, mode_t mode, gid_t group) {
     const std::string path = journal_path_of(segment.header);
     if (path.empty()) return Err{make_error(IpcErrc::kJournal, "journal path unset in header")};
-    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_APPEND, 0640);
+    const int fd =
+        ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_APPEND | O_NOFOLLOW, mode);
     if (fd < 0) return Err{os_error("journal " + path + ": open", errno)};
+    if (fchmod(fd, mode) != 0 || (group != gid_t(-1) && fchown(fd, uid_t(-1), group) != 0)) {
+        const int e = errno;
+        ::close(fd);
+        ::unlink(path.c_str());
+        return Err{os_error("journal " + path + ": chmod/chown", e)};
+    }
     JournalFileHeader h{};
     h.magic = kJournalMagic;
     h.version = kJournalVersion;
@@ -120,6 +128,21 @@ void JournalWriter::stop() {
     if (thread_.joinable()) thread_.join();
     ::close(fd_);
     fd_ = -1;
+}
+
+int JournalWriter::reopen_read_only() const {
+    const std::string path = journal_path_of(segment_.header);
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK);
+    if (fd < 0) return -1;
+    struct stat mine {
+    }, theirs{};
+    if (fstat(fd_, &mine) != 0 || fstat(fd, &theirs) != 0 || mine.st_ino != theirs.st_ino ||
+        mine.st_dev != theirs.st_dev) {
+        ::close(fd);
+        errno = EXDEV;
+        return -1;
+    }
+    return fd;
 }
 
 std::uint64_t JournalWriter::write_errors() const noexcept {

@@ -4,6 +4,8 @@
 // segment (journal_next_sequence) and fdatasync()s every flush period.
 #pragma once
 
+#include <sys/types.h>
+
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -20,10 +22,14 @@ inline constexpr std::uint32_t kJournalQueueCapacity = 1u << 16;  ///< events (6
 
 class JournalWriter {
 public:
-    /// Creates the file named in the segment header (O_EXCL) and starts the writer thread.
+    /// Creates the file named in the segment header (O_EXCL, O_NOFOLLOW) with `mode` (the
+    /// segment's, less write for the group) and `group` (gid_t(-1): unchanged), and starts the
+    /// writer thread.
     /// @pre `segment` outlives the writer
     static Result<std::unique_ptr<JournalWriter>, IpcError> create(SegmentLayout& segment,
-                                                                   std::uint64_t flush_period_ns);
+                                                                   std::uint64_t flush_period_ns,
+                                                                   mode_t mode = 0600,
+                                                                   gid_t group = gid_t(-1));
     ~JournalWriter();  ///< stop()s
 
     /// Real-time side: hands one event to the writer thread. Never blocks, never allocates;
@@ -32,6 +38,9 @@ public:
 
     /// Drains everything enqueued so far, fdatasyncs, joins the thread. Idempotent.
     void stop();
+
+    /// A new read-only descriptor of the same file (checked: same inode), or -1 with errno.
+    int reopen_read_only() const;
 
     /// Non-real-time: write errors seen by the thread so far (0 when healthy).
     std::uint64_t write_errors() const noexcept;

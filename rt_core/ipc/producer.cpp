@@ -1,5 +1,6 @@
 #include "rt_core/ipc/producer.hpp"
 
+#include <cerrno>
 #include <utility>
 
 #include "rt_core/ipc/journal_writer.hpp"
@@ -112,6 +113,7 @@ void Producer::stop() {
 const SegmentLayout& Producer::layout() const noexcept { return impl_->segment.layout(); }
 const std::string& Producer::segment_name() const noexcept { return impl_->segment.name(); }
 std::string Producer::journal_path() const { return journal_path_of(layout().header); }
+std::string Producer::socket_path() const { return impl_->segment.socket_path(); }
 
 ProducerBuilder& ProducerBuilder::segment_name(std::string name) {
     name_ = std::move(name);
@@ -125,24 +127,45 @@ ProducerBuilder& ProducerBuilder::group_access(bool enabled) {
     group_access_ = enabled;
     return *this;
 }
+ProducerBuilder& ProducerBuilder::group(std::string group_name) {
+    group_name_ = std::move(group_name);
+    return *this;
+}
+ProducerBuilder& ProducerBuilder::runtime_dir(std::string directory) {
+    runtime_dir_ = std::move(directory);
+    return *this;
+}
 ProducerBuilder& ProducerBuilder::journal_flush_period_ns(std::uint64_t period_ns) {
     flush_period_ns_ = period_ns;
     return *this;
 }
 
 Result<Producer, IpcError> ProducerBuilder::create() const {
-    auto segment =
-        SegmentBuilder().name(name_).journal_dir(journal_dir_).group_access(group_access_).create();
+    auto segment = SegmentBuilder()
+                       .name(name_)
+                       .runtime_dir(runtime_dir_)
+                       .journal_dir(journal_dir_)
+                       .group_access(group_access_)
+                       .group(group_name_)
+                       .create();
     if (!segment) return Err{std::move(segment).error()};
+    // The journal follows the segment: owner-only, or readable by the kiosk group.
+    const bool shared = (segment->mode() & 0060) != 0;
     auto impl = std::make_unique<Producer::Impl>(std::move(*segment));
     SegmentLayout& s = impl->segment.layout();
     for (std::uint32_t i = 0; i < kSlotCount; ++i) {
         impl->event_rings[i] = {&s.slots[i].event_ring, s.slots[i].events};
         impl->telemetry_rings[i] = {&s.slots[i].telemetry_ring, s.slots[i].telemetry};
     }
-    auto journal = JournalWriter::create(s, flush_period_ns_);
+    auto journal = JournalWriter::create(s, flush_period_ns_, shared ? 0640 : 0600,
+                                         shared ? impl->segment.group_id() : gid_t(-1));
     if (!journal) return Err{std::move(journal).error()};
     impl->journal = std::move(*journal);
+    const int reader = impl->journal->reopen_read_only();
+    if (reader < 0) {
+        return Err{os_error("journal " + journal_path_of(s.header) + ": reopen to serve", errno)};
+    }
+    impl->segment.serve_journal(reader);
     s.producer.heartbeat_ns.store(monotonic_ns(), std::memory_order_release);
     s.header.state.store(static_cast<std::uint32_t>(SegmentState::kRunning),
                          std::memory_order_release);

@@ -53,6 +53,7 @@ public:
     const SegmentLayout& layout() const noexcept;
     const std::string& segment_name() const noexcept;
     std::string journal_path() const;
+    std::string socket_path() const;  ///< the session socket consumers connect to
 
 private:
     struct Impl;
@@ -64,16 +65,23 @@ private:
 class ProducerBuilder {
 public:
     ProducerBuilder& segment_name(std::string name);      ///< e.g. "kerf.demo" (from config)
-    ProducerBuilder& journal_dir(std::string directory);  ///< default /dev/shm
+    ProducerBuilder& journal_dir(std::string directory);  ///< default: the session's folder
     ProducerBuilder& group_access(bool enabled);          ///< 0660 instead of 0600
+    /// Kiosk group by name ([shm] group; implies group_access; a missing group is an error).
+    ProducerBuilder& group(std::string group_name);
+    /// Folder of session folders (default default_runtime_dir()).
+    ProducerBuilder& runtime_dir(std::string directory);
     ProducerBuilder& journal_flush_period_ns(std::uint64_t period_ns);  ///< default 20 ms
 
-    /// Creates segment + journal, starts the journal thread, marks the segment running.
+    /// Creates segment + journal, starts the journal thread and the session socket's server
+    /// thread (consumers receive the segment and journal descriptors there), marks it running.
     Result<Producer, IpcError> create() const;
 
 private:
     std::string name_;
-    std::string journal_dir_ = "/dev/shm";
+    std::string journal_dir_;
+    std::string runtime_dir_;
+    std::string group_name_;
     std::uint64_t flush_period_ns_ = 20'000'000;
     bool group_access_ = false;
 };

@@ -1,6 +1,7 @@
 #include "rt_core/ipc/shm_segment.hpp"
 
 #include <fcntl.h>
+#include <grp.h>
 #include <signal.h>
 #include <sys/mman.h>
 #include <sys/random.h>
@@ -17,16 +18,47 @@
 namespace kerf::ipc {
 namespace {
 
-std::string shm_path(const std::string& name) { return "/" + name; }
+bool valid_name(const std::string& name) { return valid_session_name(name); }
 
-bool valid_name(const std::string& name) {
-    if (name.empty() || name.size() > 64) return false;
-    for (char c : name) {
-        const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
-                        (c >= '0' && c <= '9') || c == '.' || c == '_' || c == '-';
-        if (!ok) return false;
+std::string octal(mode_t mode) {
+    char buf[8];
+    std::snprintf(buf, sizeof buf, "%04o", unsigned(mode & 07777));
+    return buf;
+}
+
+bool in_my_groups(gid_t gid) {
+    if (gid == getegid()) return true;
+    gid_t groups[256];
+    const int n = getgroups(256, groups);
+    for (int i = 0; i < n; ++i) {
+        if (groups[i] == gid) return true;
     }
-    return name != "." && name != "..";
+    return false;
+}
+
+// Trust rule at attach: the segment belongs to the producer that served it; nothing for others;
+// the owner is this user or root, or the group is one of ours and the segment is group-shared.
+Status<IpcError> check_trust(const std::string& where, const struct stat& st, uid_t producer_uid) {
+    const std::string mode = "owner uid " + std::to_string(st.st_uid) + ", group " +
+                             std::to_string(st.st_gid) + ", mode " + octal(st.st_mode);
+    if (st.st_uid != producer_uid) {
+        return Err{make_error(IpcErrc::kUntrusted,
+                              where + ": segment (" + mode + ") was served by uid " +
+                                  std::to_string(producer_uid) + ", not its owner; refused")};
+    }
+    if ((st.st_mode & 0007) != 0) {
+        return Err{make_error(IpcErrc::kUntrusted,
+                              where + ": segment (" + mode + ") is open to others; refused")};
+    }
+    const bool mine = st.st_uid == geteuid() || st.st_uid == 0;
+    const bool shared = (st.st_mode & 0060) == 0060 && in_my_groups(st.st_gid);
+    if (!mine && !shared) {
+        return Err{make_error(IpcErrc::kUntrusted,
+                              where + ": segment (" + mode +
+                                  ") belongs to another user and is not shared with a group of "
+                                  "ours; refused")};
+    }
+    return {};
 }
 
 std::string hex(std::uint64_t v) {
@@ -49,24 +81,6 @@ std::uint64_t random_session_id() {
         }
     }
     return id;
-}
-
-// True when an existing segment may be replaced: garbage, stopped, producer dead or long silent.
-bool existing_is_stale(int fd, std::uint64_t stale_after_ns, std::string& why_in_use) {
-    struct stat st {};
-    if (fstat(fd, &st) != 0 || st.st_size < static_cast<off_t>(sizeof(SegmentLayout))) return true;
-    void* p = mmap(nullptr, sizeof(SegmentLayout), PROT_READ, MAP_SHARED, fd, 0);
-    if (p == MAP_FAILED) return true;
-    const auto* layout = static_cast<const SegmentLayout*>(p);
-    bool stale = true;
-    if (check_header(layout->header, std::uint64_t(st.st_size))) {
-        const ProducerHealth h = producer_health(*layout, stale_after_ns);
-        stale = h == ProducerHealth::kDead || h == ProducerHealth::kStopped ||
-                h == ProducerHealth::kStale;
-        why_in_use = "owned by live producer pid " + std::to_string(layout->header.producer_pid);
-    }
-    munmap(p, sizeof(SegmentLayout));
-    return stale;
 }
 
 void fill_header(SegmentHeader& h, const std::string& journal_path) {
@@ -195,13 +209,28 @@ Status<IpcError> check_header(const SegmentHeader& h, std::uint64_t mapped_bytes
     return Err{make_error(IpcErrc::kBadHeader, "header: " + out)};
 }
 
+bool valid_session_name(const std::string& name) {
+    if (name.empty() || name.size() > 64) return false;
+    for (char c : name) {
+        const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+                        (c >= '0' && c <= '9') || c == '.' || c == '_' || c == '-';
+        if (!ok) return false;
+    }
+    return name != "." && name != "..";
+}
+
 ShmSegment::ShmSegment(SegmentLayout* layout, std::string name, bool owner) noexcept
     : layout_(layout), name_(std::move(name)), owner_(owner) {}
 
 ShmSegment::ShmSegment(ShmSegment&& other) noexcept
     : layout_(std::exchange(other.layout_, nullptr)),
       name_(std::move(other.name_)),
-      owner_(std::exchange(other.owner_, false)) {}
+      owner_(std::exchange(other.owner_, false)),
+      owner_uid_(other.owner_uid_),
+      mode_(other.mode_),
+      group_id_(other.group_id_),
+      journal_fd_(std::exchange(other.journal_fd_, -1)),
+      server_(std::move(other.server_)) {}
 
 ShmSegment& ShmSegment::operator=(ShmSegment&& other) noexcept {
     if (this != &other) {
@@ -212,9 +241,19 @@ ShmSegment& ShmSegment::operator=(ShmSegment&& other) noexcept {
 }
 
 ShmSegment::~ShmSegment() {
-    if (layout_ == nullptr) return;
-    if (owner_) shm_unlink(shm_path(name_).c_str());
-    munmap(layout_, sizeof(SegmentLayout));
+    server_.reset();  // stops serving and removes the socket before the memory goes
+    if (journal_fd_ >= 0) close(journal_fd_);
+    if (layout_ != nullptr) munmap(layout_, sizeof(SegmentLayout));
+}
+
+std::string ShmSegment::socket_path() const { return server_ ? server_->socket_path() : ""; }
+
+void ShmSegment::serve_journal(int read_only_fd) noexcept {
+    if (server_) {
+        server_->set_journal_fd(read_only_fd);
+    } else if (read_only_fd >= 0) {
+        close(read_only_fd);
+    }
 }
 
 SegmentBuilder& SegmentBuilder::name(std::string segment_name) {
@@ -225,12 +264,17 @@ SegmentBuilder& SegmentBuilder::group_access(bool enabled) {
     group_access_ = enabled;
     return *this;
 }
-SegmentBuilder& SegmentBuilder::journal_dir(std::string directory) {
-    journal_dir_ = std::move(directory);
+SegmentBuilder& SegmentBuilder::group(std::string group_name) {
+    group_name_ = std::move(group_name);
+    group_access_ = group_access_ || !group_name_.empty();
     return *this;
 }
-SegmentBuilder& SegmentBuilder::stale_after_ns(std::uint64_t age_ns) {
-    stale_after_ns_ = age_ns;
+SegmentBuilder& SegmentBuilder::runtime_dir(std::string directory) {
+    runtime_dir_ = std::move(directory);
+    return *this;
+}
+SegmentBuilder& SegmentBuilder::journal_dir(std::string directory) {
+    journal_dir_ = std::move(directory);
     return *this;
 }
 
@@ -240,44 +284,72 @@ Result<ShmSegment, IpcError> SegmentBuilder::create() const {
                               "segment name '" + name_ + "': use 1-64 of [A-Za-z0-9._-]")};
     }
     const std::string where = "segment " + name_;
-    if (journal_dir_.empty() || journal_dir_[0] != '/' || journal_dir_.size() > 80) {
+    const std::string runtime = runtime_dir_.empty() ? default_runtime_dir() : runtime_dir_;
+    if (!journal_dir_.empty() && (journal_dir_[0] != '/' || journal_dir_.size() > 80)) {
         return Err{make_error(IpcErrc::kBadArgument, where + ": journal dir '" + journal_dir_ +
                                                          "' must be absolute, <= 80 chars")};
     }
-    const int existing = shm_open(shm_path(name_).c_str(), O_RDONLY | O_CLOEXEC, 0);
-    if (existing >= 0) {
-        std::string why;
-        const bool stale = existing_is_stale(existing, stale_after_ns_, why);
-        close(existing);
-        if (!stale) return Err{make_error(IpcErrc::kInUse, where + ": " + why)};
-        shm_unlink(shm_path(name_).c_str());  // a dead producer's leftover: replace it
+    PeerPolicy policy;
+    policy.owner_uid = geteuid();
+    policy.group_allowed = group_access_;
+    policy.group = getegid();
+    if (!group_name_.empty()) {
+        const ::group* g = getgrnam(group_name_.c_str());
+        if (g == nullptr) {
+            return Err{make_error(IpcErrc::kBadArgument,
+                                  where + ": group '" + group_name_ + "' does not exist")};
+        }
+        policy.group = g->gr_gid;
     }
     const mode_t mode = group_access_ ? 0660 : 0600;
-    const int fd = shm_open(shm_path(name_).c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, mode);
-    if (fd < 0) return Err{os_error(where + ": shm_open", errno)};
-    fchmod(fd, mode);  // umask may have removed the group bits
-    if (ftruncate(fd, sizeof(SegmentLayout)) != 0) {
+    const int fd = memfd_create(("kerf:" + name_).c_str(), MFD_CLOEXEC | MFD_ALLOW_SEALING);
+    if (fd < 0) return Err{os_error(where + ": memfd_create", errno)};
+    auto fail = [&](const char* what) -> Result<ShmSegment, IpcError> {
         const int e = errno;
         close(fd);
-        shm_unlink(shm_path(name_).c_str());
-        return Err{os_error(where + ": ftruncate", e)};
+        return Err{os_error(where + ": " + what, e)};
+    };
+    if (fchmod(fd, mode) != 0) return fail("fchmod");
+    if (group_access_ && fchown(fd, uid_t(-1), policy.group) != 0) return fail("fchown");
+    if (ftruncate(fd, sizeof(SegmentLayout)) != 0) return fail("ftruncate");
+    // From here on nobody, this process included, can change the size: no SIGBUS for anyone.
+    if (fcntl(fd, F_ADD_SEALS, F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_SEAL) != 0) {
+        return fail("sealing");
     }
     void* p = mmap(nullptr, sizeof(SegmentLayout), PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
-    const int e = errno;
-    close(fd);
-    if (p == MAP_FAILED) {
-        shm_unlink(shm_path(name_).c_str());
-        return Err{os_error(where + ": mmap", e)};
-    }
-    auto* layout = static_cast<SegmentLayout*>(p);  // zero-filled by ftruncate
+    if (p == MAP_FAILED) return fail("mmap");
+    auto* layout = static_cast<SegmentLayout*>(p);  // zero-filled
     fill_header(layout->header, "");
-    char journal[kJournalPathBytes];
-    std::snprintf(journal, sizeof journal, "%s/%s-%016" PRIx64 ".kjournal", journal_dir_.c_str(),
-                  name_.c_str(), layout->header.session_id);
-    std::memcpy(layout->header.journal_path, journal, sizeof journal);
+    const std::string dir = journal_dir_.empty() ? session_dir_of(runtime, name_) : journal_dir_;
+    char journal[kJournalPathBytes + 32];
+    if (journal_dir_.empty()) {
+        std::snprintf(journal, sizeof journal, "%s/%016" PRIx64 ".kjournal", dir.c_str(),
+                      layout->header.session_id);
+    } else {
+        std::snprintf(journal, sizeof journal, "%s/%s-%016" PRIx64 ".kjournal", dir.c_str(),
+                      name_.c_str(), layout->header.session_id);
+    }
+    if (std::strlen(journal) >= kJournalPathBytes) {
+        munmap(p, sizeof(SegmentLayout));
+        close(fd);
+        return Err{make_error(IpcErrc::kBadArgument,
+                              where + ": journal path " + journal + " is longer than " +
+                                  std::to_string(kJournalPathBytes - 1) + " bytes")};
+    }
+    std::memcpy(layout->header.journal_path, journal, kJournalPathBytes);
     layout->header.state.store(static_cast<std::uint32_t>(SegmentState::kStarting),
                                std::memory_order_release);
-    return ShmSegment(layout, name_, true);
+    auto server = SessionServer::start(runtime, name_, fd, policy, layout->header.session_id);
+    if (!server) {  // the descriptor went with the failed server
+        munmap(p, sizeof(SegmentLayout));
+        return Err{std::move(server).error()};
+    }
+    ShmSegment segment(layout, name_, true);
+    segment.owner_uid_ = geteuid();
+    segment.mode_ = mode;
+    segment.group_id_ = group_access_ ? policy.group : getegid();
+    segment.server_ = std::move(*server);
+    return segment;
 }
 
 Result<ShmSegment, IpcError> SegmentBuilder::open() const {
@@ -285,33 +357,55 @@ Result<ShmSegment, IpcError> SegmentBuilder::open() const {
         return Err{make_error(IpcErrc::kBadArgument, "segment name '" + name_ + "' is invalid")};
     }
     const std::string where = "segment " + name_;
-    const int fd = shm_open(shm_path(name_).c_str(), O_RDWR | O_CLOEXEC, 0);
-    if (fd < 0) {
-        const int e = errno;
-        if (e == ENOENT) return Err{make_error(IpcErrc::kNotFound, where + ": no such segment")};
-        return Err{os_error(where + ": shm_open", e)};
-    }
-    struct stat st {};
-    if (fstat(fd, &st) != 0 || st.st_size < static_cast<off_t>(sizeof(SegmentHeader))) {
+    const std::string runtime = runtime_dir_.empty() ? default_runtime_dir() : runtime_dir_;
+    auto fds = fetch_session(runtime, name_);
+    if (!fds) return Err{std::move(fds).error()};
+    const int fd = fds->segment_fd;
+    auto fail = [&](IpcError error) -> Result<ShmSegment, IpcError> {
         close(fd);
-        return Err{make_error(IpcErrc::kBadHeader, where + ": " + std::to_string(st.st_size) +
-                                                       " bytes, expected " +
-                                                       std::to_string(sizeof(SegmentLayout)))};
+        if (fds->journal_fd >= 0) close(fds->journal_fd);
+        return Err{std::move(error)};
+    };
+    struct stat st {};
+    if (fstat(fd, &st) != 0) return fail(os_error(where + ": fstat", errno));
+    if (!S_ISREG(st.st_mode) || std::uint64_t(st.st_size) != sizeof(SegmentLayout)) {
+        return fail(make_error(IpcErrc::kBadHeader, where + ": " + std::to_string(st.st_size) +
+                                                        " bytes, expected " +
+                                                        std::to_string(sizeof(SegmentLayout))));
     }
-    const std::size_t map_bytes = std::uint64_t(st.st_size) >= sizeof(SegmentLayout)
-                                      ? sizeof(SegmentLayout)
-                                      : sizeof(SegmentHeader);
-    void* p = mmap(nullptr, map_bytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
-    const int e = errno;
+    const int seals = fcntl(fd, F_GET_SEALS);
+    if (seals < 0 || (seals & (F_SEAL_SHRINK | F_SEAL_GROW)) != (F_SEAL_SHRINK | F_SEAL_GROW)) {
+        return fail(make_error(IpcErrc::kUntrusted,
+                               where + ": segment is not sealed against resizing; refused"));
+    }
+    if (auto trusted = check_trust(where, st, fds->producer_uid); !trusted) {
+        return fail(trusted.error());
+    }
+    void* p = mmap(nullptr, sizeof(SegmentLayout), PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+    if (p == MAP_FAILED) return fail(os_error(where + ": mmap", errno));
     close(fd);
-    if (p == MAP_FAILED) return Err{os_error(where + ": mmap", e)};
     auto* layout = static_cast<SegmentLayout*>(p);
     auto checked = check_header(layout->header, std::uint64_t(st.st_size));
+    std::string why;
     if (!checked) {
-        munmap(p, map_bytes);
-        return Err{make_error(IpcErrc::kBadHeader, where + ": " + checked.error().message)};
+        why = checked.error().message;
+    } else if (layout->header.producer_pid != fds->producer_pid) {
+        why = "header says producer pid " + std::to_string(layout->header.producer_pid) +
+              " but pid " + std::to_string(fds->producer_pid) + " serves the session";
+    } else if (layout->header.session_id != fds->session_id) {
+        why = "header session id differs from the one its producer announced";
     }
-    return ShmSegment(layout, name_, false);
+    if (!why.empty()) {
+        munmap(p, sizeof(SegmentLayout));
+        if (fds->journal_fd >= 0) close(fds->journal_fd);
+        return Err{make_error(IpcErrc::kBadHeader, where + ": " + why)};
+    }
+    ShmSegment segment(layout, name_, false);
+    segment.owner_uid_ = st.st_uid;
+    segment.mode_ = st.st_mode & 07777;
+    segment.group_id_ = st.st_gid;
+    segment.journal_fd_ = fds->journal_fd;
+    return segment;
 }
 
 }  // namespace kerf::ipc

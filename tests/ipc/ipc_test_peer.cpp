@@ -8,6 +8,9 @@
 //   telemetry-consumer --name N --count C [--slow-every K]
 //   scribbler         --name N --ms T --seed S
 //   mesh-writer       --name N --ms T
+//   truncator         --name N --producer-pid P --ms T   (every way to resize the segment; each
+//                     must be refused: prints attempts= refused=; exit 4 if one succeeded)
+#include <dirent.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <spdlog/sinks/stdout_sinks.h>
@@ -32,6 +35,7 @@
 #include "rt_core/ipc/mesh_mailbox.hpp"
 #include "rt_core/ipc/producer.hpp"
 #include "rt_core/ipc/record_check.hpp"
+#include "rt_core/ipc/session_socket.hpp"
 #include "tests/ipc/ipc_test_support.hpp"
 
 namespace {
@@ -89,7 +93,7 @@ void hold(Producer& p, std::uint64_t hold_ms, std::uint64_t& tick) {
 int run_producer(const Args& a) {
     auto p = ProducerBuilder()
                  .segment_name(a.get("--name"))
-                 .journal_dir(a.get("--journal-dir", "/dev/shm"))
+                 .journal_dir(a.get("--journal-dir", ""))
                  .journal_flush_period_ns(5'000'000)
                  .create();
     if (!p) return std::printf("error=%s\n", p.error().message.c_str()), 2;
@@ -139,7 +143,7 @@ int run_producer(const Args& a) {
 int run_telemetry_producer(const Args& a) {
     auto p = ProducerBuilder()
                  .segment_name(a.get("--name"))
-                 .journal_dir(a.get("--journal-dir", "/dev/shm"))
+                 .journal_dir(a.get("--journal-dir", ""))
                  .create();
     if (!p) return std::printf("error=%s\n", p.error().message.c_str()), 2;
     const std::uint64_t count = a.num("--count");
@@ -359,6 +363,50 @@ int run_mesh_writer(const Args& a) {
     return 0;
 }
 
+// Tries to resize the live segment every way an attacker sharing the session could: through the
+// descriptor the producer serves, and through the producer's own descriptors in /proc.
+int run_truncator(const Args& a) {
+    const std::uint64_t deadline = monotonic_ns() + a.num("--ms", 500) * 1'000'000u;
+    std::uint64_t attempts = 0, refused = 0, succeeded = 0;
+    auto attempt = [&](bool ok) {
+        ++attempts;
+        ok ? ++succeeded : ++refused;
+    };
+    const std::string proc = "/proc/" + a.get("--producer-pid") + "/fd";
+    while (monotonic_ns() < deadline && !g_stop) {
+        auto fds = fetch_session(default_runtime_dir(), a.get("--name"));
+        if (!fds) return fail("fetch_session");
+        const int fd = fds->segment_fd;
+        for (off_t size : {off_t(0), off_t(4096), off_t(sizeof(SegmentLayout) / 2),
+                           off_t(2 * sizeof(SegmentLayout))}) {
+            attempt(ftruncate(fd, size) == 0);
+        }
+        attempt(fallocate(fd, 0, 0, off_t(2 * sizeof(SegmentLayout))) == 0);
+        close(fd);
+        if (fds->journal_fd >= 0) close(fds->journal_fd);
+        // truncate(1) on the producer's descriptors through /proc (the path a shell would use).
+        if (DIR* d = opendir(proc.c_str())) {
+            while (dirent* e = readdir(d)) {
+                const std::string path = proc + "/" + e->d_name;
+                char target[256] = {};
+                if (readlink(path.c_str(), target, sizeof target - 1) <= 0) continue;
+                if (std::strncmp(target, "/memfd:kerf:", 12) != 0) continue;
+                attempt(truncate(path.c_str(), 0) == 0);
+                const int rw = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
+                if (rw >= 0) {
+                    attempt(ftruncate(rw, 0) == 0);
+                    close(rw);
+                }
+            }
+            closedir(d);
+        }
+        sleep_ns(5'000'000);
+    }
+    std::printf("attempts=%" PRIu64 " refused=%" PRIu64 " succeeded=%" PRIu64 "\n", attempts,
+                refused, succeeded);
+    return succeeded == 0 ? 0 : 4;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -381,5 +429,6 @@ int main(int argc, char** argv) {
     if (role == "telemetry-consumer") return run_telemetry_consumer(a);
     if (role == "scribbler") return run_scribbler(a);
     if (role == "mesh-writer") return run_mesh_writer(a);
+    if (role == "truncator") return run_truncator(a);
     return std::fprintf(stderr, "ipc_test_peer: unknown role '%s'\n", role.c_str()), 2;
 }

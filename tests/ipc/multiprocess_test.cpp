@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
@@ -21,6 +22,7 @@
 
 #include "rt_core/ipc/consumer.hpp"
 #include "rt_core/ipc/record_check.hpp"
+#include "rt_core/ipc/session_socket.hpp"
 #include "rt_core/ipc/shm_segment.hpp"
 #include "tests/ipc/ipc_test_support.hpp"
 
@@ -36,7 +38,9 @@ constexpr std::uint64_t kScale = 1;
 /// A child process running ipc_test_peer with stdout captured to a file.
 class Peer {
 public:
-    Peer(const std::string& out_dir, const std::vector<std::string>& args) {
+    /// Runs `program` (a file in KERF_BIN_DIR: ipc_test_peer, or kerf itself) with `args`.
+    Peer(const std::string& out_dir, const std::vector<std::string>& args,
+         const std::string& program = "ipc_test_peer") {
         static int n = 0;
         stdout_path_ = out_dir + "/peer-" + std::to_string(n++) + ".out";
         pid_ = fork();
@@ -44,7 +48,7 @@ public:
             const int fd = ::open(stdout_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
             dup2(fd, 1);
             std::vector<char*> argv;
-            std::string exe = std::string(KERF_BIN_DIR) + "/ipc_test_peer";
+            std::string exe = std::string(KERF_BIN_DIR) + "/" + program;
             argv.push_back(exe.data());
             std::vector<std::string> copy = args;
             for (auto& a : copy) argv.push_back(a.data());
@@ -210,7 +214,7 @@ TEST(MultiProcess, ConsumerDetectsAKilledProducerThroughItsHeartbeatWithin100ms)
             producer.kill_now(SIGKILL);
         }
         producer.wait();
-        shm_unlink(("/" + name).c_str());  // a killed producer leaves its segment behind
+        remove_stale_socket(default_runtime_dir(), name);  // a killed producer leaves its socket
     }
 }
 
@@ -305,6 +309,35 @@ TEST(MultiProcess, ScribblerOverHeaderRingsAndMailboxCausesCountedRejectionsNeve
     EXPECT_GT(rejections, 0u);
 }
 
+// Issue 9 item 3: `truncate -s 0` on a live segment killed the producer and `kerf shm tail` with
+// SIGBUS. The segment is now a sealed memfd served over the session socket: an adversary sharing
+// the session tries every resize it can reach, and both keep working.
+TEST(MultiProcess, NoProcessSharingTheSessionCanResizeTheSegmentUnderProducerOrTail) {
+    test::ScratchDir dir;
+    const auto name = test::unique_segment_name("trunc");
+    const std::uint64_t n = 1500;
+    Peer producer(dir.path, {"producer", "--name", name, "--journal-dir", dir.path, "--events",
+                             std::to_string(n), "--per-tick", "1", "--hold-ms", "300"});
+    ASSERT_TRUE(wait_for_segment(name));
+    Peer tail(dir.path, {"shm", "tail", name, "--from", "0", "--count", std::to_string(n)}, "kerf");
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    Peer adversary(dir.path, {"truncator", "--name", name, "--producer-pid",
+                              std::to_string(producer.pid()), "--ms", "600"});
+    EXPECT_EQ(adversary.wait(), 0) << adversary.output();
+    const auto a = adversary.values();
+    EXPECT_GT(a.at("attempts"), 10u);
+    EXPECT_EQ(a.at("refused"), a.at("attempts"));
+    EXPECT_EQ(tail.wait(), 0) << tail.output();  // 135 would be SIGBUS
+    EXPECT_EQ(producer.wait(), 0) << producer.output();
+    const std::string out = tail.output();
+    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), std::ptrdiff_t(n)) << out;
+    EXPECT_NE(out.find("\n" + std::to_string(n - 1) + " "), std::string::npos);
+    // Only a socket (and the journal folder) exist; /dev/shm holds no file for the session.
+    struct stat st {};
+    EXPECT_NE(stat(("/dev/shm/" + name).c_str(), &st), 0);
+    std::printf("adversary: %s", adversary.output().c_str());
+}
+
 std::string run_kerf(const std::string& args, int& exit_code) {
     const std::string cmd = std::string(KERF_BIN_DIR) + "/kerf " + args + " 2>&1";
     FILE* f = popen(cmd.c_str(), "r");
@@ -341,8 +374,8 @@ TEST(KerfShmCommand, MissingSessionIsAClearErrorWithExitCode1) {
     int code = -1;
     const std::string out = run_kerf("shm stats kerf.no-such-session", code);
     EXPECT_EQ(code, 1);
-    EXPECT_NE(out.find("kerf shm stats: cannot open segment: segment kerf.no-such-session: no such "
-                       "segment"),
+    EXPECT_NE(out.find("kerf shm stats: cannot open segment: session kerf.no-such-session: no such "
+                       "session"),
               std::string::npos)
         << out;
     const std::string bad = run_kerf("shm tail 'bad/name'", code);

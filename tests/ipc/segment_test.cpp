@@ -1,5 +1,5 @@
 // ShmSegment / SegmentBuilder: creation, header verification with a message per differing field,
-// stale-segment replacement, refusal of a live owner, bad names, permissions.
+// stale-socket replacement, refusal of a live owner, bad names, permissions, seals, trust.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/mman.h>
@@ -26,7 +26,7 @@ TEST(ShmSegment, CreateFillsEveryHeaderFieldAndOpenAcceptsIt) {
     EXPECT_NE(h.session_id, 0u);
     EXPECT_EQ(h.producer_pid, getpid());
     EXPECT_GT(h.start_time_unix_ns, 0u);
-    EXPECT_EQ(journal_path_of(h).rfind("/dev/shm/" + name + "-", 0), 0u);
+    EXPECT_EQ(journal_path_of(h).rfind(session_dir_of(default_runtime_dir(), name) + "/", 0), 0u);
     auto opened = SegmentBuilder().name(name).open();
     ASSERT_TRUE(opened) << opened.error().message;
     EXPECT_FALSE(opened->owner());
@@ -38,10 +38,46 @@ TEST(ShmSegment, OwnerOnlyPermissionsByDefaultGroupOnRequest) {
         const auto name = unique_segment_name("perm");
         auto seg = SegmentBuilder().name(name).group_access(group).create();
         ASSERT_TRUE(seg);
+        EXPECT_EQ(seg->mode(), group ? 0660u : 0600u);
         struct stat st {};
-        ASSERT_EQ(stat(("/dev/shm/" + name).c_str(), &st), 0);
+        ASSERT_EQ(stat(seg->socket_path().c_str(), &st), 0);
+        EXPECT_TRUE(S_ISSOCK(st.st_mode));
         EXPECT_EQ(st.st_mode & 0777, group ? 0660u : 0600u);
+        ASSERT_EQ(stat(session_dir_of(default_runtime_dir(), name).c_str(), &st), 0);
+        EXPECT_EQ(st.st_mode & 0777, group ? 0750u : 0700u);
+        auto opened = SegmentBuilder().name(name).open();
+        ASSERT_TRUE(opened) << opened.error().message;
+        EXPECT_EQ(opened->mode(), group ? 0660u : 0600u);
+        EXPECT_EQ(opened->owner_uid(), geteuid());
     }
+}
+
+TEST(ShmSegment, AGroupThatDoesNotExistIsAnError) {
+    auto seg =
+        SegmentBuilder().name(unique_segment_name("nogrp")).group("kerf-no-such-group").create();
+    ASSERT_FALSE(seg);
+    EXPECT_EQ(seg.error().code, IpcErrc::kBadArgument);
+    EXPECT_NE(seg.error().message.find("group 'kerf-no-such-group' does not exist"),
+              std::string::npos)
+        << seg.error().message;
+}
+
+TEST(ShmSegment, TheServedSegmentIsSealedAgainstResizing) {
+    const auto name = unique_segment_name("seal");
+    auto seg = SegmentBuilder().name(name).create();
+    ASSERT_TRUE(seg);
+    auto fds = fetch_session(default_runtime_dir(), name);
+    ASSERT_TRUE(fds) << fds.error().message;
+    const int seals = fcntl(fds->segment_fd, F_GET_SEALS);
+    EXPECT_EQ(seals & (F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_SEAL),
+              F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_SEAL);
+    EXPECT_NE(ftruncate(fds->segment_fd, 0), 0);
+    EXPECT_EQ(errno, EPERM);
+    EXPECT_NE(ftruncate(fds->segment_fd, 2 * sizeof(SegmentLayout)), 0);
+    EXPECT_NE(fcntl(fds->segment_fd, F_ADD_SEALS, F_SEAL_WRITE), 0);  // F_SEAL_SEAL
+    close(fds->segment_fd);
+    if (fds->journal_fd >= 0) close(fds->journal_fd);
+    seg->layout().producer.heartbeat_ns.store(monotonic_ns());  // still mapped and writable
 }
 
 TEST(ShmSegment, OpenNamesEveryHeaderFieldThatDiffers) {
@@ -69,19 +105,6 @@ TEST(ShmSegment, OpenNamesEveryHeaderFieldThatDiffers) {
     opened = SegmentBuilder().name(name).open();
     ASSERT_FALSE(opened);
     EXPECT_NE(opened.error().message.find("magic 0x1234"), std::string::npos);
-}
-
-TEST(ShmSegment, OpenRefusesATruncatedSegmentSayingItsSize) {
-    const auto name = unique_segment_name("short");
-    const int fd = shm_open(("/" + name).c_str(), O_RDWR | O_CREAT | O_EXCL, 0600);
-    ASSERT_GE(fd, 0);
-    ASSERT_EQ(ftruncate(fd, 100), 0);
-    close(fd);
-    auto opened = SegmentBuilder().name(name).open();
-    ASSERT_FALSE(opened);
-    EXPECT_NE(opened.error().message.find("100 bytes"), std::string::npos)
-        << opened.error().message;
-    shm_unlink(("/" + name).c_str());
 }
 
 TEST(ShmSegment, MissingSegmentIsNotFound) {
@@ -112,7 +135,7 @@ TEST(ShmSegment, LiveProducersSegmentIsRefused) {
     EXPECT_NE(second.error().message.find(std::to_string(getpid())), std::string::npos);
 }
 
-TEST(ShmSegment, StaleSegmentOfADeadProducerIsReplaced) {
+TEST(ShmSegment, StaleSocketOfADeadProducerIsReportedAndReplaced) {
     const auto name = unique_segment_name("stale");
     const pid_t child = fork();
     if (child == 0) {
@@ -120,31 +143,47 @@ TEST(ShmSegment, StaleSegmentOfADeadProducerIsReplaced) {
         if (!seg) _exit(3);
         seg->layout().header.state.store(std::uint32_t(SegmentState::kRunning));
         seg->layout().producer.heartbeat_ns.store(monotonic_ns());
-        _exit(0);  // dies without unlinking (no destructors run)
+        _exit(0);  // dies without removing its socket (no destructors run)
     }
     int status = 0;
     ASSERT_EQ(waitpid(child, &status, 0), child);
     ASSERT_EQ(WEXITSTATUS(status), 0);
     auto left = SegmentBuilder().name(name).open();
-    ASSERT_TRUE(left);
-    EXPECT_EQ(producer_health(left->layout()), ProducerHealth::kDead);
-    const auto old_session = left->layout().header.session_id;
+    ASSERT_FALSE(left);
+    EXPECT_EQ(left.error().code, IpcErrc::kProducerGone);
+    EXPECT_NE(left.error().message.find("stale socket"), std::string::npos) << left.error().message;
     auto replaced = SegmentBuilder().name(name).create();
     ASSERT_TRUE(replaced) << replaced.error().message;
-    EXPECT_NE(replaced->layout().header.session_id, old_session);
     EXPECT_EQ(replaced->layout().header.producer_pid, getpid());
+    auto opened = SegmentBuilder().name(name).open();
+    ASSERT_TRUE(opened) << opened.error().message;
 }
 
-TEST(ShmSegment, GarbageSegmentUnderTheNameIsReplaced) {
-    const auto name = unique_segment_name("junk");
-    const int fd = shm_open(("/" + name).c_str(), O_RDWR | O_CREAT | O_EXCL, 0600);
+TEST(ShmSegment, SomethingElseAtTheSocketPathIsNeverRemoved) {
+    test::ScratchDir runtime;
+    const auto name = unique_segment_name("notsock");
+    ASSERT_EQ(mkdir(session_dir_of(runtime.path, name).c_str(), 0700), 0);
+    const std::string path = session_socket_of(runtime.path, name);
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0600);
     ASSERT_GE(fd, 0);
-    ASSERT_EQ(ftruncate(fd, sizeof(SegmentLayout)), 0);
-    ASSERT_EQ(write(fd, "garbage!", 8), 8);
     close(fd);
-    auto replaced = SegmentBuilder().name(name).create();
-    ASSERT_TRUE(replaced) << replaced.error().message;
-    EXPECT_EQ(replaced->layout().header.magic, kMagic);
+    auto seg = SegmentBuilder().name(name).runtime_dir(runtime.path).create();
+    ASSERT_FALSE(seg);
+    EXPECT_NE(seg.error().message.find("is not a socket"), std::string::npos)
+        << seg.error().message;
+    struct stat st {};
+    EXPECT_EQ(stat(path.c_str(), &st), 0);
+}
+
+TEST(ShmSegment, AWorldWritableSessionFolderIsRefused) {
+    test::ScratchDir runtime;
+    const auto name = unique_segment_name("world");
+    auto seg = SegmentBuilder().name(name).runtime_dir(runtime.path).create();
+    ASSERT_TRUE(seg);
+    ASSERT_EQ(chmod(session_dir_of(runtime.path, name).c_str(), 0777), 0);
+    auto opened = SegmentBuilder().name(name).runtime_dir(runtime.path).open();
+    ASSERT_FALSE(opened);
+    EXPECT_EQ(opened.error().code, IpcErrc::kUntrusted);
 }
 
 TEST(ShmSegment, ProducerHealthReadsStateHeartbeatAndPid) {

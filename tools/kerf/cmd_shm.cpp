@@ -1,15 +1,18 @@
-// `kerf shm ls|tail|stats`: inspect live Kerf session segments (POSIX shared memory in /dev/shm).
-//   ls     sessions with producer pid, health, heartbeat age and consumers
+// `kerf shm ls|tail|stats`: inspect live Kerf sessions. Sessions are found through their sockets in
+// the runtime folder (see rt_core/ipc/session_socket.hpp); each segment is received from its
+// producer over that socket, so every name works and no file in /dev/shm is involved.
+//   ls     sessions with producer pid, health, heartbeat age and consumers; stale sockets of dead
+//          sessions are reported and removed
 //   tail   attach as a consumer and print events as they come (journal first with --from)
 //   stats  per-slot lag, drops and rejections, producer and journal counters
-// Read-only except `tail`, which claims a consumer slot like any other consumer.
-#include <dirent.h>
-
+// Read-only except `tail`, which claims a consumer slot like any other consumer. --json output is
+// one JSON document (ls, stats) or one per line (tail) on stdout; logs go to stderr.
 #include <chrono>
 #include <cinttypes>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <thread>
@@ -17,35 +20,25 @@
 
 #include "rt_core/ipc/consumer.hpp"
 #include "rt_core/ipc/record_check.hpp"
+#include "rt_core/ipc/session_socket.hpp"
 #include "rt_core/ipc/shm_segment.hpp"
 #include "tools/kerf/commands.hpp"
+#include "tools/kerf/safe_text.hpp"
 
 namespace kerf::cli {
 namespace {
 
 using namespace kerf::ipc;
+using nlohmann::json;
 
 [[noreturn]] void fail(std::string_view command, std::string_view what, std::string_view why) {
-    std::cerr << "kerf shm " << command << ": " << what << ": " << why << "\n";
+    std::cerr << "kerf shm " << command << ": " << what << ": " << safe_text(why) << "\n";
     throw CLI::RuntimeError(kExitFailure);
 }
 
 double age_ms(std::uint64_t then_ns) {
     const auto now = monotonic_ns();
     return then_ns == 0 || then_ns > now ? -1.0 : double(now - then_ns) / 1e6;
-}
-
-std::vector<std::string> segment_names() {
-    std::vector<std::string> out;
-    DIR* d = opendir("/dev/shm");
-    if (d == nullptr) return out;
-    while (dirent* e = readdir(d)) {
-        const std::string n = e->d_name;
-        if (n.rfind("kerf.", 0) == 0 && n.find(".kjournal") == std::string::npos) out.push_back(n);
-    }
-    closedir(d);
-    std::sort(out.begin(), out.end());
-    return out;
 }
 
 struct SlotView {
@@ -74,33 +67,55 @@ std::vector<SlotView> active_slots(const SegmentLayout& s) {
     return out;
 }
 
-void run_ls(bool json) {
-    const auto names = segment_names();
-    if (json) std::cout << "[";
-    bool first = true;
-    for (const auto& name : names) {
-        auto seg = SegmentBuilder().name(name).open();
-        if (json) std::cout << (first ? "" : ",") << "\n  {\"name\": \"" << name << "\"";
-        first = false;
+std::string hex16(std::uint64_t v) {
+    char buf[20];
+    std::snprintf(buf, sizeof buf, "%016" PRIx64, v);
+    return buf;
+}
+
+void run_ls(bool json_out) {
+    const std::string runtime = default_runtime_dir();
+    json sessions = json::array();
+    int shown = 0;
+    for (const SessionEntry& entry : list_session_dirs(runtime)) {
+        if (!entry.has_socket) continue;  // a finished session: only its journals are left
+        const std::string name = safe_text(entry.name);
+        auto seg = SegmentBuilder().name(entry.name).open();
+        json row = {{"name", name}};
+        ++shown;
+        if (!seg && seg.error().code == IpcErrc::kProducerGone) {
+            const bool removed = remove_stale_socket(runtime, entry.name);
+            row["error"] = "stale";
+            row["removed"] = removed;
+            if (!json_out) {
+                std::printf("%s  stale: its producer died (socket %s)\n", name.c_str(),
+                            removed ? "removed" : "left: not ours");
+            }
+            sessions.push_back(row);
+            continue;
+        }
         if (!seg) {
-            if (json)
-                std::cout << ", \"error\": \"" << to_string(seg.error().code) << "\"}";
-            else
-                std::cout << name << "  unreadable: " << seg.error().message << "\n";
+            row["error"] = to_string(seg.error().code);
+            row["message"] = safe_text(seg.error().message);
+            if (!json_out) {
+                std::printf("%s  refused: %s\n", name.c_str(),
+                            safe_text(seg.error().message).c_str());
+            }
+            sessions.push_back(row);
             continue;
         }
         const SegmentLayout& s = seg->layout();
         const auto slots = active_slots(s);
         const char* health = to_string(producer_health(s));
         const double beat = age_ms(s.producer.heartbeat_ns.load());
-        if (json) {
-            std::printf(", \"session_id\": \"%016" PRIx64
-                        "\", \"producer_pid\": %d, \"health\": "
-                        "\"%s\", \"heartbeat_age_ms\": %.1f, \"consumers\": %zu}",
-                        s.header.session_id, s.header.producer_pid, health, beat, slots.size());
-            std::fflush(stdout);
-            continue;
-        }
+        row["session_id"] = hex16(s.header.session_id);
+        row["producer_pid"] = s.header.producer_pid;
+        row["health"] = health;
+        row["heartbeat_age_ms"] = beat;
+        row["events"] = s.producer.next_event_sequence.load();
+        row["consumers"] = slots.size();
+        sessions.push_back(row);
+        if (json_out) continue;
         std::printf("%s  session %016" PRIx64
                     "  producer pid %d %s  heartbeat %.1f ms ago  "
                     "events %" PRIu64 "  consumers %zu:",
@@ -110,51 +125,56 @@ void run_ls(bool json) {
             std::printf(" [slot %u pid %d%s]", v.index, v.pid, v.alive ? "" : " dead");
         std::printf("\n");
     }
-    if (json)
-        std::cout << (names.empty() ? "]\n" : "\n]\n");
-    else if (names.empty())
-        std::cout << "no Kerf sessions in /dev/shm\n";
+    if (json_out) {
+        std::cout << sessions.dump(2) << "\n";
+    } else if (shown == 0) {
+        std::cout << "no Kerf sessions in " << safe_text(runtime) << "\n";
+    }
     std::cout.flush();
 }
 
-void run_stats(const std::string& name, bool json) {
+void run_stats(const std::string& name, bool json_out) {
     auto seg = SegmentBuilder().name(name).open();
     if (!seg) fail("stats", "cannot open segment", seg.error().message);
     const SegmentLayout& s = seg->layout();
     const auto slots = active_slots(s);
     const ProducerStatus& p = s.producer;
-    if (json) {
-        std::printf(
-            "{\"name\": \"%s\", \"health\": \"%s\", \"heartbeat_age_ms\": %.1f, "
-            "\"tick\": %" PRIu64 ", \"events\": %" PRIu64 ", \"journal_next\": %" PRIu64
-            ", \"journal_dropped\": %" PRIu64 ", \"events_dropped\": %" PRIu64
-            ", \"telemetry_dropped\": %" PRIu64 ", \"mesh_latest\": %" PRIu64 ", \"slots\": [",
-            name.c_str(), to_string(producer_health(s)), age_ms(p.heartbeat_ns.load()),
-            p.heartbeat_tick.load(), p.next_event_sequence.load(),
-            s.journal_next_sequence.value.load(), s.journal_dropped.value.load(),
-            p.events_dropped.load(), p.telemetry_dropped.load(),
-            s.mailbox.latest.value.load() >> 1);
-        for (std::size_t i = 0; i < slots.size(); ++i) {
-            const auto& v = slots[i];
-            std::printf("%s{\"slot\": %u, \"pid\": %d, \"alive\": %s, \"event_lag\": %" PRIu64
-                        ", \"event_dropped\": %" PRIu64 ", \"telemetry_lag\": %" PRIu64
-                        ", \"telemetry_dropped\": %" PRIu64 ", \"delivered\": %" PRIu64
-                        ", \"rejected\": %" PRIu64 "}",
-                        i ? ", " : "", v.index, v.pid, v.alive ? "true" : "false", v.event_lag,
-                        v.event_dropped, v.telemetry_lag, v.telemetry_dropped, v.delivered,
-                        v.rejected);
+    const std::string journal = safe_field(s.header.journal_path, sizeof s.header.journal_path);
+    if (json_out) {
+        json doc = {{"name", safe_text(name)},
+                    {"health", to_string(producer_health(s))},
+                    {"heartbeat_age_ms", age_ms(p.heartbeat_ns.load())},
+                    {"tick", p.heartbeat_tick.load()},
+                    {"events", p.next_event_sequence.load()},
+                    {"journal", journal},
+                    {"journal_next", s.journal_next_sequence.value.load()},
+                    {"journal_dropped", s.journal_dropped.value.load()},
+                    {"events_dropped", p.events_dropped.load()},
+                    {"telemetry_dropped", p.telemetry_dropped.load()},
+                    {"mesh_latest", s.mailbox.latest.value.load() >> 1},
+                    {"slots", json::array()}};
+        for (const auto& v : slots) {
+            doc["slots"].push_back({{"slot", v.index},
+                                    {"pid", v.pid},
+                                    {"alive", v.alive},
+                                    {"event_lag", v.event_lag},
+                                    {"event_dropped", v.event_dropped},
+                                    {"telemetry_lag", v.telemetry_lag},
+                                    {"telemetry_dropped", v.telemetry_dropped},
+                                    {"delivered", v.delivered},
+                                    {"rejected", v.rejected}});
         }
-        std::printf("]}\n");
+        std::cout << doc.dump(2) << "\n";
         return;
     }
-    std::printf("%s: producer pid %d %s, heartbeat tick %" PRIu64 " %.1f ms ago\n", name.c_str(),
-                s.header.producer_pid, to_string(producer_health(s)), p.heartbeat_tick.load(),
-                age_ms(p.heartbeat_ns.load()));
+    std::printf("%s: producer pid %d %s, heartbeat tick %" PRIu64 " %.1f ms ago\n",
+                safe_text(name).c_str(), s.header.producer_pid, to_string(producer_health(s)),
+                p.heartbeat_tick.load(), age_ms(p.heartbeat_ns.load()));
     std::printf("events %" PRIu64 ", journal up to %" PRIu64 " (%s), journal dropped %" PRIu64
                 ", ring drops %" PRIu64 " events %" PRIu64 " telemetry\n",
-                p.next_event_sequence.load(), s.journal_next_sequence.value.load(),
-                journal_path_of(s.header).c_str(), s.journal_dropped.value.load(),
-                p.events_dropped.load(), p.telemetry_dropped.load());
+                p.next_event_sequence.load(), s.journal_next_sequence.value.load(), journal.c_str(),
+                s.journal_dropped.value.load(), p.events_dropped.load(),
+                p.telemetry_dropped.load());
     std::printf(
         "slot  pid       alive  event lag  event drops  telem lag  telem drops  delivered  "
         "rejected\n");
@@ -166,54 +186,82 @@ void run_stats(const std::string& name, bool json) {
     }
 }
 
-void print_event(const EventRecord& r, bool json) {
-    const auto seq = r.header.sequence;
-    const char* type = to_string(r.header.type);
-    if (json) {
-        std::printf("{\"sequence\": %" PRIu64 ", \"time_ns\": %" PRIu64 ", \"type\": \"%s\"", seq,
-                    r.header.time_ns, type);
-    } else {
-        std::printf("%-8" PRIu64 " %-14.6f %-20s", seq, double(r.header.time_ns) / 1e9, type);
-    }
+json event_json(const EventRecord& r) {
+    json j = {{"sequence", r.header.sequence},
+              {"time_ns", r.header.time_ns},
+              {"type", to_string(r.header.type)}};
     switch (r.header.type) {
         case EventType::kCutBegin:
         case EventType::kCutProgress:
         case EventType::kCutEnd: {
             const CutPayload& c = r.cut;
-            std::printf(
-                json ? ", \"cut_id\": %u, \"body_id\": %u, \"plane_point_m\": [%g, %g, %g], "
-                       "\"plane_normal\": [%g, %g, %g], \"feed_depth_m\": %g}\n"
-                     : "cut %u body %u point (%g %g %g) m normal (%g %g %g) feed %g m\n",
-                c.cut_id, c.body_id, c.plane_point_m[0], c.plane_point_m[1], c.plane_point_m[2],
-                c.plane_normal[0], c.plane_normal[1], c.plane_normal[2], c.feed_depth_m);
+            j["cut_id"] = c.cut_id;
+            j["body_id"] = c.body_id;
+            j["plane_point_m"] = {c.plane_point_m[0], c.plane_point_m[1], c.plane_point_m[2]};
+            j["plane_normal"] = {c.plane_normal[0], c.plane_normal[1], c.plane_normal[2]};
+            j["feed_depth_m"] = c.feed_depth_m;
             break;
         }
         case EventType::kBodyMoved:
-            std::printf(json ? ", \"body_id\": %u, \"position_m\": [%g, %g, %g]}\n"
-                             : "body %u position (%g %g %g) m\n",
-                        r.body_moved.body_id, r.body_moved.position_m[0],
-                        r.body_moved.position_m[1], r.body_moved.position_m[2]);
+            j["body_id"] = r.body_moved.body_id;
+            j["position_m"] = {r.body_moved.position_m[0], r.body_moved.position_m[1],
+                               r.body_moved.position_m[2]};
             break;
         case EventType::kParametersChanged:
-            std::printf(json ? ", \"name\": \"%s\", \"value\": %g, \"previous\": %g}\n"
-                             : "%s = %g (was %g)\n",
-                        r.parameters.name, r.parameters.value, r.parameters.previous_value);
+            j["name"] = safe_field(r.parameters.name, sizeof r.parameters.name);
+            j["value"] = r.parameters.value;
+            j["previous"] = r.parameters.previous_value;
             break;
         case EventType::kDeviceStateChanged:
-            std::printf(json ? ", \"state\": \"%s\", \"previous\": \"%s\", \"fault_flags\": %u}\n"
-                             : "%s (was %s) faults 0x%x\n",
-                        to_string(r.device.state), to_string(r.device.previous),
-                        r.device.fault_flags);
+            j["state"] = to_string(r.device.state);
+            j["previous"] = to_string(r.device.previous);
+            j["fault_flags"] = r.device.fault_flags;
             break;
         default:
-            std::printf(json ? ", \"scene_id\": %" PRIu64 "}\n" : "scene %" PRIu64 "\n",
-                        r.reset.scene_id);
+            j["scene_id"] = r.reset.scene_id;
+    }
+    return j;
+}
+
+void print_event(const EventRecord& r, bool json_out) {
+    if (json_out) {
+        std::cout << event_json(r).dump() << "\n" << std::flush;
+        return;
+    }
+    std::printf("%-8" PRIu64 " %-14.6f %-20s", r.header.sequence, double(r.header.time_ns) / 1e9,
+                to_string(r.header.type));
+    switch (r.header.type) {
+        case EventType::kCutBegin:
+        case EventType::kCutProgress:
+        case EventType::kCutEnd: {
+            const CutPayload& c = r.cut;
+            std::printf("cut %u body %u point (%g %g %g) m normal (%g %g %g) feed %g m\n", c.cut_id,
+                        c.body_id, c.plane_point_m[0], c.plane_point_m[1], c.plane_point_m[2],
+                        c.plane_normal[0], c.plane_normal[1], c.plane_normal[2], c.feed_depth_m);
+            break;
+        }
+        case EventType::kBodyMoved:
+            std::printf("body %u position (%g %g %g) m\n", r.body_moved.body_id,
+                        r.body_moved.position_m[0], r.body_moved.position_m[1],
+                        r.body_moved.position_m[2]);
+            break;
+        case EventType::kParametersChanged:
+            std::printf("%s = %g (was %g)\n",
+                        safe_field(r.parameters.name, sizeof r.parameters.name).c_str(),
+                        r.parameters.value, r.parameters.previous_value);
+            break;
+        case EventType::kDeviceStateChanged:
+            std::printf("%s (was %s) faults 0x%x\n", to_string(r.device.state),
+                        to_string(r.device.previous), r.device.fault_flags);
+            break;
+        default:
+            std::printf("scene %" PRIu64 "\n", r.reset.scene_id);
     }
     std::fflush(stdout);
 }
 
 void run_tail(const std::string& name, std::optional<std::uint64_t> from, std::uint64_t count,
-              bool json) {
+              bool json_out) {
     auto c = ConsumerBuilder()
                  .segment_name(name)
                  .from_sequence(from ? *from : ConsumerBuilder::kFromNow)
@@ -224,7 +272,7 @@ void run_tail(const std::string& name, std::optional<std::uint64_t> from, std::u
     std::uint64_t printed = 0;
     while (count == 0 || printed < count) {
         if (c->try_next(r) == Poll::kEvent) {
-            print_event(r, json);
+            print_event(r, json_out);
             ++printed;
             continue;
         }
@@ -249,19 +297,19 @@ void add_shm_commands(CLI::App& app) {
     auto o = std::make_shared<Options>();
 
     CLI::App* ls = shm->add_subcommand("ls", "list sessions: producer, heartbeat age, consumers");
-    ls->add_flag("--json", o->json, "machine-readable output");
+    ls->add_flag("--json", o->json, "machine-readable output (one JSON array)");
     ls->callback([o] { run_ls(o->json); });
 
     CLI::App* tail = shm->add_subcommand("tail", "print events live (as a consumer)");
-    tail->add_option("name", o->name, "segment name, e.g. kerf.demo")->required();
+    tail->add_option("name", o->name, "session name, e.g. kerf.demo")->required();
     tail->add_option("--from", o->from, "replay from this sequence (journal), then follow");
     tail->add_option("--count", o->count, "stop after this many events (0: until stopped)");
-    tail->add_flag("--json", o->json, "one JSON object per event");
+    tail->add_flag("--json", o->json, "one JSON object per event, one per line");
     tail->callback([o] { run_tail(o->name, o->from, o->count, o->json); });
 
     CLI::App* stats = shm->add_subcommand("stats", "per-consumer lag, drops and rejections");
-    stats->add_option("name", o->name, "segment name, e.g. kerf.demo")->required();
-    stats->add_flag("--json", o->json, "machine-readable output");
+    stats->add_option("name", o->name, "session name, e.g. kerf.demo")->required();
+    stats->add_flag("--json", o->json, "machine-readable output (one JSON object)");
     stats->callback([o] { run_stats(o->name, o->json); });
 }
 
