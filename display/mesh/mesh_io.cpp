@@ -2,10 +2,10 @@
 
 #include <cerrno>
 #include <cstring>
-#include <fstream>
 #include <system_error>
 #include <vector>
 
+#include "config/file_io/file_io.hpp"
 #include "display/mesh/detail/formats.hpp"
 
 namespace kerf::mesh {
@@ -16,21 +16,11 @@ MeshError io_error(const std::filesystem::path& path, std::string detail) {
 }
 
 Result<std::vector<std::byte>, MeshError> read_file(const std::filesystem::path& path) {
-    std::error_code ec;
-    const auto status = std::filesystem::status(path, ec);
-    if (ec || !std::filesystem::exists(status)) return Err{io_error(path, "no such file")};
-    if (std::filesystem::is_directory(status)) return Err{io_error(path, "is a directory")};
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return Err{io_error(path, std::string("cannot open: ") + std::strerror(errno))};
-    std::vector<std::byte> bytes;
-    char buffer[1 << 16];
-    while (in) {
-        in.read(buffer, sizeof buffer);
-        const auto* first = reinterpret_cast<const std::byte*>(buffer);
-        bytes.insert(bytes.end(), first, first + in.gcount());
-    }
-    if (in.bad()) return Err{io_error(path, "read failed")};
-    return bytes;
+    // Regular files only, never blocking on a FIFO, never more than the cap (a link to /dev/zero
+    // is a character device: refused before a byte is read).
+    auto bytes = files::read_regular_file(path, files::kDefaultMaxInputBytes);
+    if (!bytes) return Err{io_error(path, bytes.error().message)};
+    return std::move(*bytes);
 }
 
 }  // namespace
@@ -137,12 +127,9 @@ Status<MeshError> save_mesh(const TriMesh& mesh, const std::filesystem::path& pa
             MeshErrorKind::kUnknownFormat, path.string(), 0, 0,
             "extension '" + path.extension().string() + "' is not one of .stl .obj .ply .off"}};
     }
-    const std::string data = serialize_mesh(mesh, *format, units);
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    if (!out) return Err{io_error(path, std::string("cannot create: ") + std::strerror(errno))};
-    out.write(data.data(), static_cast<std::streamsize>(data.size()));
-    out.close();
-    if (!out) return Err{io_error(path, "write failed (disk full?)")};
+    // Temp file in the target folder, then rename: a failed write never damages an old file.
+    auto written = files::write_file_atomically(path, serialize_mesh(mesh, *format, units));
+    if (!written) return Err{io_error(path, written.error().message)};
     return {};
 }
 

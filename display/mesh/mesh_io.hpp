@@ -54,7 +54,8 @@ Result<IndexedMesh, MeshError> parse_indexed(std::span<const std::byte> bytes, F
 Result<LoadedMesh, MeshError> parse_mesh(std::span<const std::byte> bytes, Format format,
                                          Units units, std::string_view name = "<memory>");
 
-/// Reads and parses a file; the format comes from its extension.
+/// Reads and parses a file; the format comes from its extension. Only a regular file of at most
+/// 2 GiB is read (a FIFO, device or link to one is a kIo error naming it, never a hang).
 Result<LoadedMesh, MeshError> load_mesh_file(const std::filesystem::path& path, Units units);
 
 /// Reads a file and returns only the half-edge mesh (normals computed).
@@ -66,7 +67,8 @@ Result<TriMesh, MeshError> load_mesh(const std::filesystem::path& path, Units un
 std::string serialize_mesh(const TriMesh& mesh, Format format, Units units,
                            Encoding encoding = Encoding::kBinaryLittleEndian);
 
-/// Writes a file; the format comes from the extension; STL and PLY are written binary.
+/// Writes a file atomically (temp file in its folder + rename); the format comes from the
+/// extension; STL and PLY are written binary.
 Status<MeshError> save_mesh(const TriMesh& mesh, const std::filesystem::path& path, Units units);
 
 }  // namespace kerf::mesh

@@ -30,9 +30,25 @@ bool slot_holder_gone(const SlotControl& control) noexcept {
     return now > beat && now - beat > kSlotHungAfter_ns;
 }
 
-Result<std::uint32_t, IpcError> claim_slot(SegmentLayout& layout, std::int32_t pid,
-                                           bool telemetry) {
-    for (std::uint32_t i = 0; i < kSlotCount; ++i) {
+const char* to_string(ConsumerRole role) noexcept {
+    switch (role) {
+        case ConsumerRole::kDisplay:
+            return "display";
+        case ConsumerRole::kMonitor:
+            return "monitor";
+        case ConsumerRole::kTool:
+            return "tool";
+    }
+    return "unknown";
+}
+
+Result<std::uint32_t, IpcError> claim_slot(SegmentLayout& layout, std::int32_t pid, bool telemetry,
+                                           ConsumerRole role) {
+    const std::uint32_t first = role == ConsumerRole::kDisplay   ? kDisplaySlot
+                                : role == ConsumerRole::kMonitor ? kMonitorSlot
+                                                                 : kFirstToolSlot;
+    const std::uint32_t last = role == ConsumerRole::kTool ? kSlotCount : first + 1;
+    for (std::uint32_t i = first; i < last; ++i) {
         ConsumerSlot& slot = layout.slots[i];
         SlotControl& c = slot.control;
         auto word = c.claim_word.load(std::memory_order_acquire);
@@ -56,8 +72,19 @@ Result<std::uint32_t, IpcError> claim_slot(SegmentLayout& layout, std::int32_t p
                            std::memory_order_release);
         return i;
     }
+    std::string holders;
+    for (std::uint32_t i = first; i < last; ++i) {
+        holders += (holders.empty() ? "pid " : ", pid ") +
+                   std::to_string(claim_pid(layout.slots[i].control.claim_word.load()));
+    }
+    if (role != ConsumerRole::kTool) {
+        return Err{make_error(IpcErrc::kNoFreeSlot, std::string("the ") + to_string(role) +
+                                                        " slot is held by a live " +
+                                                        to_string(role) + " (" + holders + ")")};
+    }
     return Err{make_error(IpcErrc::kNoFreeSlot,
-                          "all " + std::to_string(kSlotCount) + " consumer slots are held")};
+                          "all " + std::to_string(last - first) + " tool slots are held (" +
+                              holders + "); the display and monitor slots are reserved")};
 }
 
 void release_slot(SegmentLayout& layout, std::uint32_t slot, std::uint64_t word) noexcept {
@@ -75,6 +102,7 @@ struct Consumer::Impl {
     std::uint32_t slot = 0;
     std::uint64_t word = 0;
     bool telemetry_wanted = false;
+    ConsumerRole role = ConsumerRole::kTool;
     std::uint64_t stale_after_ns = kDefaultStaleAfter_ns;
     SpscConsumerEnd<EventRecord, kEventCapacity> events;
     SpscConsumerEnd<TelemetrySample, kTelemetryCapacity> telemetry;
@@ -98,7 +126,7 @@ struct Consumer::Impl {
     }
 
     Status<IpcError> claim() {
-        auto claimed = claim_slot(seg(), getpid(), telemetry_wanted);
+        auto claimed = claim_slot(seg(), getpid(), telemetry_wanted, role);
         if (!claimed) return Err{std::move(claimed).error()};
         slot = *claimed;
         word = control().claim_word.load(std::memory_order_acquire);
@@ -297,6 +325,10 @@ ConsumerBuilder& ConsumerBuilder::telemetry(bool wanted) {
     telemetry_ = wanted;
     return *this;
 }
+ConsumerBuilder& ConsumerBuilder::role(ConsumerRole consumer_role) {
+    role_ = consumer_role;
+    return *this;
+}
 ConsumerBuilder& ConsumerBuilder::stale_after_ns(std::uint64_t age_ns) {
     stale_after_ns_ = age_ns;
     return *this;
@@ -321,6 +353,7 @@ Result<Consumer, IpcError> ConsumerBuilder::attach() const {
                                                    " is " + to_string(health))};
     }
     impl->telemetry_wanted = telemetry_;
+    impl->role = role_;
     impl->stale_after_ns = stale_after_ns_;
     impl->expected = from_ == kFromNow
                          ? impl->seg().producer.next_event_sequence.load(std::memory_order_acquire)

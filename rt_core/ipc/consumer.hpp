@@ -26,6 +26,19 @@ enum class Poll : std::uint8_t {
     kNothing,  ///< nothing new yet (or the journal has not caught up yet)
 };
 
+/// Which slots a consumer may claim. The display and the soak monitor each own a reserved slot,
+/// so stray tools (`kerf shm tail`, tuning) can hold every other slot and still never lock them
+/// out.
+enum class ConsumerRole : std::uint8_t {
+    kDisplay,  ///< kerf-display: slot kDisplaySlot only
+    kMonitor,  ///< soak monitor: slot kMonitorSlot only
+    kTool,     ///< anything else (default): the remaining slots
+};
+const char* to_string(ConsumerRole role) noexcept;
+inline constexpr std::uint32_t kDisplaySlot = 0;
+inline constexpr std::uint32_t kMonitorSlot = 1;
+inline constexpr std::uint32_t kFirstToolSlot = 2;  ///< tools share kFirstToolSlot..kSlotCount-1
+
 /// Counters of one consumer since attach.
 struct ConsumerStats {
     std::uint64_t delivered = 0;         ///< events handed to the application
@@ -77,6 +90,8 @@ public:
     ConsumerBuilder& from_sequence(std::uint64_t sequence);
     ConsumerBuilder& telemetry(bool wanted);                ///< also subscribe to telemetry
     ConsumerBuilder& stale_after_ns(std::uint64_t age_ns);  ///< heartbeat limit (default 40 ms)
+    /// Which slots to claim (default kTool); kerf-display passes kDisplay.
+    ConsumerBuilder& role(ConsumerRole consumer_role);
 
     /// Opens + verifies the segment, refuses a dead or stopped producer, claims a free slot
     /// (reclaiming one whose consumer died).
@@ -88,11 +103,14 @@ private:
     std::string name_;
     std::uint64_t from_ = 0;
     std::uint64_t stale_after_ns_ = kDefaultStaleAfter_ns;
+    ConsumerRole role_ = ConsumerRole::kTool;
     bool telemetry_ = false;
 };
 
-/// Non-real-time: claims a slot of `layout` for process `pid`; returns its index or an error.
-Result<std::uint32_t, IpcError> claim_slot(SegmentLayout& layout, std::int32_t pid, bool telemetry);
+/// Non-real-time: claims a slot of `layout` that `role` may use for process `pid`; returns its
+/// index or an error naming the role and the holders.
+Result<std::uint32_t, IpcError> claim_slot(SegmentLayout& layout, std::int32_t pid, bool telemetry,
+                                           ConsumerRole role = ConsumerRole::kTool);
 /// Releases a slot claimed by claim_slot (only if it still holds `claim_word`).
 void release_slot(SegmentLayout& layout, std::uint32_t slot, std::uint64_t claim_word) noexcept;
 

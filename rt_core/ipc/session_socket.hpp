@@ -19,7 +19,7 @@
 #include <thread>
 #include <vector>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "rt_core/ipc/ipc_error.hpp"
 
 namespace kerf::ipc {

@@ -108,8 +108,8 @@ TEST_F(KerfCut, AChevronOfTwoPlanesCutsSequentiallyAndReportsJson) {
                                "0,0,25,-1,0,1", "-o", out, "--json"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(r.out.front(), '{');
-    EXPECT_NE(r.out.find("\"cuts\": [{\"plane\": 1"), std::string::npos) << r.out;
-    EXPECT_NE(r.out.find("{\"plane\": 2"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("\"cuts\":[{\"plane\":1"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("{\"plane\":2"), std::string::npos) << r.out;
     EXPECT_TRUE(fs::exists(dir_ / "chevron_4.ply")) << r.out;
     EXPECT_FALSE(fs::exists(dir_ / "chevron_5.ply")) << r.out;
 }

@@ -190,8 +190,17 @@ TEST(MultiProcess, ConsumerDetectsAKilledProducerThroughItsHeartbeatWithin100ms)
         Peer producer(dir.path, {"producer", "--name", name, "--journal-dir", dir.path, "--events",
                                  "100000000", "--per-tick", "1"});
         ASSERT_TRUE(wait_for_segment(name));
+        // The producer's first ticks can come late on a loaded machine (it looks stale until
+        // then): attach once it is ticking.
         auto c =
             ConsumerBuilder().segment_name(name).from_sequence(ConsumerBuilder::kFromNow).attach();
+        for (int i = 0; i < 2500 && !c; ++i) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
+            c = ConsumerBuilder()
+                    .segment_name(name)
+                    .from_sequence(ConsumerBuilder::kFromNow)
+                    .attach();
+        }
         ASSERT_TRUE(c) << c.error().message;
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
         ASSERT_EQ(c->producer_health(), ProducerHealth::kAlive);

@@ -118,17 +118,30 @@ TEST(ProducerConsumer, PublishOutcomeCountsDeliveriesAndDrops) {
     EXPECT_TRUE(o.journalled);
 }
 
-TEST(ProducerConsumer, SlotsRunOutThenFreeOnRelease) {
+TEST(ProducerConsumer, ToolSlotsRunOutThenFreeOnReleaseButNeverLockOutDisplayOrMonitor) {
     Session s;
     std::vector<Consumer> held;
-    for (std::uint32_t i = 0; i < kSlotCount; ++i) {
+    for (std::uint32_t i = kFirstToolSlot; i < kSlotCount; ++i) {
         auto c = ConsumerBuilder().segment_name(s.name).attach();
         ASSERT_TRUE(c) << c.error().message;
+        EXPECT_GE(c->slot(), kFirstToolSlot);
         held.push_back(std::move(*c));
     }
     auto extra = ConsumerBuilder().segment_name(s.name).attach();
     ASSERT_FALSE(extra);
     EXPECT_EQ(extra.error().code, IpcErrc::kNoFreeSlot);
+    EXPECT_NE(extra.error().message.find("tool slots are held"), std::string::npos)
+        << extra.error().message;
+    auto display = ConsumerBuilder().segment_name(s.name).role(ConsumerRole::kDisplay).attach();
+    ASSERT_TRUE(display) << display.error().message;
+    EXPECT_EQ(display->slot(), kDisplaySlot);
+    auto monitor = ConsumerBuilder().segment_name(s.name).role(ConsumerRole::kMonitor).attach();
+    ASSERT_TRUE(monitor) << monitor.error().message;
+    EXPECT_EQ(monitor->slot(), kMonitorSlot);
+    auto second = ConsumerBuilder().segment_name(s.name).role(ConsumerRole::kDisplay).attach();
+    ASSERT_FALSE(second);
+    EXPECT_NE(second.error().message.find("display slot is held"), std::string::npos)
+        << second.error().message;
     held.pop_back();
     EXPECT_TRUE(ConsumerBuilder().segment_name(s.name).attach());
 }

@@ -6,15 +6,20 @@
 // (out.stl -> out_1.stl, out_2.stl, ...; piece 1 is the largest). Every number on the command line
 // is in the file's units (--units). A --seed localises the cut to the bone it touches.
 // Errors: `kerf cut: <what>: <where>: <why>`; bad arguments exit 2, a refused cut or bad file 1.
+// Output is all-or-nothing: an output that is the input is refused, every piece is written to a
+// temp file beside its target and renamed only when all are written, and pieces an earlier run
+// left beyond this run's count are removed, so the folder never mixes two runs.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "config/file_io/file_io.hpp"
 #include "display/mesh/mesh_io.hpp"
 #include "tools/kerf/commands.hpp"
 #include "tools/kerf/cut_job.hpp"
@@ -131,27 +136,56 @@ void print_text(const CutOptions& o, const CutReport& r, const std::vector<std::
 void print_json(const CutOptions& o, const CutReport& r, const std::vector<std::string>& files,
                 double unit) {
     const double u3 = unit * unit * unit;
-    std::cout << "{\"input\": \"" << o.input << "\", \"units\": \"" << o.units << "\", \"mode\": \""
-              << o.mode << "\", \"cuts\": [";
-    for (std::size_t i = 0; i < r.steps.size(); ++i) {
-        const auto& st = r.steps[i].result.stats;
-        std::cout << (i ? ", " : "") << "{\"plane\": " << r.steps[i].plane + 1
-                  << ", \"loops\": " << st.loops << ", \"faces_split\": " << st.faces_split
-                  << ", \"vertices_added\": " << st.vertices_added
-                  << ", \"triangles_added\": " << st.triangles_added
-                  << ", \"cap_triangles\": " << st.cap_triangles
-                  << ", \"triangles_removed\": " << st.triangles_removed
-                  << ", \"time_ms\": " << static_cast<double>(st.time_ns) * 1e-6 << "}";
+    nlohmann::ordered_json doc = {{"input", o.input}, {"units", o.units}, {"mode", o.mode}};
+    doc["cuts"] = nlohmann::ordered_json::array();
+    for (const auto& step : r.steps) {
+        const auto& st = step.result.stats;
+        doc["cuts"].push_back({{"plane", step.plane + 1},
+                               {"loops", st.loops},
+                               {"faces_split", st.faces_split},
+                               {"vertices_added", st.vertices_added},
+                               {"triangles_added", st.triangles_added},
+                               {"cap_triangles", st.cap_triangles},
+                               {"triangles_removed", st.triangles_removed},
+                               {"time_ms", static_cast<double>(st.time_ns) * 1e-6}});
     }
-    std::cout << "], \"pieces\": [";
+    doc["pieces"] = nlohmann::ordered_json::array();
     for (std::size_t k = 0; k < r.pieces.size(); ++k) {
-        std::cout << (k ? ", " : "") << "{\"file\": \"" << files[k]
-                  << "\", \"triangles\": " << r.pieces[k].faces.size()
-                  << ", \"volume\": " << r.pieces[k].volume_m3 / u3 << "}";
+        doc["pieces"].push_back({{"file", files[k]},
+                                 {"triangles", r.pieces[k].faces.size()},
+                                 {"volume", r.pieces[k].volume_m3 / u3}});
     }
     char hash[24];
     std::snprintf(hash, sizeof hash, "%016llx", static_cast<unsigned long long>(r.mesh_hash));
-    std::cout << "], \"mesh_hash\": \"" << hash << "\"}\n";
+    doc["mesh_hash"] = hash;
+    // Paths are bytes, not always UTF-8: replace what JSON cannot carry instead of throwing.
+    std::cout << doc.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << "\n";
+}
+
+/// Pieces NAME_k.EXT with k > `count` left in the output folder by an earlier run.
+std::vector<std::filesystem::path> stale_pieces(const std::filesystem::path& out,
+                                                std::size_t count) {
+    std::vector<std::filesystem::path> stale;
+    const std::filesystem::path dir = out.parent_path().empty() ? "." : out.parent_path();
+    const std::string prefix = out.stem().string() + "_", ext = out.extension().string();
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+        const std::string name = entry.path().filename().string();
+        if (name.size() <= prefix.size() + ext.size() || name.rfind(prefix, 0) != 0 ||
+            name.compare(name.size() - ext.size(), ext.size(), ext) != 0) {
+            continue;
+        }
+        const std::string number =
+            name.substr(prefix.size(), name.size() - prefix.size() - ext.size());
+        if (number.empty() || number.size() > 9 ||
+            number.find_first_not_of("0123456789") != std::string::npos || number[0] == '0') {
+            continue;
+        }
+        if (std::stoul(number) > count && entry.is_regular_file(ec)) {
+            stale.push_back(piece_path(out, std::stoul(number)));
+        }
+    }
+    return stale;
 }
 
 void run_cut(const CutOptions& o) {
@@ -169,14 +203,24 @@ void run_cut(const CutOptions& o) {
         const auto& e = report.error();
         fail(kExitFailure, "--plane #" + std::to_string(e.plane + 1), o.planes[e.plane], e.why);
     }
+    // All pieces or none: every piece goes to a temp file first; the renames come last; pieces
+    // of an earlier run beyond this run's count are removed once the new set is in place.
     std::vector<std::string> files;
+    files::AtomicFileSet set;
+    const auto format = *mesh::format_from_path(o.output);
     for (std::size_t k = 0; k < report->pieces.size(); ++k) {
         const auto path = piece_path(o.output, k + 1);
         const auto piece = extract_piece(*loaded, report->pieces[k]);
-        auto saved = mesh::save_mesh(piece, path, *units);
-        if (!saved)
-            fail(kExitFailure, "cannot write piece", path.string(), saved.error().to_string());
+        set.add(path, mesh::serialize_mesh(piece, format, *units));
         files.push_back(path.string());
+    }
+    for (const auto& stale : stale_pieces(o.output, report->pieces.size()))
+        set.remove_after_commit(stale);
+    if (auto refused = set.refuse_inputs({o.input}); !refused) {
+        fail(kExitFailure, "cannot write pieces", refused.error().path, refused.error().message);
+    }
+    if (auto written = set.commit(); !written) {
+        fail(kExitFailure, "cannot write pieces", written.error().path, written.error().message);
     }
     if (o.json)
         print_json(o, *report, files, unit);

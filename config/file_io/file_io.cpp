@@ -1,0 +1,212 @@
+#include "config/file_io/file_io.hpp"
+
+#include <fcntl.h>
+#include <sys/random.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cinttypes>
+#include <cstdio>
+#include <cstring>
+
+namespace kerf::files {
+namespace {
+
+std::string kind_of(mode_t mode) {
+    if (S_ISDIR(mode)) return "a directory";
+    if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
+    if (S_ISSOCK(mode)) return "a socket";
+    if (S_ISCHR(mode)) return "a character device";
+    if (S_ISBLK(mode)) return "a block device";
+    return "not a regular file";
+}
+
+std::string errno_text(int e) { return std::strerror(e); }
+
+bool write_all(int fd, const char* data, std::size_t bytes) {
+    while (bytes > 0) {
+        const ssize_t n = ::write(fd, data, bytes);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return false;
+        data += n;
+        bytes -= std::size_t(n);
+    }
+    return true;
+}
+
+std::filesystem::path temp_name_for(const std::filesystem::path& target) {
+    std::uint64_t r = 0;
+    if (getrandom(&r, sizeof r, 0) != static_cast<ssize_t>(sizeof r)) r = std::uint64_t(getpid());
+    char suffix[32];
+    std::snprintf(suffix, sizeof suffix, ".tmp-%016" PRIx64, r);
+    std::filesystem::path dir = target.parent_path();
+    if (dir.empty()) dir = ".";
+    return dir / ("." + target.filename().string() + suffix);
+}
+
+}  // namespace
+
+Result<std::vector<std::byte>, FileError> read_regular_file(const std::filesystem::path& path,
+                                                            std::uint64_t max_bytes) {
+    const std::string p = path.string();
+    // O_NONBLOCK: opening a FIFO must not wait for a writer; it is refused below anyway.
+    const int fd = ::open(p.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
+    if (fd < 0) {
+        const int e = errno;
+        if (e == ENOENT) return Err{FileError{p, "no such file"}};
+        return Err{FileError{p, "cannot open: " + errno_text(e)}};
+    }
+    struct stat st {};
+    if (fstat(fd, &st) != 0) {
+        const int e = errno;
+        ::close(fd);
+        return Err{FileError{p, "cannot stat: " + errno_text(e)}};
+    }
+    if (!S_ISREG(st.st_mode)) {
+        ::close(fd);
+        return Err{FileError{p, "is " + kind_of(st.st_mode) + ", not a regular file; refused"}};
+    }
+    if (std::uint64_t(st.st_size) > max_bytes) {
+        ::close(fd);
+        return Err{FileError{p, "is " + std::to_string(st.st_size) + " bytes, more than the " +
+                                    std::to_string(max_bytes) + "-byte limit for an input"}};
+    }
+    std::vector<std::byte> bytes(std::size_t(st.st_size));
+    std::size_t got = 0;
+    for (;;) {
+        if (got == bytes.size()) {
+            // The file may have grown since fstat: read on, within the cap.
+            if (bytes.size() >= max_bytes) {
+                char probe;
+                const ssize_t more = ::read(fd, &probe, 1);
+                ::close(fd);
+                if (more > 0) {
+                    return Err{FileError{p, "grew past the " + std::to_string(max_bytes) +
+                                                "-byte limit while being read"}};
+                }
+                return bytes;
+            }
+            bytes.resize(std::min<std::uint64_t>(max_bytes, bytes.size() * 2 + 4096));
+        }
+        const ssize_t n = ::read(fd, bytes.data() + got, bytes.size() - got);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) {
+            const int e = errno;
+            ::close(fd);
+            return Err{FileError{p, "read failed: " + errno_text(e)}};
+        }
+        if (n == 0) break;
+        got += std::size_t(n);
+    }
+    ::close(fd);
+    bytes.resize(got);
+    return bytes;
+}
+
+bool same_file(const std::filesystem::path& a, const std::filesystem::path& b) {
+    struct stat sa {
+    }, sb{};
+    if (stat(a.c_str(), &sa) != 0 || stat(b.c_str(), &sb) != 0) return false;
+    return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+AtomicFileSet::~AtomicFileSet() { remove_temps(); }
+
+void AtomicFileSet::add(std::filesystem::path target, std::string contents) {
+    entries_.push_back({std::move(target), std::move(contents), {}});
+}
+
+void AtomicFileSet::remove_after_commit(std::filesystem::path stale) {
+    stale_.push_back(std::move(stale));
+}
+
+Status<FileError> AtomicFileSet::refuse_inputs(
+    const std::vector<std::filesystem::path>& inputs) const {
+    for (std::size_t i = 0; i < entries_.size(); ++i) {
+        const auto& t = entries_[i].target;
+        for (const auto& in : inputs) {
+            if (same_file(t, in)) {
+                return Err{FileError{t.string(), "is the input " + in.string() +
+                                                     "; refusing to overwrite it (choose another "
+                                                     "output name)"}};
+            }
+        }
+        for (std::size_t j = 0; j < i; ++j) {
+            if (t == entries_[j].target || same_file(t, entries_[j].target)) {
+                return Err{FileError{t.string(), "is named twice in one output set"}};
+            }
+        }
+    }
+    return {};
+}
+
+void AtomicFileSet::remove_temps() noexcept {
+    for (auto& e : entries_) {
+        if (!e.temp.empty()) ::unlink(e.temp.c_str());
+        e.temp.clear();
+    }
+}
+
+Status<FileError> AtomicFileSet::commit() {
+    for (const auto& e : entries_) {
+        struct stat st {};
+        if (lstat(e.target.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISLNK(st.st_mode)) {
+            return Err{FileError{e.target.string(),
+                                 "exists and is " + kind_of(st.st_mode) + "; nothing written"}};
+        }
+        if (lstat(e.target.c_str(), &st) == 0 && S_ISLNK(st.st_mode) &&
+            (stat(e.target.c_str(), &st) != 0 || !S_ISREG(st.st_mode))) {
+            return Err{FileError{e.target.string(),
+                                 "is a link to something that is not a regular file; nothing "
+                                 "written"}};
+        }
+    }
+    for (auto& e : entries_) {
+        e.temp = temp_name_for(e.target);
+        const int fd =
+            ::open(e.temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, 0644);
+        if (fd < 0) {
+            const int err = errno;
+            e.temp.clear();
+            remove_temps();
+            return Err{FileError{e.target.string(), "cannot create a temporary file next to it: " +
+                                                        errno_text(err) + "; nothing written"}};
+        }
+        const bool ok = write_all(fd, e.contents.data(), e.contents.size()) && fsync(fd) == 0;
+        const int err = errno;
+        ::close(fd);
+        if (!ok) {
+            remove_temps();
+            return Err{FileError{e.target.string(),
+                                 "write failed: " + errno_text(err) + "; nothing written"}};
+        }
+    }
+    for (std::size_t i = 0; i < entries_.size(); ++i) {
+        Entry& e = entries_[i];
+        if (std::rename(e.temp.c_str(), e.target.c_str()) != 0) {
+            const int err = errno;
+            remove_temps();
+            return Err{FileError{e.target.string(), "rename failed: " + errno_text(err) + " (" +
+                                                        std::to_string(i) + " of " +
+                                                        std::to_string(entries_.size()) +
+                                                        " files were already in place)"}};
+        }
+        e.temp.clear();
+    }
+    for (const auto& s : stale_) {
+        bool keep = false;
+        for (const auto& e : entries_) keep = keep || e.target == s;
+        if (!keep) ::unlink(s.c_str());
+    }
+    return {};
+}
+
+Status<FileError> write_file_atomically(const std::filesystem::path& target,
+                                        const std::string& contents) {
+    AtomicFileSet set;
+    set.add(target, contents);
+    return set.commit();
+}
+
+}  // namespace kerf::files

@@ -1,0 +1,114 @@
+// kerf_file_io: regular files only with a cap; atomic single and multi-file writes (all or
+// nothing), outputs that are inputs refused, stale files of an earlier set removed.
+#include "config/file_io/file_io.hpp"
+
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace kerf::files {
+namespace {
+
+namespace fs = std::filesystem;
+
+class FileIo : public ::testing::Test {
+protected:
+    void SetUp() override {
+        char tmpl[] = "/tmp/kerf-file-io-XXXXXX";
+        dir_ = mkdtemp(tmpl);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    void put(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+    std::string get(const fs::path& p) {
+        std::ifstream in(p);
+        std::ostringstream s;
+        s << in.rdbuf();
+        return s.str();
+    }
+    std::size_t entries() {
+        return std::size_t(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()));
+    }
+    fs::path dir_;
+};
+
+TEST_F(FileIo, ReadsARegularFileAndFollowsALinkToOne) {
+    put(dir_ / "a.txt", "hello");
+    fs::create_symlink(dir_ / "a.txt", dir_ / "link.txt");
+    auto bytes = read_regular_file(dir_ / "link.txt", 100);
+    ASSERT_TRUE(bytes) << bytes.error().to_string();
+    EXPECT_EQ(bytes->size(), 5u);
+}
+
+TEST_F(FileIo, RefusesDevicesFifosDirectoriesAndLinksToThemWithoutBlocking) {
+    fs::create_symlink("/dev/zero", dir_ / "z.stl");
+    ASSERT_EQ(mkfifo((dir_ / "f.stl").c_str(), 0600), 0);
+    for (const fs::path& p : {dir_ / "z.stl", fs::path("/dev/urandom"), dir_ / "f.stl", dir_}) {
+        auto bytes = read_regular_file(p, kDefaultMaxInputBytes);
+        ASSERT_FALSE(bytes) << p;
+        EXPECT_NE(bytes.error().message.find("not a regular file"), std::string::npos)
+            << bytes.error().to_string();
+    }
+    EXPECT_NE(read_regular_file(dir_ / "f.stl", 10).error().message.find("FIFO"),
+              std::string::npos);
+}
+
+TEST_F(FileIo, AFileAboveTheCapIsAClearError) {
+    put(dir_ / "big", std::string(1000, 'x'));
+    auto bytes = read_regular_file(dir_ / "big", 999);
+    ASSERT_FALSE(bytes);
+    EXPECT_NE(bytes.error().message.find("1000 bytes, more than the 999-byte limit"),
+              std::string::npos)
+        << bytes.error().message;
+    EXPECT_TRUE(read_regular_file(dir_ / "big", 1000));
+}
+
+TEST_F(FileIo, AMultiFileSetAppearsWholeOrNotAtAll) {
+    put(dir_ / "out_1.txt", "old 1");
+    fs::create_directory(dir_ / "out_2.txt");  // the second target cannot be written
+    AtomicFileSet set;
+    set.add(dir_ / "out_1.txt", "new 1");
+    set.add(dir_ / "out_2.txt", "new 2");
+    auto r = set.commit();
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("directory"), std::string::npos) << r.error().message;
+    EXPECT_EQ(get(dir_ / "out_1.txt"), "old 1");  // untouched
+    EXPECT_EQ(entries(), 2u);                     // no temp file left behind
+}
+
+TEST_F(FileIo, AnOutputThatIsAnInputIsRefusedWhateverThePath) {
+    put(dir_ / "x_1.stl", "bone");
+    fs::create_symlink(dir_ / "x_1.stl", dir_ / "alias.stl");
+    AtomicFileSet set;
+    set.add(dir_ / "x_1.stl", "piece");
+    auto r = set.refuse_inputs({dir_ / "alias.stl"});
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("is the input"), std::string::npos);
+    EXPECT_EQ(get(dir_ / "x_1.stl"), "bone");
+}
+
+TEST_F(FileIo, StaleFilesOfAnEarlierSetGoOnlyAfterTheNewSetIsInPlace) {
+    put(dir_ / "p_3.txt", "old 3");
+    AtomicFileSet set;
+    set.add(dir_ / "p_1.txt", "1");
+    set.add(dir_ / "p_2.txt", "2");
+    set.remove_after_commit(dir_ / "p_3.txt");
+    ASSERT_TRUE(set.commit());
+    EXPECT_EQ(get(dir_ / "p_1.txt"), "1");
+    EXPECT_EQ(get(dir_ / "p_2.txt"), "2");
+    EXPECT_FALSE(fs::exists(dir_ / "p_3.txt"));
+    EXPECT_EQ(entries(), 2u);
+}
+
+TEST_F(FileIo, AnUnwritableFolderLeavesNothingAndSaysSo) {
+    auto r = write_file_atomically(dir_ / "missing-folder" / "a.txt", "x");
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("cannot create a temporary file"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace kerf::files
