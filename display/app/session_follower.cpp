@@ -65,11 +65,13 @@ bool SessionFollower::Impl::rebuild_session() {
 }
 
 bool SessionFollower::Impl::try_attach() {
-    auto attached = ipc::ConsumerBuilder()
-                        .segment_name(options.segment_name)
-                        .from_sequence(0)
-                        .stale_after_ns(options.stale_after_ns)
-                        .attach();
+    auto attached =
+        ipc::ConsumerBuilder()
+            .segment_name(options.segment_name)
+            .from_sequence(0)
+            .stale_after_ns(options.stale_after_ns)
+            .role(ipc::ConsumerRole::kDisplay)  // the reserved slot: tools cannot take it
+            .attach();
     if (!attached) {
         local.waiting_for = attached.error().message;
         return false;
