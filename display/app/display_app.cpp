@@ -143,7 +143,30 @@ struct FrameInput {
     std::uint64_t drawn_event_ns = 0;  ///< newest event in the edits this frame uploads (0: none)
     bool cut_ended = false;            ///< a cut completed since the previous frame
     std::uint32_t triangles = 0;
+    std::uint64_t edits = 0;  ///< hand-overs included in this frame
 };
+
+/// What the last frame showed, for --on-demand: redraw only when it is out of date.
+struct DrawnState {
+    std::uint64_t edits = ~std::uint64_t{0};
+    double pose[7] = {0, 0, 0, 1, 0, 0, 0};  ///< tool position (m) and orientation (w, x, y, z)
+    std::uint64_t at_ns = 0;
+};
+
+/// On-demand frames: an edit not yet drawn, a moved blade, or a second since the last frame.
+bool needs_frame(Handover& h, const FollowerStatus& s, const DrawnState& d, std::uint64_t now) {
+    {
+        const std::lock_guard lock(h.mutex);
+        if (h.edits != d.edits) return true;
+    }
+    if (now - d.at_ns > 1'000'000'000) return true;
+    if (!s.state_valid) return false;
+    for (int i = 0; i < 3; ++i)
+        if (s.state.tool_position_m[i] != d.pose[i]) return true;
+    for (int i = 0; i < 4; ++i)
+        if (s.state.tool_orientation_wxyz[i] != d.pose[3 + i]) return true;
+    return false;
+}
 
 /// Uploads the dirty ranges, places the bodies, frames the camera once. Short: under the lock.
 FrameInput take_handover(Handover& h, egl::EglOutput& output, render::Renderer& renderer,
@@ -171,6 +194,7 @@ FrameInput take_handover(Handover& h, egl::EglOutput& output, render::Renderer& 
         in.triangles = rm->triangle_count();
     }
     in.drawn_event_ns = std::exchange(h.newest_event_ns, 0);
+    in.edits = h.edits;
     in.cut_ended = h.cuts_completed > cuts_seen;
     cuts_seen = h.cuts_completed;
     return in;
@@ -251,6 +275,8 @@ ParsedArgs parse_display_args(int argc, char** argv) {
     app.add_option("--exit-after-events", o.exit_after_events,
                    "exit after N events are applied, printing the mesh hash");
     app.add_option("--status", o.status_path, "write counters as JSON to this file");
+    app.add_flag("--on-demand", o.on_demand,
+                 "draw only when an edit, the blade or a second calls for it (kiosk, latency)");
     try {
         app.parse(argc, argv);
         if (!size.empty()) {
@@ -312,6 +338,7 @@ int run_display(const DisplayOptions& o) {
     std::signal(SIGTERM, on_signal);
 
     Measures measures;
+    DrawnState drawn;
     std::optional<render::Camera> camera;
     std::uint64_t frame = 0, cuts_seen = 0, last_status_ns = 0;
     bool shot_taken = false, exiting = false;
@@ -319,6 +346,10 @@ int run_display(const DisplayOptions& o) {
     while (!g_stop.load() && output->poll()) {
         if (!scene_ready(handover)) {  // frames start once the worker has built the scene
             std::this_thread::sleep_for(std::chrono::milliseconds(5));
+            continue;
+        }
+        if (o.on_demand && !needs_frame(handover, (*follower)->status(), drawn, monotonic_ns())) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
             continue;
         }
         const std::uint64_t t0 = monotonic_ns();
@@ -333,6 +364,15 @@ int run_display(const DisplayOptions& o) {
         ++frame;
         const std::uint64_t t1 = monotonic_ns();
         record_frame(measures, t0, t1, in.drawn_event_ns);
+        drawn = DrawnState{in.edits,
+                           status.state_valid ? status.state.tool_position_m[0] : 0.0,
+                           status.state_valid ? status.state.tool_position_m[1] : 0.0,
+                           status.state_valid ? status.state.tool_position_m[2] : 0.0,
+                           status.state_valid ? status.state.tool_orientation_wxyz[0] : 1.0,
+                           status.state_valid ? status.state.tool_orientation_wxyz[1] : 0.0,
+                           status.state_valid ? status.state.tool_orientation_wxyz[2] : 0.0,
+                           status.state_valid ? status.state.tool_orientation_wxyz[3] : 0.0,
+                           t1};
 
         const bool last_frame = (o.frames && frame >= o.frames) || exiting;
         if (!shot_taken && wants_screenshot(o, frame, in.cut_ended, last_frame)) {

@@ -7,11 +7,12 @@
 //
 //   kerf-display [--config kerf.toml] [--mode headless|window|kms] [--size 1280x720]
 //                [--session NAME] [--frames N] [--screenshot PATH [--at-frame N | --on-cut-end]]
-//                [--exit-after-events N] [--status PATH]
+//                [--exit-after-events N] [--status PATH] [--on-demand]
 //
 // --exit-after-events N (tests, benchmarks): once N events are applied, draw one more frame and
 // exit, printing "mesh hash <16 hex digits>". --status PATH writes counters as JSON (temp file +
-// rename) every half second and at exit.
+// rename) every half second and at exit. --on-demand draws a frame only when an edit is waiting,
+// the blade moved or a second passed, so an edit never waits for a frame already in flight.
 #pragma once
 
 #include <cstdint>
@@ -32,6 +33,7 @@ struct DisplayOptions {
     bool screenshot_on_cut_end = false;     ///< shoot the first frame after a completed cut
     std::uint64_t exit_after_events = 0;    ///< exit once this many events are applied (0: never)
     std::string status_path;                ///< JSON status file; empty: none
+    bool on_demand = false;  ///< draw only when an edit, the blade pose or a second calls for it
 };
 
 /// Parses the command line; on --help or an error prints and returns the exit code to use.

@@ -7,7 +7,7 @@
 // (latency - cut) in frames: the target is <= 1 frame plus the cut's own time.
 //
 //   bench_display_latency [--triangles 1000000] [--cuts 5] [--period-ms 2500]
-//                         [--producer-cpu 0] [--display-cpu 1] [--size 1280x720]
+//                         [--producer-cpu 0] [--display-cpu 1] [--size 1280x720] [--on-demand 1]
 //
 // Processes are pinned with taskset (say where in the figures you report). A CTest smoke run
 // (label bench) uses a small foot and three cuts so the tool never rots.
@@ -75,6 +75,7 @@ int main(int argc, char** argv) {
     const std::string producer_cpu = arg(argc, argv, "--producer-cpu", "0");
     const std::string display_cpu = arg(argc, argv, "--display-cpu", "1");
     const std::string size = arg(argc, argv, "--size", "1280x720");
+    const bool on_demand = arg(argc, argv, "--on-demand", "0") == std::string("1");
 
     char tmpl[] = "/tmp/kerf-bench-display-XXXXXX";
     const fs::path dir = mkdtemp(tmpl);
@@ -150,10 +151,20 @@ int main(int argc, char** argv) {
         return 1;
     }
     const std::string status = (dir / "status.json").string();
-    Child display({"/usr/bin/taskset", "-c", display_cpu, display::test::bin("kerf-display"),
-                   "--config", (dir / "kerf.toml").string(), "--size", size, "--status", status,
-                   "--exit-after-events", std::to_string(records.size())},
-                  (dir / "display.out").string());
+    std::vector<std::string> display_args{"/usr/bin/taskset",
+                                          "-c",
+                                          display_cpu,
+                                          display::test::bin("kerf-display"),
+                                          "--config",
+                                          (dir / "kerf.toml").string(),
+                                          "--size",
+                                          size,
+                                          "--status",
+                                          status,
+                                          "--exit-after-events",
+                                          std::to_string(records.size())};
+    if (on_demand) display_args.push_back("--on-demand");
+    Child display(display_args, (dir / "display.out").string());
     // Start the cuts once the display is attached and drawing the scene.
     if (!display::test::wait_for(
             [&] {
@@ -181,8 +192,9 @@ int main(int argc, char** argv) {
     const double whole = json_number(s, "whole_buffer_bytes");
     std::printf(
         "scene: built-in foot, %zu triangles target; %d CutBegin events; producer on CPU %s, "
-        "kerf-display on CPU %s; %s\n",
-        triangles, cuts, producer_cpu.c_str(), display_cpu.c_str(), size.c_str());
+        "kerf-display on CPU %s; %s; frames %s\n",
+        triangles, cuts, producer_cpu.c_str(), display_cpu.c_str(), size.c_str(),
+        on_demand ? "on demand" : "continuous");
     std::printf("frame time (median over the run)      %8.2f ms\n", frame);
     std::printf("cut on the worker (CutBegin slice)    %8.2f ms  (min %.2f, max %.2f)\n",
                 edit.median, edit.min, edit.max);
