@@ -193,7 +193,8 @@ TEST(DisplayProcess, AScribblerInTheSegmentChangesNothing) {
     Child producer(producer_args(s, {"--period-ms", "50"}), s.path("producer.out"));
     ASSERT_TRUE(producer.wait_output("ready", kTimeout_s)) << producer.output();
     Child display(
-        display_args(s, "status.json", {"--exit-after-events", std::to_string(records.size())}),
+        display_args(s, "status.json",
+                     {"--exit-after-events", std::to_string(records.size()), "--on-demand"}),
         s.path("display.out"));
     Child scribbler({test::bin("display_test_scribbler"), "--segment", s.session, "--seconds", "2"},
                     s.path("scribbler.out"));
