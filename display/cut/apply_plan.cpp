@@ -181,7 +181,9 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
     // Room for everything this edit adds (splits: 1 vertex, 3 edges, 2 faces each; duplicates:
     // 1 vertex, 1 edge each; caps: 2 faces and 3 edges per triangle).
     const std::size_t n_points = plan.points.size(), n_caps = plan.cap_triangles.size();
-    s.ensure_capacity(2 * n_points, 4 * n_points + 3 * n_caps, 2 * n_points + 2 * n_caps);
+    s.ensure_capacity(2 * n_points + plan.merged.size(),
+                      4 * n_points + 3 * n_caps + 3 * plan.merged.size(),
+                      2 * n_points + 2 * n_caps + 2 * plan.merged.size());
     std::vector<VertexHandle> rim(plan.points.size());
     std::uint32_t splits = 0;
     for (const PlanLoop& l : plan.loops) {
@@ -196,6 +198,15 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
             m.split_copy(EdgeHandle(p.key.id), rim[i]);
             ++splits;
         }
+    }
+    // Cut points within tol of their loop neighbour: split, then collapse into the neighbour's
+    // vertex (merge_close_points checked the link condition on the unedited mesh).
+    for (const MergedPoint& mp : plan.merged) {
+        const VertexHandle v = make_edge_vertex(m, mp.point);
+        m.split_copy(EdgeHandle(mp.point.key.id), v);
+        const HalfedgeHandle h = m.find_halfedge(v, rim[mp.into]);
+        if (!h.is_valid() || !m.is_collapse_ok(h)) return CutStatus::kInternalError;
+        m.collapse(h);
     }
     out.clear();
     out.plane = plane;
@@ -219,6 +230,7 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
     }
     for (int fi = faces_before; fi < static_cast<int>(m.n_faces()); ++fi) {
         const FaceHandle f(fi);
+        if (m.status(f).deleted()) continue;  // removed by a merge's collapse
         if (m.property(s.cap, f) != kCapNone)
             s.cap_faces.push_back(f);
         else

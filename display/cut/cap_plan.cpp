@@ -213,6 +213,59 @@ GroupResult try_triangulate_group(ContextState& s, const Plane& plane,
     return GroupResult::kOk;
 }
 
+// Lawson flips towards the Delaunay triangulation of the cap (in the plane frame): an inner edge
+// whose opposite vertex lies inside the other triangle's circumcircle is flipped when both new
+// triangles are `good`. Ear clipping leaves long thin ears; Delaunay maximises the smallest angle,
+// so what stays thin is only what the rim itself forces. A bounded number of passes.
+template <class Good>
+void delaunay_flips(const SectionPlan& plan, std::vector<Triangle>& tris, const Good& good) {
+    auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t{a} << 32) | b; };
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> by_edge;
+    for (int pass = 0; pass < 8; ++pass) {
+        by_edge.clear();
+        for (std::uint32_t i = 0; i < tris.size(); ++i) {
+            const Triangle& t = tris[i];
+            by_edge.emplace_back(key(t.a, t.b), i), by_edge.emplace_back(key(t.b, t.c), i),
+                by_edge.emplace_back(key(t.c, t.a), i);
+        }
+        std::sort(by_edge.begin(), by_edge.end());
+        std::vector<char> touched(tris.size(), 0);
+        bool flipped = false;
+        for (std::uint32_t i = 0; i < tris.size(); ++i) {
+            for (int r = 0; r < 3 && !touched[i]; ++r) {
+                Triangle t = tris[i];
+                for (int k = 0; k < r; ++k) t = Triangle{t.b, t.c, t.a};
+                // Edge c -> a of t; the neighbour holds a -> c with apex d.
+                const auto it = std::lower_bound(by_edge.begin(), by_edge.end(),
+                                                 std::make_pair(key(t.a, t.c), 0u));
+                if (it == by_edge.end() || it->first != key(t.a, t.c)) continue;
+                const std::uint32_t j = it->second;
+                if (touched[j] || j == i) continue;
+                Triangle o = tris[j];
+                while (o.a != t.a) o = Triangle{o.b, o.c, o.a};
+                if (o.b != t.c) continue;
+                const std::uint32_t d = o.c;
+                const Vec2 &pa = plan.points[t.a].uv, &pb = plan.points[t.b].uv,
+                           &pc = plan.points[t.c].uv, &pd = plan.points[d].uv;
+                const double adx = pa[0] - pd[0], ady = pa[1] - pd[1];
+                const double bdx = pb[0] - pd[0], bdy = pb[1] - pd[1];
+                const double cdx = pc[0] - pd[0], cdy = pc[1] - pd[1];
+                const double det = (adx * adx + ady * ady) * (bdx * cdy - cdx * bdy) -
+                                   (bdx * bdx + bdy * bdy) * (adx * cdy - cdx * ady) +
+                                   (cdx * cdx + cdy * cdy) * (adx * bdy - bdx * ady);
+                const double scale = (adx * adx + ady * ady) * (bdx * bdx + bdy * bdy);
+                if (!(det > 1e-9 * scale)) continue;  // not clearly inside the circumcircle
+                const Triangle n1{t.a, t.b, d}, n2{t.b, t.c, d};
+                if (!good(n1) || !good(n2)) continue;
+                tris[i] = n1, tris[j] = n2;
+                touched[i] = touched[j] = 1;
+                flipped = true;
+            }
+        }
+        if (!flipped) return;
+    }
+}
+
 bool triangulate_group(ContextState& s, const Plane& plane,
                        const std::vector<const PlanLoop*>& loops, std::vector<char>& forced,
                        std::vector<Triangle>& out) {
@@ -281,25 +334,29 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
         const Vec3& b = plan.points[t.b].position;
         const Vec3& c = plan.points[t.c].position;
         const Vec3 n = OpenMesh::cross(b - a, c - a);
-        return 0.5 * n.norm() >= min_area && OpenMesh::dot(n, normal) > 0.5 * n.norm();
+        return 0.5 * n.norm() > min_area && OpenMesh::dot(n, normal) > 0.5 * n.norm();
     };
     auto len2 = [&](std::uint32_t a, std::uint32_t b) {
         return (plan.points[a].position - plan.points[b].position).sqrnorm();
     };
     std::vector<Triangle>& tris = plan.cap_triangles;
+    delaunay_flips(plan, tris, good);
+    // Tries the flip across the longest edge first, then the other two.
     for (std::size_t i = 0; i < tris.size(); ++i) {
         if (good(tris[i])) continue;
         Triangle t = tris[i];
         for (int r = 0; r < 3 && len2(t.c, t.a) < std::max(len2(t.a, t.b), len2(t.b, t.c)); ++r)
             t = Triangle{t.b, t.c, t.a};
         bool fixed = false;
-        for (std::size_t k = 0; k < tris.size() && !fixed; ++k) {
-            const std::uint32_t v[3] = {tris[k].a, tris[k].b, tris[k].c};
-            for (int e = 0; e < 3 && !fixed; ++e) {
-                if (v[e] != t.a || v[(e + 1) % 3] != t.c) continue;
-                const std::uint32_t d = v[(e + 2) % 3];
-                const Triangle n1{t.a, t.b, d}, n2{t.b, t.c, d};
-                if (good(n1) && good(n2)) tris[i] = n1, tris[k] = n2, fixed = true;
+        for (int edge = 0; edge < 3 && !fixed; ++edge, t = Triangle{t.b, t.c, t.a}) {
+            for (std::size_t k = 0; k < tris.size() && !fixed; ++k) {
+                const std::uint32_t v[3] = {tris[k].a, tris[k].b, tris[k].c};
+                for (int e = 0; e < 3 && !fixed; ++e) {
+                    if (v[e] != t.a || v[(e + 1) % 3] != t.c) continue;
+                    const std::uint32_t d = v[(e + 2) % 3];
+                    const Triangle n1{t.a, t.b, d}, n2{t.b, t.c, d};
+                    if (good(n1) && good(n2)) tris[i] = n1, tris[k] = n2, fixed = true;
+                }
             }
         }
         if (!fixed) return CutStatus::kCapTriangulationFailed;

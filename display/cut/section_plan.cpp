@@ -357,12 +357,114 @@ CutStatus add_nested_loops(ContextState& s, Walker& w, const Plane& plane) {
 void SectionPlan::clear() {
     points.clear();
     loops.clear();
+    merged.clear();
     cap_points.clear();
     cap_triangles.clear();
 }
 
+namespace {
+
+// The vertex of face f (of edge `e`'s halfedges) opposite edge e, for both sides.
+VertexHandle opposite_vertex(const TriMesh& m, HalfedgeHandle h) {
+    return m.to_vertex_handle(m.next_halfedge_handle(h));
+}
+
+// Whether collapsing the vertex a split of edge point `drop` makes into the vertex of `keep`
+// (both consecutive on a loop, so in one face) satisfies the link condition: the two share
+// exactly the two vertices of that face's other corners as neighbours.
+bool merge_is_safe(const TriMesh& m, const PlanPoint& keep, const PlanPoint& drop) {
+    const EdgeHandle e(drop.key.id);
+    const HalfedgeHandle h0 = m.halfedge_handle(e, 0), h1 = m.halfedge_handle(e, 1);
+    if (m.is_boundary(h0) || m.is_boundary(h1)) return false;
+    const VertexHandle a = m.to_vertex_handle(h0), b = m.to_vertex_handle(h1);
+    const VertexHandle o0 = opposite_vertex(m, h0), o1 = opposite_vertex(m, h1);
+    if (!keep.key.edge) {
+        // Keep an on-plane vertex v opposite the edge: v and the far vertex must not be adjacent.
+        const VertexHandle v(keep.key.id);
+        const VertexHandle far = o0 == v ? o1 : (o1 == v ? o0 : VertexHandle());
+        return far.is_valid() && !m.find_halfedge(v, far).is_valid();
+    }
+    // Both on edges of one face, sharing its lone vertex x; the far vertices across the two
+    // edges must differ and x must have more than three neighbours.
+    const EdgeHandle k(keep.key.id);
+    const VertexHandle ka = m.to_vertex_handle(m.halfedge_handle(k, 0));
+    const VertexHandle kb = m.to_vertex_handle(m.halfedge_handle(k, 1));
+    const VertexHandle x = (a == ka || a == kb) ? a : ((b == ka || b == kb) ? b : VertexHandle());
+    if (!x.is_valid() || m.valence(x) <= 3) return false;
+    auto far_of = [&](EdgeHandle edge, VertexHandle other_corner) {
+        for (int i = 0; i < 2; ++i) {
+            const HalfedgeHandle h = m.halfedge_handle(edge, i);
+            if (opposite_vertex(m, h) != other_corner) return opposite_vertex(m, h);
+        }
+        return VertexHandle();
+    };
+    const VertexHandle y = ka == x ? kb : ka;  // keep's other end: a corner of the shared face
+    const VertexHandle z = a == x ? b : a;     // drop's other end: the third corner
+    const VertexHandle w_keep = far_of(k, z), w_drop = far_of(e, y);
+    return w_keep.is_valid() && w_drop.is_valid() && w_keep != w_drop;
+}
+
+}  // namespace
+
+void merge_close_points(ContextState& s) {
+    SectionPlan& plan = s.plan;
+    const TriMesh& m = s.mesh;
+    const double tol = s.tolerance_m;
+    auto close = [&](const PlanPoint& p, const PlanPoint& q) {
+        return (p.position - q.position).sqrnorm() <= tol * tol;
+    };
+    std::vector<PlanPoint> points;
+    points.reserve(plan.points.size());
+    std::vector<char> target;  // per kept point: something was merged into it
+    for (PlanLoop& l : plan.loops) {
+        const auto first = static_cast<std::uint32_t>(points.size());
+        // Only neighbours on the original loop share a face: merge p into the last kept point
+        // only when that point came just before p, and never chain.
+        bool previous_kept = false, first_is_original = true;
+        for (std::uint32_t i = 0; i < l.count; ++i) {
+            const PlanPoint& p = plan.points[l.first + i];
+            const std::size_t kept = points.size() - first;
+            const bool room = kept + (l.count - i) - 1 >= 3;
+            if (l.selected && room && previous_kept && close(points.back(), p)) {
+                const auto into = static_cast<std::uint32_t>(points.size() - 1);
+                if (p.key.edge && !target[into] && merge_is_safe(m, points.back(), p)) {
+                    plan.merged.push_back(MergedPoint{p, into});
+                    target[into] = 1;
+                    previous_kept = false;
+                    continue;
+                }
+                if (!p.key.edge && points.back().key.edge && !target[into] &&
+                    merge_is_safe(m, p, points.back())) {
+                    plan.merged.push_back(MergedPoint{points.back(), into});
+                    if (into == first) first_is_original = false;
+                    points.back() = p;
+                    target[into] = 1;
+                    continue;
+                }
+            }
+            points.push_back(p);
+            target.push_back(0);
+            previous_kept = true;
+        }
+        // The loop closes: its last point against its first.
+        const auto last = static_cast<std::uint32_t>(points.size() - 1);
+        if (l.selected && previous_kept && first_is_original && points.size() - first > 3 &&
+            points[last].key.edge && !target[last] && !target[first] &&
+            close(points[last], points[first]) && merge_is_safe(m, points[first], points[last])) {
+            plan.merged.push_back(MergedPoint{points[last], first});
+            target[first] = 1;
+            points.pop_back();
+            target.pop_back();
+        }
+        l.first = first;
+        l.count = static_cast<std::uint32_t>(points.size()) - first;
+    }
+    plan.points.swap(points);
+}
+
 CutStatus finish_plan(ContextState& s, const Plane& plane) {
     const CutStatus st = check_split_areas(s);
+    if (st == CutStatus::kOk) merge_close_points(s);
     return st == CutStatus::kOk ? plan_caps(s, plane) : st;
 }
 
@@ -371,7 +473,7 @@ CutStatus check_split_areas(const ContextState& s) {
     const TriMesh& m = s.mesh;
     const double min_area = kMinTriangleRelativeArea * s.scale_m * s.scale_m;
     auto small = [&](const Vec3& a, const Vec3& b, const Vec3& c) {
-        return !(0.5 * OpenMesh::cross(b - a, c - a).norm() >= min_area);
+        return !(0.5 * OpenMesh::cross(b - a, c - a).norm() > min_area);
     };
     for (const PlanLoop& l : plan.loops) {
         if (!l.selected) continue;

@@ -14,6 +14,7 @@
 #include "display/cut/plane.hpp"
 #include "display/cut/slice_by_plane.hpp"
 #include "display/cut/triangulate.hpp"
+#include "display/mesh/validate.hpp"
 
 namespace kerf::cut::detail {
 
@@ -45,10 +46,18 @@ struct PlanLoop {
     bool selected = false;    ///< cut by this slice
 };
 
+/// An edge cut point within tol of its neighbour on the loop (the vertex it would make could be
+/// reused): its edge is still split, and the new vertex is collapsed into the neighbour's.
+struct MergedPoint {
+    PlanPoint point;     ///< the dropped cut point (always on an edge)
+    std::uint32_t into;  ///< index in SectionPlan::points of the point that stays
+};
+
 /// Everything the second (editing) phase needs.
 struct SectionPlan {
     std::vector<PlanPoint> points;
     std::vector<PlanLoop> loops;
+    std::vector<MergedPoint> merged;  ///< dropped from the selected loops by merge_close_points
     std::vector<std::uint32_t> cap_points;  ///< selected loops' point indices, concatenated
     std::vector<Triangle> cap_triangles;    ///< counter-clockwise, indexing cap_points
 
@@ -71,8 +80,11 @@ CutStatus plan_wall(ContextState& s, const Plane& plane,
                     const std::vector<mesh::FaceHandle>& faces);
 
 /// Smallest triangle a cut may create (split parts and cap triangles), relative to the squared
-/// mesh scale.
-inline constexpr double kMinTriangleRelativeArea = 2e-15;
+/// mesh scale: the project's one degenerate threshold (mesh::kDegenerateTwiceAreaRelative is
+/// twice the area) with a factor 2 of margin, so that validate() never counts a triangle a cut
+/// made, in double or after the float32 rounding of an STL file (a 1 um triangle at 100 mm from
+/// the origin moves by a few per cent).
+inline constexpr double kMinTriangleRelativeArea = mesh::kDegenerateTwiceAreaRelative;
 
 /// Checks that splitting every face the selected loops cross leaves no triangle smaller than
 /// kMinTriangleRelativeArea (either diagonal OpenMesh may choose for the quad part): a plane a
@@ -81,7 +93,15 @@ inline constexpr double kMinTriangleRelativeArea = 2e-15;
 /// O(points in the selected loops).
 CutStatus check_split_areas(const ContextState& s);
 
-/// What every plan needs before its edit: check_split_areas(), then plan_caps(). Each status of
+/// Drops from the selected loops every edge cut point within tol of the point before it (or, for
+/// an on-plane vertex after an edge point, the edge point: the existing vertex is reused), when
+/// the collapse that follows the split is topologically safe; loops keep at least 3 points. So a
+/// cut never makes two vertices within tol of each other that float32 files would merge (two
+/// limbs of a chevron meeting on a thin cap triangle). O(points).
+void merge_close_points(ContextState& s);
+
+/// What every plan needs before its edit: check_split_areas(), merge_close_points(), then
+/// plan_caps(). Each status of
 /// either is returned as is.
 CutStatus finish_plan(ContextState& s, const Plane& plane);
 

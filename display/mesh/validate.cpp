@@ -151,7 +151,8 @@ void measure_shells(const IndexedMesh& in, const std::vector<EdgeUse>& uses, Val
         s.area_m2 += 0.5 * twice_area;
         s.volume_m3 += (a | (b % c)) / 6.0;
         const bool repeated = t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
-        if (repeated || twice_area <= 1e-12 * diag * diag) ++r.degenerate_triangles;
+        if (repeated || twice_area <= kDegenerateTwiceAreaRelative * diag * diag)
+            ++r.degenerate_triangles;
     }
     std::vector<std::uint8_t> seen(in.positions_m.size(), 0);
     for (const Triangle& t : in.triangles) {

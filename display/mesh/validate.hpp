@@ -8,7 +8,7 @@
 // - a vertex is non-manifold when the triangles around it form more than one fan (two cones
 //   touching at their tips), or it lies on a non-manifold edge;
 // - a triangle is degenerate when two of its indices are equal or twice its area is at most
-//   1e-12 × (bounding-box diagonal)²;
+//   kDegenerateTwiceAreaRelative × (bounding-box diagonal)²;
 // - shells are the connected components of triangles sharing vertices;
 // - signed volume is measured about the bounding-box centre (exact for closed shells; for an
 //   open mesh it is a number, not a volume); positive means outward normals.
@@ -25,6 +25,12 @@
 #include "display/mesh/units.hpp"
 
 namespace kerf::mesh {
+
+/// The project's one degenerate-triangle threshold: a triangle is degenerate when twice its area
+/// is at most this × (bounding-box diagonal)². validate() counts such triangles; kerf::cut never
+/// makes one (it checks every triangle a cut creates against this, relative to the diagonal of
+/// the mesh it cuts, which bounds every piece's); the cut tests check every mesh with it.
+inline constexpr double kDegenerateTwiceAreaRelative = 1e-12;
 
 /// One connected component.
 struct ShellSummary {

@@ -12,11 +12,13 @@
 #include <vector>
 
 #include "display/mesh/tri_mesh.hpp"
+#include "display/mesh/validate.hpp"
 
 namespace kerf::cut::testing {
 
-/// Smallest triangle area accepted, relative to the squared bounding-box diagonal.
-inline constexpr double kMinRelativeArea = 1e-15;
+/// Smallest triangle area accepted, relative to the squared bounding-box diagonal: the project's
+/// one degenerate threshold (validate.hpp; twice the area must exceed it).
+inline constexpr double kMinRelativeArea = 0.5 * kerf::mesh::kDegenerateTwiceAreaRelative;
 
 /// What the strict check measured; volumes in m^3, sorted descending.
 struct MeshReport {
@@ -113,7 +115,7 @@ inline MeshReport check_closed_2_manifold(const kerf::mesh::TriMesh& mesh) {
         if (!std::isfinite(area) ||
             !std::isfinite(p[0].sqrnorm() + p[1].sqrnorm() + p[2].sqrnorm()))
             fail("face " + std::to_string(f.idx()) + " is not finite");
-        else if (area < min_area) {
+        else if (!(area > min_area)) {
             char text[160];
             std::snprintf(text, sizeof text, "face %d has near-zero area %.3g m^2 (limit %.3g)",
                           f.idx(), area, min_area);

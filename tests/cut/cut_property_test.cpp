@@ -1,0 +1,232 @@
+// The cut property test (issue 10): random cuts of every kind — full plane, localised, chevron
+// (two localised planes meeting on a line, the second through the first one's cap), biplanar
+// slab — on every clean mesh in KERF_SHARED_MESHES, each on a fresh copy, and after every cut:
+// closed, consistently oriented 2-manifold; no triangle below the one degenerate threshold
+// (mesh::kDegenerateTwiceAreaRelative); volumes to 1e-9 (a slab's removed volume against two
+// full-plane slices and the piece between them); every piece written as float32 STL and read
+// back is a closed 2-manifold with no degenerate triangle (every 8th cut: OBJ, PLY and OFF too).
+// Refusals are counted by status (a plane that misses the bone is no refusal); on these clean
+// bones the target is none, not yet reached (see the bound at the end of the test).
+//
+// KERF_PROPERTY_CUTS cuts per (mesh, kind): 42 in kerf_cut_stress_tests (6 meshes x 4 kinds =
+// 1,008 cuts, label stress), 3 in kerf_cut_property_tests (72 cuts, the always-run slice).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <map>
+#include <random>
+#include <string>
+#include <tuple>
+
+#include "display/cut/components.hpp"
+#include "display/cut/slice_by_plane.hpp"
+#include "display/cut/subtract_slab.hpp"
+#include "display/mesh/mesh_io.hpp"
+#include "display/mesh/validate.hpp"
+#include "tests/cut/cut_test_util.hpp"
+#include "tests/cut/mesh_checks.hpp"
+#include "tests/cut/slice_sweep.hpp"
+
+#ifndef KERF_PROPERTY_CUTS
+#define KERF_PROPERTY_CUTS 3
+#endif
+
+namespace kerf::cut {
+namespace {
+
+using namespace kerf::cut::testing;
+using mesh::FaceHandle;
+using mesh::TriMesh;
+
+enum class Kind { kFull, kLocalised, kChevron, kSlab };
+
+std::string kind_name(Kind k) {
+    switch (k) {
+        case Kind::kFull:
+            return "full";
+        case Kind::kLocalised:
+            return "localised";
+        case Kind::kChevron:
+            return "chevron";
+        case Kind::kSlab:
+            return "slab";
+    }
+    return "?";
+}
+
+constexpr double kKerfM = 0.001;
+
+/// A mesh of the given faces of `m` (positions only), for writing one piece.
+TriMesh piece_mesh(const TriMesh& m, const Body& b) {
+    return extract_faces(
+        m, [&](FaceHandle f) { return std::binary_search(b.faces.begin(), b.faces.end(), f); });
+}
+
+/// Writes every piece of `m` in `format`, reads it back and checks it strictly.
+void expect_pieces_round_trip(const TriMesh& m, mesh::Format format, const std::string& what) {
+    for (const Body& b : group_cavities(find_components(m))) {
+        const TriMesh piece = piece_mesh(m, b);
+        const std::string bytes = mesh::serialize_mesh(piece, format, mesh::Units::kMillimetres);
+        auto back = mesh::parse_mesh(std::as_bytes(std::span(bytes.data(), bytes.size())), format,
+                                     mesh::Units::kMillimetres);
+        ASSERT_TRUE(back) << what << ": " << to_string(format) << " piece does not reload";
+        const mesh::ValidationReport v = mesh::validate(back->indexed);
+        EXPECT_TRUE(v.closed && v.oriented && v.non_manifold_vertices == 0 &&
+                    v.degenerate_triangles == 0 && back->detached_triangles == 0)
+            << what << ": " << to_string(format) << " piece of " << b.faces.size()
+            << " faces reloads with " << v.boundary_edges << " boundary, " << v.non_manifold_edges
+            << " non-manifold edges, " << v.non_manifold_vertices << " non-manifold vertices, "
+            << v.degenerate_triangles << " degenerate, " << back->detached_triangles << " detached";
+    }
+}
+
+/// A seed on the line where `a` and `b` meet, on the surface (a face crossing both near it).
+Seed seed_on_both(const TriMesh& m, const Plane& a, const Plane& b) {
+    FaceHandle best;
+    double best_d = 1e300;
+    for (auto f : m.faces()) {
+        int pa = 0, na = 0;
+        double db = 0;
+        for (auto v : m.fv_range(f)) {
+            const double d = a.signed_distance(m.point(v));
+            pa += d > 0, na += d < 0;
+            db += b.signed_distance(m.point(v)) / 3.0;
+        }
+        if (pa && na && std::abs(db) < best_d) best_d = std::abs(db), best = f;
+    }
+    if (!best.is_valid()) return Seed{Vec3(0, 0, 0), FaceHandle(), 0.0};
+    return Seed{face_centroid(m, best), best, -1.0};
+}
+
+/// Volume of the piece of `ref` (already sliced on both slab planes) between the planes that
+/// holds the face nearest to `p`, m^3 (0 when none lies between them).
+double between_piece_volume(const TriMesh& ref, const Plane& lower, const Plane& upper,
+                            const Vec3& p, double tol) {
+    double best_d = 1e300, volume = 0;
+    for (const Body& b : find_components(ref)) {
+        bool between = true;
+        for (auto v : b.vertices)
+            between &= lower.signed_distance(ref.point(v)) > -tol &&
+                       upper.signed_distance(ref.point(v)) < tol;
+        if (!between) continue;
+        for (FaceHandle f : b.faces) {
+            const double d = (face_centroid(ref, f) - p).norm();
+            if (d < best_d) best_d = d, volume = b.volume_m3;
+        }
+    }
+    return volume;
+}
+
+struct Tally {
+    int cuts = 0;
+    std::map<std::string, int> refusals;
+};
+
+class CutProperty : public ::testing::TestWithParam<std::tuple<const char*, Kind>> {};
+
+TEST_P(CutProperty, EveryCutIsClosedOrientedNonDegenerateConservesVolumeAndRoundTrips) {
+    const auto [name, kind] = GetParam();
+    const auto path = std::filesystem::path(KERF_SHARED_MESHES) / name;
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << "real meshes absent: " << path;
+    auto loaded = mesh::load_mesh(path, mesh::Units::kMillimetres);
+    ASSERT_TRUE(loaded);
+    const TriMesh shape = std::move(*loaded);
+    ASSERT_TRUE(check_closed_2_manifold(shape).ok) << name << " is not clean";
+    const double v0 = signed_volume(shape);
+    std::mt19937_64 rng(std::hash<std::string>{}(std::string(name) + kind_name(kind)));
+    Tally tally;
+    for (int i = 0; i < KERF_PROPERTY_CUTS; ++i) {
+        const std::string what =
+            std::string(name) + " " + kind_name(kind) + " #" + std::to_string(i);
+        SCOPED_TRACE(what);
+        TriMesh m = shape;
+        CutContext ctx(m);
+        const Plane plane = random_plane(m, rng);
+        CutStatus st = CutStatus::kOk;
+        double expected_volume = v0;
+        if (kind == Kind::kFull) {
+            CrossSection cs;
+            st = slice_by_plane(ctx, plane, cs).status;
+        } else if (kind == Kind::kLocalised) {
+            const Seed seed = random_seed(m, plane, rng);
+            if (seed.tolerance_m == 0.0) continue;
+            CrossSection cs;
+            st = slice_by_plane(ctx, plane, seed, cs).status;
+        } else if (kind == Kind::kChevron) {
+            const Seed seed = random_seed(m, plane, rng);
+            if (seed.tolerance_m == 0.0) continue;
+            CrossSection cs;
+            st = slice_by_plane(ctx, plane, seed, cs).status;
+            if (st == CutStatus::kOk) {
+                // The second limb: a plane through the seed's line on the first plane, 20 to 70
+                // degrees from it, seeded where the two planes meet on the surface.
+                std::uniform_real_distribution<double> angle(20.0, 70.0);
+                const double a = angle(rng) * M_PI / 180.0;
+                const Vec3 n2 = plane.normal() * std::cos(a) + plane.u() * std::sin(a);
+                const Plane second = *Plane::make(seed.point_m, n2);
+                const Seed seed2 = seed_on_both(m, second, plane);
+                if (seed2.tolerance_m == 0.0) continue;
+                st = slice_by_plane(ctx, second, seed2, cs).status;
+            }
+        } else {
+            const Seed seed = random_seed(m, plane.offset(-0.5 * kKerfM), rng);
+            if (seed.tolerance_m == 0.0) continue;
+            SlabCut slab;
+            st = subtract_slab(ctx, plane, kKerfM, seed, slab).status;
+            if (st == CutStatus::kOk) {
+                TriMesh ref = shape;
+                CutContext rctx(ref);
+                CrossSection cs;
+                const Plane lower = plane.offset(-0.5 * kKerfM), upper = plane.offset(0.5 * kKerfM);
+                ASSERT_TRUE(slice_by_plane(rctx, lower, cs).ok());
+                const CutStatus up = slice_by_plane(rctx, upper, cs).status;
+                ASSERT_TRUE(up == CutStatus::kOk || up == CutStatus::kPlaneMissesMesh);
+                expected_volume =
+                    v0 - between_piece_volume(ref, lower, upper, seed.point_m, rctx.tolerance_m());
+            }
+        }
+        if (st == CutStatus::kPlaneMissesMesh) continue;  // the random plane missed the bone
+        if (st != CutStatus::kOk) {
+            ++tally.refusals[std::string(to_string(st))];
+            continue;
+        }
+        ++tally.cuts;
+        const MeshReport rep = expect_closed_2_manifold(m);
+        EXPECT_NEAR(rep.total_volume_m3, expected_volume, 1e-9 * v0);
+        expect_face_normals_agree(m);
+        expect_pieces_round_trip(m, mesh::Format::kStl, what);
+        if (i % 8 == 0)
+            for (auto f : {mesh::Format::kObj, mesh::Format::kPly, mesh::Format::kOff})
+                expect_pieces_round_trip(m, f, what);
+    }
+    std::string refused;
+    int total_refused = 0;
+    for (const auto& [status, n] : tally.refusals)
+        refused += " " + status + "=" + std::to_string(n), total_refused += n;
+    RecordProperty("cuts", tally.cuts);
+    RecordProperty("refusals", total_refused);
+    std::printf("%s %s: %d cuts, %d refused%s\n", name, kind_name(kind).c_str(), tally.cuts,
+                total_refused, refused.c_str());
+    // The target is none. Measured on the 1,008-cut long form: 22 refusals (13 sliver_split, 9
+    // cap_triangulation_failed), at most 4 of 42 for one (mesh, kind): this bound keeps what is
+    // reached while the rest is worked on (display/cut/README.md).
+    EXPECT_LE(10 * total_refused, std::max(10, tally.cuts + total_refused))
+        << "refusals on a clean bone:" << refused;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    CleanSharedMeshes, CutProperty,
+    ::testing::Combine(
+        ::testing::Values("bp3d_right_first_metatarsal.stl", "jma_norm01_calcaneus_right.stl",
+                          "jma_norm01_talus_right.stl", "tcsm_ksbl_L01_talus_left.stl",
+                          "tcsm_ksbl_L01_tibia_distal_left.stl",
+                          "tcsm_ksbl_L01_fibula_distal_left.stl"),
+        ::testing::Values(Kind::kFull, Kind::kLocalised, Kind::kChevron, Kind::kSlab)),
+    [](const auto& param_info) {
+        std::string n = std::get<0>(param_info.param);
+        n = n.substr(0, n.find('.'));
+        return n + "_" + kind_name(std::get<1>(param_info.param));
+    });
+
+}  // namespace
+}  // namespace kerf::cut
