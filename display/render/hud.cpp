@@ -22,12 +22,12 @@ std::string format_hud(const HudState& h) {
     std::string s;
     s += "display  " + number(h.fps, 1) + " fps   p99 " + number(h.frame_p99_ms, 1) + " ms   " +
          std::to_string(h.triangles) + " tris";
-    if (!h.backend.empty()) s += "   " + std::string(h.backend);
     s += "\nhaptics  " + number(h.haptic_rate_hz, 0) + " Hz   overruns " +
          std::to_string(h.haptic_overruns) + "   wake " + number(h.wake_latency_us, 0) +
          " us   device " + std::string(h.device_state);
     s += "\ncut      " + std::string(h.cut_state) + "   depth " + number(h.cut_depth_mm, 1) +
          " mm   backlog " + std::to_string(h.event_backlog) + " events";
+    if (!h.backend.empty()) s += "\n" + std::string(h.backend);
     return s;
 }
 

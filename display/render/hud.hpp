@@ -23,7 +23,7 @@ struct HudState {
     double cut_depth_mm = -1;             ///< feed depth of the current cut, mm
     std::uint64_t event_backlog = 0;      ///< events journalled but not yet applied
     std::uint64_t triangles = 0;          ///< triangles drawn
-    std::string_view backend = "";        ///< e.g. "headless llvmpipe"
+    std::string_view backend = "";        ///< e.g. "headless: llvmpipe ...", on a line of its own
 };
 
 /// The HUD as text, one line per '\n'-separated item (what draw_hud() draws).

@@ -122,22 +122,35 @@ void RenderMesh::rebuild(const TriMesh& m, double growth) {
     };
     vertex_capacity_ = grow(m.n_vertices());
     face_capacity_ = grow(m.n_faces());
-    cap_capacity_ = std::max<std::uint32_t>(3 * 1024, vertex_capacity_ / 4);
-    vertices_.assign(std::size_t{vertex_capacity_} + cap_capacity_, RenderVertex{});
-    indices_.assign(std::size_t{face_capacity_} * 3, 0);
-    cap_slot_of_face_.assign(face_capacity_, kNoSlot);
     body_of_vertex_.resize(vertex_capacity_, 0);
     vertex_count_ = static_cast<std::uint32_t>(m.n_vertices());
     face_count_ = static_cast<std::uint32_t>(m.n_faces());
-    cap_used_ = 0;
-    for (std::uint32_t i = 0; i < vertex_count_; ++i) write_vertex(m, VertexHandle(int(i)));
-    for (std::uint32_t f = 0; f < face_count_; ++f) write_face(m, FaceHandle(int(f)));
+    do {  // again with twice the cap region if the caps did not fit
+        if (cap_overflow_) cap_min_ = 2 * cap_capacity_;
+        cap_overflow_ = false;
+        cap_capacity_ = std::max(cap_min_, vertex_capacity_ / 4);
+        vertices_.assign(std::size_t{vertex_capacity_} + cap_capacity_, RenderVertex{});
+        indices_.assign(std::size_t{face_capacity_} * 3, 0);
+        cap_slot_of_face_.assign(face_capacity_, kNoSlot);
+        cap_used_ = 0;
+        for (std::uint32_t i = 0; i < vertex_count_; ++i) write_vertex(m, VertexHandle(int(i)));
+        for (std::uint32_t f = 0; f < face_count_; ++f) write_face(m, FaceHandle(int(f)));
+    } while (cap_overflow_);
     dirty_vertices_.clear();
     dirty_indices_.clear();
     dirty_vertices_.mark_range(0, vertex_capacity_ + cap_used_);
     dirty_indices_.mark_range(0, face_count_ * 3);
     needs_realloc_ = true;
     ++generation_;
+}
+
+MeshSyncStats RenderMesh::finish_sync(const TriMesh& m, MeshSyncStats s) {
+    if (!cap_overflow_) return s;
+    rebuild(m, growth_);  // a cap face found no corners left: more room, everything again
+    s.rebuilt = true;
+    s.vertices_written = vertex_count_;
+    s.faces_written = face_count_;
+    return s;
 }
 
 bool RenderMesh::rebuild_if_full(const TriMesh& m, MeshSyncStats& s) {
@@ -165,10 +178,13 @@ void RenderMesh::write_vertex(const TriMesh& m, VertexHandle v) {
 
 std::uint32_t RenderMesh::cap_slot(std::uint32_t face) {
     std::uint32_t& slot = cap_slot_of_face_[face];
-    if (slot == kNoSlot && cap_used_ + 3 <= cap_capacity_) {
-        slot = vertex_capacity_ + cap_used_;
-        cap_used_ += 3;
+    if (slot != kNoSlot) return slot;
+    if (cap_used_ + 3 > cap_capacity_) {
+        cap_overflow_ = true;  // drawn plain until finish_sync() rebuilds with more room
+        return kNoSlot;
     }
+    slot = vertex_capacity_ + cap_used_;
+    cap_used_ += 3;
     return slot;
 }
 
@@ -238,7 +254,7 @@ MeshSyncStats RenderMesh::update_after_edit(const TriMesh& m, std::span<const Ve
             if (cap_slot_of_face_[static_cast<std::uint32_t>(f.idx())] != kNoSlot) face_done(f);
     }
     for (FaceHandle f : touched) face_done(f);
-    return s;
+    return finish_sync(m, s);
 }
 
 MeshSyncStats RenderMesh::update_all(const TriMesh& m) {
@@ -253,7 +269,7 @@ MeshSyncStats RenderMesh::update_all(const TriMesh& m) {
         for (int i = 0; i < 3; ++i) indices_[f * 3 + i] = 0;
     s.vertices_written = vertex_count_;
     s.faces_written = face_count_;
-    return s;
+    return finish_sync(m, s);
 }
 
 void RenderMesh::write_vertex_and_caps(const TriMesh& m, VertexHandle v) {
@@ -292,7 +308,7 @@ MeshSyncStats RenderMesh::apply(const TriMesh& m, const cut::SessionChanges& cha
             ++s.faces_written;
         }
     }
-    return s;
+    return finish_sync(m, s);
 }
 
 }  // namespace kerf::render

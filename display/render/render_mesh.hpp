@@ -148,6 +148,8 @@ private:
     bool fits(const mesh::TriMesh& m) const noexcept;
     /// Rebuilds with more capacity when `m` no longer fits (filling `s`); true if it did.
     bool rebuild_if_full(const mesh::TriMesh& m, MeshSyncStats& s);
+    /// Ends a sync: rebuilds with a larger cap region if a cap face found no room.
+    MeshSyncStats finish_sync(const mesh::TriMesh& m, MeshSyncStats s);
     void rebuild(const mesh::TriMesh& m, double growth);
 
     std::vector<RenderVertex> vertices_;
@@ -157,6 +159,8 @@ private:
     std::uint32_t vertex_capacity_ = 0, face_capacity_ = 0, cap_capacity_ = 0;
     std::uint32_t vertex_count_ = 0, face_count_ = 0, cap_used_ = 0;
     DirtyRanges dirty_vertices_, dirty_indices_;
+    std::uint32_t cap_min_ = 3 * 1024;  ///< least cap corners reserved; doubles on overflow
+    bool cap_overflow_ = false;         ///< a cap face found no corners left in this sync
     bool needs_realloc_ = true;
     std::uint64_t generation_ = 0;
     double growth_ = 2.0;

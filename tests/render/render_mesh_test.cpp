@@ -134,6 +134,25 @@ TEST(RenderMesh, GrowingPastCapacityRebuildsAndSaysSo) {
     EXPECT_TRUE(same_arrays(rm, RenderMesh::build(m)));
 }
 
+TEST(RenderMesh, MoreCapFacesThanTheCapRegionHoldsRebuildsWithMoreRoom) {
+    TriMesh m = mesh::make_hollow_tube(0.05, 0.01, 0.005, 200, 4);  // 400 cap faces a slice
+    RenderMesh rm = RenderMesh::build(m);
+    cut::CutContext ctx(m);
+    cut::CrossSection cs;
+    bool rebuilt = false;
+    for (double z : {0.006, 0.016, 0.026, 0.036, 0.046}) {  // 2000 cap faces, 6000 corners
+        ASSERT_TRUE(cut::slice_by_plane(ctx, *cut::Plane::make({0, 0, z}, {0, 0, 1}), cs).ok());
+        rebuilt = rm.update_after_edit(m).rebuilt || rebuilt;
+    }
+    EXPECT_TRUE(rebuilt);
+    EXPECT_GT(rm.cap_vertex_count(), 3u * 1024u);
+    EXPECT_TRUE(same_arrays(rm, RenderMesh::build(m)));
+    std::uint32_t cut_corners = 0;
+    for (std::uint32_t i = 0; i < rm.triangle_count() * 3; ++i)
+        cut_corners += rm.vertices()[rm.indices()[i]].kind >= 2;
+    EXPECT_EQ(cut_corners, rm.cap_vertex_count());  // every cap face drawn as cut bone
+}
+
 TEST(RenderMesh, FollowsACutSessionThroughBeginProgressAndEnd) {
     cut::CutSession session(cut::test::tube());
     cut::SessionChanges changes;
