@@ -6,6 +6,8 @@
 #include <numbers>
 #include <sstream>
 
+#include "tools/hapsim/faults.hpp"
+
 namespace kerf::hapsim {
 namespace {
 
@@ -85,6 +87,8 @@ bool parse_action(const std::vector<std::string_view>& f, ScriptAction& a, std::
         if (f.size() != 3 || f[1].empty() || f[2].empty()) {
             return (why = "fault: expected a name and on|off|<number>, e.g. fault,drop,on", false);
         }
+        Faults scratch;  // the same check the run applies: an unknown name or value fails here
+        if (auto bad = apply_fault(scratch, f[1], f[2]); !bad.empty()) return (why = bad, false);
         a.kind = ScriptAction::Kind::kFault;
         a.fault_name = f[1];
         a.fault_value = f[2];

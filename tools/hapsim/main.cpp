@@ -23,6 +23,7 @@ struct Args {
     bool realtime = false;
     std::string script_path;
     std::string trace_path;
+    std::uint32_t trace_max_mb = 1024;
     unsigned period_us = 1000;
     bool commands = false;
     bool firmware_loaded = false;
@@ -116,8 +117,34 @@ int run(const Args& a) {
         }
         start = {0, 0, 0.11};
     }
+    // A move or sweep that leaves the device's workspace is a script error (file:line), not a
+    // hand that silently hits the end stops.
+    Vec3 at = start;  // where the hand is when each action starts
+    for (const ScriptAction& action : script) {
+        const bool move = action.kind == ScriptAction::Kind::kMove;
+        if (!move && action.kind != ScriptAction::Kind::kSweep) continue;
+        for (int k = 0; k < 3; ++k) {
+            const double lo = move ? action.vec[k] : at[k] - std::abs(action.vec[k]);
+            const double hi = move ? action.vec[k] : at[k] + std::abs(action.vec[k]);
+            if (lo < model.workspace_min_m[k] || hi > model.workspace_max_m[k]) {
+                std::fprintf(stderr,
+                             "kerf-hapsim: script: %s:%d: %s reaches %.4f m on axis %c, outside "
+                             "the workspace [%.4f, %.4f] m\n",
+                             a.script_path.c_str(), action.line, move ? "move" : "sweep",
+                             lo < model.workspace_min_m[k] ? lo : hi, "xyz"[k],
+                             model.workspace_min_m[k], model.workspace_max_m[k]);
+                return 1;
+            }
+        }
+        if (move) at = action.vec;
+    }
     Simulation sim(model, std::move(script), start, a.period_us * 1e-6);
-    sim.enable_trace(!a.trace_path.empty());
+    std::string why;
+    if (!a.trace_path.empty() &&
+        !sim.open_trace(a.trace_path, std::uint64_t(a.trace_max_mb) << 20, why)) {
+        std::fprintf(stderr, "kerf-hapsim: %s\n", why.c_str());
+        return 1;
+    }
     auto listener = fh::SeqpacketListener::listen(a.socket_path);
     if (!listener) {
         std::fprintf(stderr, "kerf-hapsim: %s\n", listener.error().message().c_str());
@@ -140,8 +167,7 @@ int run(const Args& a) {
     Server server(std::move(*listener), *device, sim,
                   {!a.realtime, std::chrono::microseconds(a.period_us), a.commands});
     const int rc = server.run();
-    std::string why;
-    if (!a.trace_path.empty() && !sim.write_trace(a.trace_path, why)) {
+    if (!sim.close_trace(why)) {
         std::fprintf(stderr, "kerf-hapsim: %s\n", why.c_str());
         return 1;
     }
@@ -150,7 +176,7 @@ int run(const Args& a) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int hapsim_main(int argc, char** argv) {
     CLI::App app{
         "kerf-hapsim — byte-level haptic device emulator (Kerf HID protocol or Novint Falcon)"};
     Args a;
@@ -173,7 +199,11 @@ int main(int argc, char** argv) {
     app.add_option("--script", a.script_path, "hand script (CSV: move, hold, button, sweep, fault)")
         ->check(CLI::ExistingFile);
     app.add_option("--trace", a.trace_path,
-                   "write the true device positions per step (CSV) on exit");
+                   "stream the true device positions per step (CSV) to this file; it is created "
+                   "at start");
+    app.add_option("--trace-max-mb", a.trace_max_mb,
+                   "stop the trace at this size (MiB; a 1 kHz day is ~7 GB)")
+        ->check(CLI::Range(1U, 1U << 20));
     app.add_option("--period-us", a.period_us, "device period in microseconds")
         ->check(CLI::Range(100U, 100000U));
     app.add_flag("--commands", a.commands,
@@ -181,9 +211,21 @@ int main(int argc, char** argv) {
     app.add_flag("--firmware-loaded", a.firmware_loaded, "falcon: start with firmware running");
     app.add_option("--homing-steps", a.homing_steps, "periods homing takes")
         ->check(CLI::Range(1U, 100000U));
+    // CLI::Range lets NaN through (every comparison is false): finiteness is checked first.
+    const auto finite = [](const std::string& text) {
+        try {
+            std::size_t used = 0;
+            const double v = std::stod(text, &used);
+            if (used == text.size() && std::isfinite(v)) return std::string();
+        } catch (...) {
+        }
+        return "'" + text + "' is not a finite number";
+    };
     app.add_option("--peak-force-n", a.peak_force_n, "kerf: device peak force (N)")
+        ->check(finite)
         ->check(CLI::Range(0.1, 300.0));
     app.add_option("--resolution-m", a.resolution_m, "kerf: position quantum (m)")
+        ->check(finite)
         ->check(CLI::Range(1e-9, 1e-3));
     app.add_option("--serial", a.serial, "kerf: serial number string (printable ASCII, <= 16)")
         ->check([](const std::string& s) {
@@ -214,4 +256,16 @@ int main(int argc, char** argv) {
         return 2;
     }
     return run(a);
+}
+
+// Nothing escapes: an unexpected exception is a message and exit 1, never an abort.
+int main(int argc, char** argv) {
+    try {
+        return hapsim_main(argc, argv);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "kerf-hapsim: unexpected error: %s\n", e.what());
+    } catch (...) {
+        std::fprintf(stderr, "kerf-hapsim: unexpected error\n");
+    }
+    return 1;
 }

@@ -29,25 +29,69 @@ void Simulation::step(const Vec3& motor_force_n) {
         if (!why.empty()) warnings_.push_back("script fault ignored: " + why);
     }
     model_.step(period_s_, motor_force_n, hand_.position_m(), hand_.velocity_m_per_s());
-    if (trace_on_)
-        trace_.push_back(
+    if (trace_ != nullptr)
+        write_trace_row(
             {steps_, model_.position_m(), hand_.position_m(), model_.applied_force_n()});
 }
 
-bool Simulation::write_trace(const std::filesystem::path& path, std::string& why) const {
-    std::FILE* f = std::fopen(path.c_str(), "w");
-    if (f == nullptr) {
+Simulation::~Simulation() {
+    std::string ignored;
+    close_trace(ignored);
+}
+
+bool Simulation::open_trace(const std::filesystem::path& path, std::uint64_t max_bytes,
+                            std::string& why) {
+    trace_ = std::fopen(path.c_str(), "we");
+    if (trace_ == nullptr) {
         why = "cannot write trace " + path.string() + ": " + std::strerror(errno);
         return false;
     }
-    std::fprintf(f, "step,x_m,y_m,z_m,hand_x_m,hand_y_m,hand_z_m,fx_n,fy_n,fz_n\n");
-    for (const auto& r : trace_) {
-        std::fprintf(f, "%llu,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f\n",
+    trace_path_ = path;
+    trace_max_bytes_ = max_bytes;
+    const int n =
+        std::fprintf(trace_, "step,x_m,y_m,z_m,hand_x_m,hand_y_m,hand_z_m,fx_n,fy_n,fz_n\n");
+    trace_bytes_ = n > 0 ? std::uint64_t(n) : 0;
+    if (n < 0 || std::fflush(trace_) != 0) {
+        why = "cannot write trace " + path.string() + ": " + std::strerror(errno);
+        std::fclose(trace_);
+        trace_ = nullptr;
+        return false;
+    }
+    return true;
+}
+
+void Simulation::write_trace_row(const TraceRow& r) {
+    if (trace_full_ || trace_failed_) return;
+    if (trace_bytes_ >= trace_max_bytes_) {
+        trace_full_ = true;
+        return;
+    }
+    const int n =
+        std::fprintf(trace_, "%llu,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f\n",
                      static_cast<unsigned long long>(r.step), r.position_m[0], r.position_m[1],
                      r.position_m[2], r.hand_m[0], r.hand_m[1], r.hand_m[2], r.motor_force_n[0],
                      r.motor_force_n[1], r.motor_force_n[2]);
+    if (n < 0) {
+        trace_failed_ = true;
+        return;
     }
-    return std::fclose(f) == 0;
+    trace_bytes_ += std::uint64_t(n);
+}
+
+bool Simulation::close_trace(std::string& why) {
+    if (trace_ == nullptr) return true;
+    const bool closed = std::fclose(trace_) == 0;
+    trace_ = nullptr;
+    if (trace_failed_ || !closed) {
+        why = "trace " + trace_path_.string() + ": write failed (disk full?)";
+        return false;
+    }
+    if (trace_full_) {
+        why = "trace " + trace_path_.string() + ": stopped at its " +
+              std::to_string(trace_max_bytes_) + "-byte limit (--trace-max-mb)";
+        return false;
+    }
+    return true;
 }
 
 }  // namespace kerf::hapsim

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -36,8 +37,15 @@ public:
     /// Messages about scripted faults that were refused (shown once by main).
     std::vector<std::string>& warnings() noexcept { return warnings_; }
 
-    void enable_trace(bool on) { trace_on_ = on; }
-    bool write_trace(const std::filesystem::path& path, std::string& why) const;
+    /// Streams the per-step trace (CSV) to `path` from now on: the file is created here, so an
+    /// unwritable path fails at start (false, `why` says what); rows go out as they are made
+    /// (nothing accumulates in memory) until the file holds `max_bytes`, then it stops and says so.
+    bool open_trace(const std::filesystem::path& path, std::uint64_t max_bytes, std::string& why);
+    /// Flushes and closes the trace; false (and `why`) if a write failed or the cap was reached.
+    bool close_trace(std::string& why);
+    ~Simulation();
+    Simulation(const Simulation&) = delete;
+    Simulation& operator=(const Simulation&) = delete;
 
 private:
     DeviceModel model_;
@@ -45,8 +53,11 @@ private:
     Faults faults_;
     double period_s_;
     std::uint64_t steps_ = 0;
-    bool trace_on_ = false;
-    std::vector<TraceRow> trace_;
+    void write_trace_row(const TraceRow& row);
+    std::FILE* trace_ = nullptr;
+    std::filesystem::path trace_path_;
+    std::uint64_t trace_bytes_ = 0, trace_max_bytes_ = 0;
+    bool trace_full_ = false, trace_failed_ = false;
     std::vector<FaultEvent> events_;
     std::vector<std::string> warnings_;
 };
