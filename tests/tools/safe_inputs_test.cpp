@@ -103,4 +103,23 @@ TEST_F(SafeInputs, CutJsonIsValidJsonWhateverThePathHolds) {
     EXPECT_EQ(doc["pieces"][0]["file"].get<std::string>(), (dir_ / "q\"x\\y_1.stl").string());
 }
 
+// Item 16: usage errors name what is wrong and exit 2; nothing wraps silently.
+TEST_F(SafeInputs, UsageErrorsNameTheProblemAndExit2) {
+    ProcessRun r = kerf({"frobnicate"});
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_NE(r.err.find("unknown command 'frobnicate'"), std::string::npos) << r.err;
+    const std::string out = (dir_ / "foot.stl").string();
+    for (const auto& [option, value] : std::vector<std::pair<std::string, std::string>>{
+             {"--triangles", "-1"}, {"--seed", "-1"}, {"--seed", "18446744073709551616"}}) {
+        r = kerf({"gen", "foot", option, value, "-o", out});
+        EXPECT_EQ(r.exit_code, 2) << option << " " << value << ": " << r.err;
+        EXPECT_NE(r.err.find("is not a whole number"), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(out));
+    }
+    // A denormal is a number (it used to say "is not a number").
+    r = kerf(
+        {"cut", bone().string(), "--plane", "0,0,2,0,4e-320,1", "-o", (dir_ / "d.stl").string()});
+    EXPECT_EQ(r.err.find("is not a number"), std::string::npos) << r.err;
+}
+
 }  // namespace

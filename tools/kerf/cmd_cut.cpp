@@ -11,6 +11,7 @@
 // left beyond this run's count are removed, so the folder never mixes two runs.
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -50,14 +51,11 @@ Result<std::vector<double>, std::string> parse_numbers(const std::string& text, 
     std::stringstream in(text);
     std::string item;
     while (std::getline(in, item, ',')) {
-        std::size_t used = 0;
-        double v = 0.0;
-        try {
-            v = std::stod(item, &used);
-        } catch (...) {
-            return Err{"'" + item + "' is not a number"};
-        }
-        if (used != item.size() && item.find_first_not_of(" \t", used) != std::string::npos) {
+        // strtod, not stod: a denormal like 4e-320 is a number (stod throws out_of_range).
+        char* end = nullptr;
+        const double v = std::strtod(item.c_str(), &end);
+        const std::size_t used = std::size_t(end - item.c_str());
+        if (used == 0 || item.find_first_not_of(" \t", used) != std::string::npos) {
             return Err{"'" + item + "' is not a number"};
         }
         if (!std::isfinite(v)) return Err{"'" + item + "' is not finite"};

@@ -1,5 +1,6 @@
 // `kerf mesh info FILE` (the validation report of a mesh file) and `kerf gen foot` (write the
 // built-in synthetic forefoot to a file).
+#include <charconv>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -94,6 +95,18 @@ void run_gen_foot(const GenFootOptions& o) {
 
 }  // namespace
 
+/// A whole number that fits 64 bits unsigned, written as plain digits: "-1" and 2^64 are usage
+/// errors instead of wrapping to 18446744073709551615 or 0.
+std::string plain_unsigned(const std::string& text) {
+    std::uint64_t v = 0;
+    const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos ||
+        r.ec != std::errc{} || r.ptr != text.data() + text.size()) {
+        return "'" + text + "' is not a whole number 0 .. 18446744073709551615";
+    }
+    return {};
+}
+
 void add_mesh_commands(CLI::App& app) {
     CLI::App* mesh_cmd = app.add_subcommand("mesh", "Inspect mesh files");
     mesh_cmd->require_subcommand(1);
@@ -117,8 +130,10 @@ void add_mesh_commands(CLI::App& app) {
         "Write the built-in synthetic forefoot (19 bones, cortical shell + medullary canal)");
     foot->add_option("--triangles", foot_opts->triangles,
                      "approximate triangle count (10000 .. 4000000)")
+        ->check(plain_unsigned)
         ->capture_default_str();
     foot->add_option("--seed", foot_opts->seed, "seed of the small per-bone shape variation")
+        ->check(plain_unsigned)
         ->capture_default_str();
     foot->add_option("-o,--output", foot_opts->output, "output file (.stl .obj .ply .off)")
         ->required();
