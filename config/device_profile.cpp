@@ -24,6 +24,12 @@ void read_ids(TableReader ids, DeviceIds& out) {
     out.vendor_id = static_cast<std::uint16_t>(ids.integer("vendor_id", 1, 0xFFFF));
     out.product_id = static_cast<std::uint16_t>(ids.integer("product_id", 0, 0xFFFF));
     out.serial = ids.string_or("serial", "");
+    // The HID identity report carries 16 bytes of printable ASCII: the same rule as --serial.
+    bool printable = true;
+    for (const char c : out.serial) printable = printable && c >= 0x20 && c <= 0x7E;
+    if (out.serial.size() > 16 || !printable) {
+        ids.fail("serial", ConfigErrorKind::kBadValue, "at most 16 printable ASCII characters");
+    }
 }
 
 void read_falcon_delta(TableReader& k, FalconDeltaGeometry& g) {

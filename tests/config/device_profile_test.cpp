@@ -50,6 +50,17 @@ TEST(DeviceProfileParse, UnknownKindListsTheAcceptedKinds) {
     EXPECT_EQ(e.expected, "one of \"falcon\", \"kerf_hid\", \"simulated\"");
 }
 
+TEST(DeviceProfileParse, ASerialLongerThan16OrNotPrintableAsciiIsRefusedNotTruncated) {
+    for (const char* serial : {"HAPSIM-0001-TOO-LONG", "HAPSIM-\u00e9"}) {
+        auto text = edit(kSimulated, "serial = \"HAPSIM-0001\"",
+                         std::string("serial = \"") + serial + "\"");
+        auto e = parse_error(text);
+        EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue) << serial;
+        EXPECT_EQ(e.key, "ids.serial") << serial;
+        EXPECT_EQ(e.expected, "at most 16 printable ASCII characters");
+    }
+}
+
 TEST(DeviceProfileParse, VendorIdBeyondSixteenBitsIsOutOfRange) {
     auto e = parse_error(edit(kFalcon, "vendor_id = 0x0403", "vendor_id = 0x10403"));
     EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
