@@ -122,4 +122,17 @@ TEST_F(SafeInputs, UsageErrorsNameTheProblemAndExit2) {
     EXPECT_EQ(r.err.find("is not a number"), std::string::npos) << r.err;
 }
 
+// Item 12: `kerf devices` finds its profiles from any folder (it worked only at the repo root).
+TEST_F(SafeInputs, DevicesFindsItsProfilesFromAnyFolder) {
+    const fs::path before = fs::current_path();
+    fs::current_path(dir_);  // the child inherits it: not the repository root
+    const ProcessRun r = kerf({"devices"});
+    fs::current_path(before);
+    EXPECT_EQ(r.err.find("cannot read"), std::string::npos) << r.err;
+    EXPECT_NE(r.exit_code, 2) << r.err;
+    EXPECT_TRUE(r.out.find("devices/*.toml") != std::string::npos ||
+                r.out.find("profile") != std::string::npos)
+        << r.out;
+}
+
 }  // namespace

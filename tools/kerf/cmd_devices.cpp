@@ -3,6 +3,8 @@
 // config/devices/) — with their state (accessible or not) and the profile that matches them.
 // Prints a clean "no haptic devices found" when there are none. `--json` for machines.
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <set>
 #include <sstream>
@@ -92,12 +94,30 @@ void list_hid(const std::vector<config::NamedDeviceProfile>& profiles, std::vect
     }
 }
 
-void print_text(const std::vector<Found>& found, const std::vector<std::string>& errors) {
+/// The device-profile folder: --devices-dir if given; else $KERF_DATA_DIR/devices, the installed
+/// data (<prefix>/share/kerf/devices, compiled in) and the source tree's config/devices (compiled
+/// in), the first that exists — so `kerf devices` works from any folder, installed or in-tree.
+std::string find_devices_dir(const std::string& given) {
+    if (!given.empty()) return given;
+    std::vector<std::string> candidates;
+    if (const char* d = std::getenv("KERF_DATA_DIR"); d != nullptr && d[0] != '\0')
+        candidates.push_back(std::string(d) + "/devices");
+    candidates.push_back(KERF_INSTALL_DATA_DIR "/devices");
+    candidates.push_back(KERF_SOURCE_DATA_DIR "/devices");
+    std::error_code ec;
+    for (const auto& c : candidates) {
+        if (std::filesystem::is_directory(c, ec)) return c;
+    }
+    return candidates.back();
+}
+
+void print_text(const std::vector<Found>& found, const std::vector<std::string>& errors,
+                const std::string& devices_dir) {
     for (const auto& e : errors) std::cerr << "kerf devices: " << e << "\n";
     if (found.empty()) {
-        std::cout
-            << "no haptic devices found (looked for Novint Falcon usb 0403:cb48 and the Kerf HID "
-               "ids of config/devices/*.toml)\n";
+        std::cout << "no haptic devices found (looked for Novint Falcon usb 0403:cb48 and the "
+                     "Kerf HID ids of "
+                  << devices_dir << "/*.toml)\n";
         return;
     }
     for (const auto& f : found) {
@@ -129,14 +149,17 @@ void print_json(const std::vector<Found>& found, const std::vector<std::string>&
 void add_devices_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("devices", "list connected haptic devices (Falcon, Kerf HID)");
     struct Options {
-        std::string devices_dir = "config/devices";
+        std::string devices_dir;  // "": found (see find_devices_dir)
         bool json = false;
     };
     auto opts = std::make_shared<Options>();
-    cmd->add_option("--devices-dir", opts->devices_dir, "device profiles to match ids against");
+    cmd->add_option("--devices-dir", opts->devices_dir,
+                    "device profiles to match ids against (default: $KERF_DATA_DIR/devices, the "
+                    "installed share/kerf/devices, then the source tree's config/devices)");
     cmd->add_flag("--json", opts->json, "machine-readable output");
     cmd->callback([opts] {
-        auto profiles = config::load_device_profiles(opts->devices_dir);
+        const std::string dir = find_devices_dir(opts->devices_dir);
+        auto profiles = config::load_device_profiles(dir);
         if (!profiles) {
             std::cerr << "kerf devices: load device profiles: " << profiles.error().message()
                       << "\n";
@@ -146,7 +169,7 @@ void add_devices_command(CLI::App& app) {
         std::vector<std::string> errors;
         list_falcons(*profiles, found, errors);
         list_hid(*profiles, found, errors);
-        opts->json ? print_json(found, errors) : print_text(found, errors);
+        opts->json ? print_json(found, errors) : print_text(found, errors, dir);
         if (errors.size() >= 2) throw CLI::RuntimeError(kExitFailure);  // neither backend worked
     });
 }
