@@ -45,6 +45,8 @@ struct DeviceSample {
     std::uint32_t buttons = 0;
     DeviceFlags flags;
     std::uint32_t command_lag = 0;  ///< host commands sent but not yet seen by the device
+    bool has_orientation = false;   ///< the device senses the tool's orientation (6-DoF input)
+    std::array<double, 4> orientation_wxyz{1.0, 0.0, 0.0, 0.0};  ///< tool rotation, device frame
 };
 
 /// One command, SI units, device frame. The caller's safety layer has already shaped it.

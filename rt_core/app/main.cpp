@@ -1,0 +1,27 @@
+// kerf-rt — the 1 kHz real-time process: owns the haptic device, computes collision and force
+// against the (cut) bone mesh, publishes state, telemetry and cut events into the session's
+// shared memory. See rt_core/README.md.
+#include <CLI/CLI.hpp>
+
+#include "rt_core/app/rt_process.hpp"
+
+int main(int argc, char** argv) {
+    kerf::rt::RtOptions o;
+    CLI::App app{"kerf-rt: the 1 kHz haptic loop (device, collision, force, cut events)"};
+    app.add_option("--config", o.config, "kerf.toml to read")->check(CLI::ExistingFile);
+    app.add_option("--device", o.device, "simulated | falcon | hid[:SERIAL] (default: kerf.toml)")
+        ->check([](const std::string& d) {
+            if (d == "simulated" || d == "falcon" || d == "hid" || d.rfind("hid:", 0) == 0)
+                return std::string();
+            return "expected simulated, falcon, hid or hid:SERIAL, got '" + d + "'";
+        });
+    app.add_option("--socket", o.socket_path, "emulator socket (simulated device)");
+    app.add_option("--firmware", o.firmware_path, "Falcon firmware image to load");
+    app.add_option("--session", o.session_name, "session (segment) name, overrides kerf.toml");
+    app.add_option("--duration", o.duration_s, "seconds to run (0: until SIGINT/SIGTERM)")
+        ->check(CLI::Range(0.0, 1e7));
+    app.add_flag("--lockstep", o.lockstep, "paced by the emulator: deterministic, not real time");
+    app.add_option("--trace", o.trace_path, "write a per-tick force trace (CSV) at exit");
+    CLI11_PARSE(app, argc, argv);
+    return kerf::rt::run_rt_process(o);
+}

@@ -1,0 +1,219 @@
+#include "rt_core/app/rt_process.hpp"
+
+#include <signal.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <thread>
+#include <vector>
+
+#include "config/load_config.hpp"
+#include "display/mesh/scene_arrays.hpp"
+#include "firmware_host/device/open_device.hpp"
+#include "rt_core/ipc/producer.hpp"
+#include "rt_core/loop/collision_mesh_builder.hpp"
+#include "rt_core/loop/haptic_loop.hpp"
+#include "rt_core/loop/loop_runner.hpp"
+#include "rt_core/loop/profile_reloader.hpp"
+#include "rt_core/loop/realtime_setup.hpp"
+#include "rt_core/loop/rt_log.hpp"
+#include "rt_core/loop/world_builder.hpp"
+#include "rt_core/physics/physics_params_from_profile.hpp"
+
+namespace kerf::rt {
+namespace {
+
+int fail(const std::string& what) {
+    std::fprintf(stderr, "kerf-rt: %s\n", what.c_str());
+    return 1;
+}
+
+/// The device profile the command line asks for (or kerf.toml's).
+Result<config::DeviceProfile, std::string> pick_device(const config::Config& cfg,
+                                                       const RtOptions& o) {
+    config::DeviceProfile profile = cfg.device;
+    if (!o.device.empty()) {
+        const std::string stem = o.device == "simulated" ? "simulated"
+                                 : o.device == "falcon"  ? "falcon"
+                                                         : "kerf_hid_reference";
+        auto loaded = config::load_device_profile(cfg.config_dir / "devices" / (stem + ".toml"));
+        if (!loaded) return Err{loaded.error().message()};
+        profile = std::move(*loaded);
+        if (o.device.rfind("hid:", 0) == 0) profile.ids.serial = o.device.substr(4);
+    }
+    if (o.lockstep) {
+        if (profile.kind != config::DeviceKind::kSimulated) {
+            return Err{std::string("--lockstep needs the simulated device (kerf-hapsim)")};
+        }
+        profile.emulator.lockstep = true;
+    }
+    return profile;
+}
+
+/// The scene's bodies as one collision mesh (the same loader / generator as the display).
+Result<std::unique_ptr<ipc::CollisionMesh>, std::string> scene_mesh(const config::Config& cfg) {
+    auto bodies = mesh::load_scene_arrays(cfg.scene, config::path_vars(cfg));
+    if (!bodies) return Err{bodies.error()};
+    auto out = std::make_unique<ipc::CollisionMesh>();
+    for (const mesh::BodyArrays& b : *bodies) {
+        auto added = append_body(*out, b.positions_m, b.indices, b.materials, b.world_from_body);
+        if (!added)
+            return Err{"scene " + cfg.scene.name + " body '" + b.name + "': " + added.error()};
+    }
+    return out;
+}
+
+std::string summary(const LoopStats& s, std::uint64_t worlds_rejected, std::uint64_t reloads,
+                    std::uint64_t refused) {
+    const auto us = [](std::uint64_t ns) { return double(ns) / 1000.0; };
+    char buf[1024];
+    std::snprintf(
+        buf, sizeof buf,
+        "kerf-rt summary: ticks %llu, overruns %llu, late wakes %llu (deadlines skipped %llu), "
+        "safe-state entries %llu (%llu ticks)\n"
+        "  wake latency us: p50 %.1f  p99 %.1f  p99.9 %.1f  max %.1f\n"
+        "  tick work us:    p50 %.1f  p99 %.1f  p99.9 %.1f  max %.1f\n"
+        "  events %llu (not journalled %llu), device reads not ok %llu, worlds swapped %llu "
+        "(mailbox refused %llu), profile reloads %llu (refused %llu)\n",
+        (unsigned long long)s.ticks, (unsigned long long)s.overruns,
+        (unsigned long long)s.late_wakes, (unsigned long long)s.missed_deadlines,
+        (unsigned long long)s.safe_state_entries, (unsigned long long)s.safe_state_ticks,
+        us(s.wake_latency.percentile(0.5)), us(s.wake_latency.percentile(0.99)),
+        us(s.wake_latency.percentile(0.999)), us(s.wake_latency.max_ns()),
+        us(s.compute.percentile(0.5)), us(s.compute.percentile(0.99)),
+        us(s.compute.percentile(0.999)), us(s.compute.max_ns()),
+        (unsigned long long)s.events_published, (unsigned long long)s.events_not_journalled,
+        (unsigned long long)s.device_not_ok, (unsigned long long)s.worlds_swapped,
+        (unsigned long long)worlds_rejected, (unsigned long long)reloads,
+        (unsigned long long)refused);
+    return buf;
+}
+
+bool write_trace(const std::string& path, const std::vector<TraceRow>& rows, std::uint64_t n) {
+    const std::string tmp = path + ".tmp";
+    {
+        std::ofstream f(tmp);
+        f << "tick,x_m,y_m,z_m,fx_n,fy_n,fz_n\n";
+        char line[256];
+        for (std::uint64_t i = 0; i < n; ++i) {
+            const TraceRow& r = rows[i];
+            std::snprintf(line, sizeof line, "%llu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n",
+                          (unsigned long long)i, r.tool_position_m[0], r.tool_position_m[1],
+                          r.tool_position_m[2], r.force_n[0], r.force_n[1], r.force_n[2]);
+            f << line;
+        }
+        if (!f.flush()) return false;
+    }
+    return std::rename(tmp.c_str(), path.c_str()) == 0;
+}
+
+}  // namespace
+
+int run_rt_process(const RtOptions& o) {
+    // Signals are taken by this thread with sigtimedwait; every thread started below inherits
+    // the mask, so none of them (the real-time one included) is ever interrupted by one.
+    sigset_t signals;
+    sigemptyset(&signals);
+    for (int s : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&signals, s);
+    pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+    auto cfg = config::load_config(o.config);
+    if (!cfg) return fail(cfg.error().message());
+    auto device_profile = pick_device(*cfg, o);
+    if (!device_profile) return fail(device_profile.error());
+    const config::RealtimeSettings& rts = cfg->main.realtime;
+    const double period_s = double(rts.period_ns) * 1e-9;
+
+    auto mesh = scene_mesh(*cfg);
+    if (!mesh) return fail(mesh.error());
+
+    firmware_host::OpenOverrides overrides{o.firmware_path, o.socket_path, {}};
+    auto device = firmware_host::open_device(*device_profile, overrides);
+    if (!device) return fail(device.error().message());
+
+    std::error_code ec;
+    std::filesystem::create_directories(cfg->journal_dir, ec);
+    if (ec) return fail("journal folder " + cfg->journal_dir.string() + ": " + ec.message());
+    const std::string session =
+        o.session_name.empty() ? cfg->main.shm.session_name : o.session_name;
+    auto producer = ipc::ProducerBuilder()
+                        .segment_name(session)
+                        .journal_dir(cfg->journal_dir.string())
+                        .group_access(!cfg->main.shm.group.empty())
+                        .create();
+    if (!producer) return fail(producer.error().message);
+
+    LoopSettings settings;
+    settings.period_ns = rts.period_ns;
+    settings.misses_to_safe_state = rts.consecutive_misses_to_safe_state;
+    settings.read_timeout_us = o.lockstep ? 200'000 : 0;
+    settings.lockstep = o.lockstep;
+    settings.device_origin_in_world_m = device_origin_above(**mesh);
+    const physics::PhysicsParams physics = physics::physics_params_from_profile(cfg->force);
+    const auto safety = firmware_host::safety_limits_from(*device_profile, &cfg->force, period_s);
+
+    RtLog log;
+    RtLogDrain drain(log);
+    auto loop = std::make_unique<HapticLoop>(**device, *producer, log, settings, physics, safety);
+    WorldBuilder builder(loop->world_handoff(), producer->layout());
+    if (auto built = builder.build(**mesh); !built) return fail("scene mesh: " + built.error());
+    std::printf("kerf-rt: session %s, device %s, scene %s (%u bodies, %u triangles), %s\n",
+                session.c_str(), device_profile->name.c_str(), cfg->scene.name.c_str(),
+                (*mesh)->body_count, (*mesh)->index_count / 3,
+                o.lockstep ? "lockstep (paced by the emulator)" : "real time");
+    mesh->reset();
+    builder.start();
+    const auto profile_path = cfg->config_dir / "force" / (cfg->main.profiles.force + ".toml");
+    ProfileReloader reloader(loop->profile_handoff(), profile_path, cfg->force, *device_profile,
+                             period_s, physics);
+    if (!reloader.start())
+        spdlog::warn("kerf-rt: no file watch ({}); SIGHUP still reloads", reloader.last_error());
+
+    std::vector<TraceRow> trace;
+    std::uint64_t trace_rows = 0;
+    const auto max_ticks = std::uint64_t(std::llround(o.duration_s / period_s));
+    if (!o.trace_path.empty()) trace.resize(max_ticks ? max_ticks : 600'000);
+
+    std::atomic<bool> stop{false}, finished{false};
+    std::atomic<int> status{0};
+    std::thread rt_thread([&] {
+        const RealtimeReport report = apply_realtime(rts);
+        std::printf("kerf-rt: real-time report\n%s", report.format().c_str());
+        std::fflush(stdout);
+        if (report.degraded() && rts.require_realtime) {
+            std::fprintf(stderr, "kerf-rt: require_realtime = true and a request was denied\n");
+            status = 3;
+        } else {
+            loop->set_degraded_realtime(report.degraded());
+            RunOptions run{rts.period_ns, o.lockstep, max_ticks, &stop, trace, &trace_rows};
+            run_loop(*loop, run);
+        }
+        finished.store(true, std::memory_order_release);
+    });
+
+    const timespec poll_period{0, 20'000'000};
+    while (!finished.load(std::memory_order_acquire)) {
+        const int sig = sigtimedwait(&signals, nullptr, &poll_period);
+        if (sig == SIGHUP) reloader.request_reload();
+        if (sig == SIGINT || sig == SIGTERM) stop.store(true, std::memory_order_release);
+    }
+    rt_thread.join();
+    reloader.stop();
+    builder.stop();
+    if (auto* hid = dynamic_cast<firmware_host::KerfHidDevice*>(device->get())) hid->shutdown(200);
+    producer->stop();
+    const WorldBuilderStats ws = builder.stats();
+    std::printf(
+        "%s", summary(loop->stats(), ws.rejected, reloader.accepted(), reloader.refused()).c_str());
+    if (!o.trace_path.empty() && !write_trace(o.trace_path, trace, trace_rows)) {
+        return fail("could not write the trace " + o.trace_path);
+    }
+    return status.load();
+}
+
+}  // namespace kerf::rt

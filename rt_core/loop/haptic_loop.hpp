@@ -1,0 +1,155 @@
+// kerf::rt::HapticLoop — one 1 kHz tick of kerf-rt as a short list of named calls:
+//
+//   swap_at_tick_boundary   new collision world / force profile from their Handoffs
+//   read_device             Device::try_read (the one bounded blocking call, lockstep only)
+//   compute_kinematics      device frame -> world tool pose (orientation sensed or planned)
+//   collide_and_force       kerf_physics ForceModel::step on the collision world
+//   apply_safety            ForceSafety (stale, faults, homing, ramp, clamp, slew) + timing
+//   write_device            Device::try_write
+//   publish                 heartbeat, LatestState, a TelemetrySample, events (rings + journal)
+//
+// Every member called from tick() is noexcept and allocates nothing, takes no lock and logs only
+// through RtLog. Timing (sleeping to absolute deadlines) is the runner's business
+// (loop_runner.hpp); the loop is told how late each tick woke and counts misses: after
+// `misses_to_safe_state` in a row it commands zero force, publishes DeviceStateChanged{kSafeStop}
+// and leaves the safe state after kRecoveryTicks clean ticks (re-engaging with ramp-in).
+#pragma once
+
+#include <cstdint>
+
+#include "firmware_host/device/device.hpp"
+#include "firmware_host/safety/force_safety.hpp"
+#include "rt_core/ipc/producer.hpp"
+#include "rt_core/loop/blade_pose.hpp"
+#include "rt_core/loop/handoff.hpp"
+#include "rt_core/loop/latency_histogram.hpp"
+#include "rt_core/loop/profile_update.hpp"
+#include "rt_core/loop/rt_log.hpp"
+#include "rt_core/loop/world_builder.hpp"
+#include "rt_core/physics/collision_world.hpp"
+#include "rt_core/physics/force_model.hpp"
+
+namespace kerf::rt {
+
+/// Fixed settings of the loop (configure time).
+struct LoopSettings {
+    std::int64_t period_ns = 1'000'000;      ///< nominal tick period
+    std::uint32_t misses_to_safe_state = 3;  ///< [realtime] consecutive_misses_to_safe_state
+    std::uint32_t read_timeout_us = 0;       ///< 0 real time; lockstep: the emulator's answer
+    physics::Vec3 device_origin_in_world_m;  ///< world point the device origin maps to
+    double motion_scale = 1.0;               ///< world metres per device metre
+    BladePlan blade;                         ///< fallback orientation and button steps
+    bool degraded_realtime = false;          ///< reported in every sample's loop_flags
+    bool lockstep = false;  ///< paced by the emulator: tick work includes its answer, no misses
+};
+
+/// Timing of one tick as the runner measured it.
+struct TickTiming {
+    std::uint64_t start_ns = 0;          ///< CLOCK_MONOTONIC when the tick's work began
+    std::uint64_t wake_latency_ns = 0;   ///< start minus the deadline it slept to
+    std::uint64_t missed_deadlines = 0;  ///< deadlines skipped because the tick woke too late
+};
+
+/// Counters since start (read after the loop stopped, or approximately from another thread).
+struct LoopStats {
+    std::uint64_t ticks = 0;
+    std::uint64_t overruns = 0;          ///< ticks whose work exceeded the period
+    std::uint64_t missed_deadlines = 0;  ///< deadlines skipped (stalls)
+    std::uint64_t late_wakes = 0;        ///< ticks that woke more than one period late
+    std::uint64_t safe_state_entries = 0;
+    std::uint64_t safe_state_ticks = 0;
+    std::uint64_t worlds_swapped = 0;
+    std::uint64_t profiles_swapped = 0;
+    std::uint64_t events_published = 0;
+    std::uint64_t events_not_journalled = 0;
+    std::uint64_t device_not_ok = 0;  ///< reads that were not kOk
+    LatencyHistogram wake_latency;    ///< ns
+    LatencyHistogram compute;         ///< ns, the tick's work
+};
+
+class HapticLoop {
+public:
+    static constexpr std::uint32_t kRecoveryTicks = 100;  ///< clean ticks to leave safe state
+
+    /// Configure: everything allocated here. `device`, `producer` and `log` outlive the loop.
+    HapticLoop(firmware_host::Device& device, ipc::Producer& producer, RtLog& log,
+               const LoopSettings& settings, const physics::PhysicsParams& physics,
+               const firmware_host::SafetyLimits& safety);
+    ~HapticLoop();  ///< frees the installed world and profile (call after the loop stopped)
+    HapticLoop(const HapticLoop&) = delete;
+    HapticLoop& operator=(const HapticLoop&) = delete;
+
+    /// The first command: zero force (lockstep emulators answer host packets). noexcept.
+    void prime() noexcept;
+    /// One tick. noexcept, allocation-free, lock-free, bounded.
+    void tick(const TickTiming& timing) noexcept;
+    /// Before the loop runs: marks telemetry as coming from a degraded (non-FIFO) loop.
+    void set_degraded_realtime(bool degraded) noexcept { settings_.degraded_realtime = degraded; }
+    /// After tick(): the time the tick's work took (the runner measures it). noexcept.
+    void record_compute(std::uint64_t compute_ns) noexcept;
+    /// Commands zero force with the amplifiers off (shutdown, signals). noexcept.
+    void command_zero() noexcept;
+
+    Handoff<WorldSnapshot>& world_handoff() noexcept { return world_handoff_; }
+    Handoff<ProfileUpdate>& profile_handoff() noexcept { return profile_handoff_; }
+    const LoopStats& stats() const noexcept { return stats_; }
+    /// The force commanded by the last tick, device frame, N.
+    const firmware_host::Vec3d& last_force_n() const noexcept { return command_.force_n; }
+    const physics::PhysicsOutput& last_physics() const noexcept { return physics_out_; }
+    /// The tool position of the last tick, world frame, m.
+    const physics::Vec3& tool_position_m() const noexcept { return tool_.pose.position_m; }
+    bool in_safe_state() const noexcept { return safe_state_; }
+    ipc::DeviceState device_state() const noexcept { return device_state_; }
+    std::uint64_t world_generation() const noexcept { return world_ ? world_->generation : 0; }
+
+private:
+    void swap_at_tick_boundary() noexcept;
+    void read_device() noexcept;
+    void compute_kinematics() noexcept;
+    void collide_and_force() noexcept;
+    void apply_safety(const TickTiming& timing) noexcept;
+    void write_device() noexcept;
+    void publish(const TickTiming& timing) noexcept;
+
+    void install_world(WorldSnapshot* world) noexcept;
+    void install_profile(ProfileUpdate* update) noexcept;
+    void track_timing(const TickTiming& timing) noexcept;
+    void track_device_state() noexcept;
+    void publish_cut_events() noexcept;
+    void publish_device_state(ipc::DeviceState next) noexcept;
+    void publish_event(ipc::EventRecord& record) noexcept;
+
+    firmware_host::Device& device_;
+    ipc::Producer& producer_;
+    RtLog& log_;
+    LoopSettings settings_;
+    physics::ForceModel model_;
+    physics::CollisionWorld collision_;
+    firmware_host::ForceSafety safety_;
+    BladePose blade_;
+    Handoff<WorldSnapshot> world_handoff_;
+    Handoff<ProfileUpdate> profile_handoff_;
+    WorldSnapshot* world_ = nullptr;
+    ProfileUpdate* profile_ = nullptr;
+
+    firmware_host::DeviceSample sample_;
+    firmware_host::DeviceStatus read_status_ = firmware_host::DeviceStatus::kNoData;
+    firmware_host::DeviceCommand command_;
+    physics::ToolInput tool_;
+    physics::PhysicsOutput physics_out_;
+    bool proxy_reset_ = false;
+    std::uint64_t last_sample_count_ = 0;
+
+    std::uint64_t tick_ = 0;
+    std::uint64_t last_start_ns_ = 0;
+    std::uint32_t consecutive_misses_ = 0;
+    std::uint32_t clean_ticks_ = 0;
+    std::uint32_t consecutive_not_ok_ = 0;
+    bool safe_state_ = false;
+    bool overran_last_ = false;
+    ipc::DeviceState device_state_ = ipc::DeviceState::kConnecting;
+    std::uint32_t period_ns_max_ = 0, compute_ns_max_ = 0;
+    LoopStats stats_;
+};
+
+}  // namespace kerf::rt

@@ -1,0 +1,150 @@
+#include "tests/rt/rt_rig.hpp"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "display/mesh/scene_arrays.hpp"
+#include "firmware_host/transport/socket_report_transport.hpp"
+#include "rt_core/loop/collision_mesh_builder.hpp"
+
+namespace kerf::rt::test {
+
+std::string calcaneus_path() {
+    return std::string(KERF_SHARED_MESHES) + "/jma_norm01_calcaneus_right.stl";
+}
+
+bool have_shared_meshes() { return std::filesystem::exists(calcaneus_path()); }
+
+std::unique_ptr<ipc::CollisionMesh> load_bone(const std::string& path) {
+    config::Scene scene;
+    scene.name = "test";
+    config::SceneBody body;
+    body.name = "bone";
+    body.mesh.kind = config::MeshSourceKind::kFile;
+    body.mesh.path = path;
+    body.mesh.units = config::LengthUnit::kMillimetre;
+    scene.bodies.push_back(body);
+    auto arrays = mesh::load_scene_arrays(scene, config::PathVars{});
+    if (!arrays) return nullptr;
+    auto out = std::make_unique<ipc::CollisionMesh>();
+    for (const auto& b : *arrays) {
+        if (!append_body(*out, b.positions_m, b.indices, b.materials, b.world_from_body)) {
+            return nullptr;
+        }
+    }
+    return out;
+}
+
+std::string write_script(const std::string& stem, const std::string& text) {
+    const std::string path = firmware_host::test::temp_path(stem) + ".csv";
+    std::ofstream(path) << text;
+    return path;
+}
+
+std::string press_script(double depth_m, double hold_s) {
+    return "hold,0.05\nmove,0.0," + std::to_string(-depth_m) + ",0.0,0.4\nhold," +
+           std::to_string(hold_s) + "\n";
+}
+
+Rig::Rig(const RigOptions& options) : options_(options) {
+    bone_ = load_bone(calcaneus_path());
+    if (!bone_) {
+        error_ = "could not load " + calcaneus_path();
+        return;
+    }
+    std::vector<std::string> args = {"--protocol", "kerf"};
+    if (!options.script.empty()) {
+        args.push_back("--script");
+        args.push_back(write_script("rt_hand", options.script));
+    }
+    args.insert(args.end(), options.hapsim_args.begin(), options.hapsim_args.end());
+    sim_ = std::make_unique<firmware_host::test::HapsimProcess>(args);
+    if (!sim_->ready()) {
+        error_ = "kerf-hapsim did not start: " + sim_->output();
+        return;
+    }
+    auto producer = ipc::ProducerBuilder()
+                        .segment_name("kerf.rt-test-" + std::to_string(getpid()) + "-" +
+                                      std::to_string(reinterpret_cast<std::uintptr_t>(this)))
+                        .create();
+    if (!producer) {
+        error_ = producer.error().message;
+        return;
+    }
+    producer_.emplace(std::move(*producer));
+    if (!open_device()) return;
+}
+
+Rig::~Rig() {
+    if (builder_) builder_->stop();
+    builder_.reset();
+    loop_.reset();
+    if (device_) device_->shutdown(200);
+}
+
+bool Rig::open_device() {
+    auto socket = firmware_host::SeqpacketSocket::connect(sim_->socket_path());
+    if (!socket) {
+        error_ = socket.error().message();
+        return false;
+    }
+    firmware_host::KerfHidOptions o;
+    o.watchdog_ms = 100;  // lockstep: the emulator's clock only moves with our packets
+    auto dev = firmware_host::KerfHidDevice::open(
+        std::make_unique<firmware_host::SocketReportTransport>(std::move(*socket)), o);
+    if (!dev) {
+        error_ = dev.error().message();
+        return false;
+    }
+    if (builder_) builder_->stop();
+    builder_.reset();
+    loop_.reset();
+    device_ = std::move(*dev);
+    LoopSettings settings;
+    settings.read_timeout_us = options_.read_timeout_us;
+    settings.lockstep = true;
+    settings.device_origin_in_world_m = device_origin_above(*bone_, 0.01);
+    firmware_host::SafetyLimits limits;
+    limits.peak_force_n = 8.0;
+    limits.continuous_force_n = 4.0;
+    limits.ramp_in_s = 0.02;
+    limits.engage_quiet_ticks = 10;
+    loop_ = std::make_unique<HapticLoop>(*device_, *producer_, log_, settings,
+                                         physics::PhysicsParams{}, limits);
+    builder_ = std::make_unique<WorldBuilder>(loop_->world_handoff(), producer_->layout());
+    auto built = builder_->build(*bone_);
+    if (!built) {
+        error_ = built.error();
+        return false;
+    }
+    if (options_.start_builder) builder_->start();
+    loop_->prime();
+    return true;
+}
+
+bool Rig::reconnect() { return open_device(); }
+
+void Rig::tick() {
+    TickTiming t;
+    t.start_ns = monotonic_ns();
+    loop_->tick(t);
+    loop_->record_compute(monotonic_ns() - t.start_ns);
+}
+
+bool Rig::tick_until_force(int max_ticks) {
+    for (int i = 0; i < max_ticks; ++i) {
+        tick();
+        if (force_norm() > 0.05) return true;
+    }
+    return false;
+}
+
+double Rig::force_norm() const {
+    const auto& f = loop_->last_force_n();
+    return std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+}
+
+}  // namespace kerf::rt::test
