@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "config/expand_path.hpp"
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "config/scene.hpp"
 
 namespace kerf::mesh {

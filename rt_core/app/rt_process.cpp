@@ -14,7 +14,7 @@
 
 #include "config/load_config.hpp"
 #include "display/mesh/scene_arrays.hpp"
-#include "firmware_host/device/open_device.hpp"
+#include "firmware_host/open/open_device.hpp"
 #include "rt_core/ipc/producer.hpp"
 #include "rt_core/loop/collision_mesh_builder.hpp"
 #include "rt_core/loop/haptic_loop.hpp"

@@ -8,7 +8,7 @@
 #include <span>
 #include <string>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "rt_core/ipc/mesh_mailbox.hpp"
 #include "rt_core/physics/vec3.hpp"
 

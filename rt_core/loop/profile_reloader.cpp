@@ -8,7 +8,7 @@
 #include <cerrno>
 #include <cstring>
 
-#include "firmware_host/device/open_device.hpp"
+#include "firmware_host/open/open_device.hpp"
 #include "rt_core/physics/physics_params_from_profile.hpp"
 
 namespace kerf::rt {

@@ -17,7 +17,7 @@
 #include <string>
 #include <thread>
 
-#include "config/result.hpp"
+#include "config/base/result.hpp"
 #include "rt_core/ipc/layout.hpp"
 #include "rt_core/ipc/mesh_mailbox.hpp"
 #include "rt_core/loop/handoff.hpp"
