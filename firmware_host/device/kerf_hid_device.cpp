@@ -116,6 +116,13 @@ void KerfHidDevice::to_sample(const InputReport& in, DeviceSample& out) noexcept
         out.velocity_m_per_s[i] = in.velocity[i] * 1e-6;
     }
     out.buttons = in.buttons;
+    const auto& q = in.orientation_q15;
+    out.has_orientation = mechanics_.senses_orientation && (q[0] | q[1] | q[2] | q[3]) != 0;
+    if (out.has_orientation) {
+        const double n = std::sqrt(double(q[0]) * q[0] + double(q[1]) * q[1] + double(q[2]) * q[2] +
+                                   double(q[3]) * q[3]);
+        for (int i = 0; i < 4; ++i) out.orientation_wxyz[i] = q[i] / n;
+    }
     flags_.amplifiers_on = (in.status & kStatusAmplifiersOn) != 0;
     flags_.homed = (in.status & kStatusHomed) != 0;
     flags_.over_temperature = (in.status & kStatusOverTemperature) != 0;

@@ -99,6 +99,14 @@ bool command_in_range(std::int32_t v) noexcept {
 
 bool temperature_in_range(std::int16_t t) noexcept { return t >= -4000 && t <= 15000; }
 
+/// All zero (not sensed), or a unit quaternion within 2 % (|q|^2 in [0.96, 1.04] x 32767^2).
+bool orientation_in_range(const std::array<std::int16_t, 4>& q) noexcept {
+    std::int64_t n2 = 0;
+    for (std::int16_t c : q) n2 += std::int64_t{c} * c;
+    constexpr std::int64_t kOne = 32767LL * 32767LL;
+    return n2 == 0 || (n2 >= kOne * 96 / 100 && n2 <= kOne * 104 / 100);
+}
+
 bool mechanics_in_range(const MechanicsReport& m) noexcept {
     if (m.dof < 1 || m.dof > 6) return false;
     if (static_cast<std::uint8_t>(m.kinematics) > 1) return false;
@@ -155,10 +163,12 @@ CodecStatus decode_input(std::span<const std::byte> bytes, InputReport& out) noe
     }
     v.buttons = r.u16(36);
     v.temperature_centi_c = r.i16(38);
-    if ((v.status & ~kStatusDefinedMask) != 0 || !r.zero(46, kCrcOffset)) {
+    for (std::size_t i = 0; i < 4; ++i) v.orientation_q15[i] = r.i16(46 + 2 * i);
+    if ((v.status & ~kStatusDefinedMask) != 0 || !r.zero(54, kCrcOffset)) {
         return CodecStatus::kReservedNotZero;
     }
     if (!temperature_in_range(v.temperature_centi_c)) return CodecStatus::kOutOfRange;
+    if (!orientation_in_range(v.orientation_q15)) return CodecStatus::kOutOfRange;
     out = v;
     return CodecStatus::kOk;
 }
@@ -202,7 +212,7 @@ CodecStatus decode_identity(std::span<const std::byte> bytes, IdentityReport& ou
 CodecStatus decode_mechanics(std::span<const std::byte> bytes, MechanicsReport& out) noexcept {
     if (auto s = check_frame(bytes, ReportId::kMechanics); s != CodecStatus::kOk) return s;
     const Reader r(bytes);
-    if (!r.zero(5, 6) || !r.zero(22, 24) || !r.zero(60, kCrcOffset)) {
+    if ((r.u8(5) & 0xFE) != 0 || !r.zero(22, 24) || !r.zero(60, kCrcOffset)) {
         return CodecStatus::kReservedNotZero;
     }
     if (r.u8(3) > 1) return CodecStatus::kOutOfRange;
@@ -210,6 +220,7 @@ CodecStatus decode_mechanics(std::span<const std::byte> bytes, MechanicsReport& 
     v.dof = r.u8(2);
     v.cartesian_reporting = r.u8(3) == 1;
     v.kinematics = static_cast<WireKinematics>(r.u8(4));
+    v.senses_orientation = (r.u8(5) & 1u) != 0;
     v.peak_force_centi_n = r.u16(6);
     v.continuous_force_centi_n = r.u16(8);
     for (std::size_t i = 0; i < 3; ++i) {
@@ -241,6 +252,7 @@ CodecStatus encode_input(const InputReport& in, std::span<std::byte> out) noexce
     if (out.size() < kReportSize) return CodecStatus::kBufferTooSmall;
     if ((in.status & ~kStatusDefinedMask) != 0) return CodecStatus::kReservedNotZero;
     if (!temperature_in_range(in.temperature_centi_c)) return CodecStatus::kOutOfRange;
+    if (!orientation_in_range(in.orientation_q15)) return CodecStatus::kOutOfRange;
     Writer w(out);
     w.header(ReportId::kInput);
     w.u16(2, in.sequence);
@@ -254,6 +266,7 @@ CodecStatus encode_input(const InputReport& in, std::span<std::byte> out) noexce
     }
     w.u16(36, in.buttons);
     w.i16(38, in.temperature_centi_c);
+    for (std::size_t i = 0; i < 4; ++i) w.i16(46 + 2 * i, in.orientation_q15[i]);
     w.seal();
     return CodecStatus::kOk;
 }
@@ -299,6 +312,7 @@ CodecStatus encode_mechanics(const MechanicsReport& in, std::span<std::byte> out
     w.u8(2, in.dof);
     w.u8(3, in.cartesian_reporting ? 1 : 0);
     w.u8(4, static_cast<std::uint8_t>(in.kinematics));
+    w.u8(5, in.senses_orientation ? 1 : 0);
     w.u16(6, in.peak_force_centi_n);
     w.u16(8, in.continuous_force_centi_n);
     for (std::size_t i = 0; i < 3; ++i) {

@@ -54,6 +54,9 @@ struct InputReport {
     std::uint16_t buttons = 0;               ///< bit i = button i pressed
     std::int16_t temperature_centi_c = 0;    ///< amplifier temperature, 0.01 degC, -4000..15000
     std::array<std::int16_t, 3> applied_centi = {};  ///< force (cN) or torque (cN·m) applied
+    /// Tool orientation, unit quaternion (w, x, y, z) times 32767; all zero: not sensed (a device
+    /// whose mechanics report does not announce orientation always sends zero). PROTOCOL.md 3.1.
+    std::array<std::int16_t, 4> orientation_q15 = {};
     bool operator==(const InputReport&) const = default;
 };
 
@@ -91,6 +94,7 @@ struct MechanicsReport {
     std::array<std::int16_t, 3> workspace_min_mm{};  ///< each < workspace_max_mm
     std::array<std::int16_t, 3> workspace_max_mm{};
     std::array<std::int32_t, 8> kinematic_params_um{};  ///< delta a,b,c,d,e,f,r,s; else zero
+    bool senses_orientation = false;  ///< input reports carry the tool orientation (byte 5 bit 0)
     bool operator==(const MechanicsReport&) const = default;
 };
 

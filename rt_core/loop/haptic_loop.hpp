@@ -96,9 +96,14 @@ public:
     /// The force commanded by the last tick, device frame, N.
     const firmware_host::Vec3d& last_force_n() const noexcept { return command_.force_n; }
     const physics::PhysicsOutput& last_physics() const noexcept { return physics_out_; }
+    /// The blade's orientation source and pose this tick.
+    const BladePose& blade() const noexcept { return blade_; }
     /// The tool position of the last tick, world frame, m.
     const physics::Vec3& tool_position_m() const noexcept { return tool_.pose.position_m; }
     bool in_safe_state() const noexcept { return safe_state_; }
+    /// This tick's device read result and the newest sample (tests, tools).
+    firmware_host::DeviceStatus last_read_status() const noexcept { return read_status_; }
+    const firmware_host::DeviceSample& last_sample() const noexcept { return sample_; }
     ipc::DeviceState device_state() const noexcept { return device_state_; }
     std::uint64_t world_generation() const noexcept { return world_ ? world_->generation : 0; }
 

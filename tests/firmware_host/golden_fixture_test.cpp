@@ -92,6 +92,37 @@ TEST(GoldenFixture, MechanicsFeatureReportOfADeltaDevice) {
     check_fixture("kerf_feature_mechanics.bin", m, encode_mechanics, decode_mechanics);
 }
 
+// The orientation extension (PROTOCOL.md 3.1, 4.2): byte 5 bit 0 of the mechanics report
+// announces it; input bytes 46..53 carry the tool's unit quaternion times 32767. These two files
+// were written by a script independent of the codec (Python struct + CRC-16/CCITT-FALSE).
+TEST(GoldenFixture, MechanicsFeatureReportAnnouncingOrientation) {
+    MechanicsReport m;
+    m.dof = 3;
+    m.cartesian_reporting = false;
+    m.kinematics = WireKinematics::kFalconDelta;
+    m.encoder_resolution = 1280;
+    m.peak_force_centi_n = 890;
+    m.continuous_force_centi_n = 400;
+    m.workspace_min_mm = {-60, -60, 75};
+    m.workspace_max_mm = {60, 60, 175};
+    m.kinematic_params_um = {60000, 102500, 14000, 11250, 11250, -25000, 37234, -27331};
+    m.senses_orientation = true;
+    check_fixture("kerf_feature_mechanics_orientation.bin", m, encode_mechanics, decode_mechanics);
+}
+
+TEST(GoldenFixture, InputReportWithAToolOrientation) {
+    InputReport in;
+    in.sequence = 7;
+    in.echo_sequence = 6;
+    in.status = kStatusAmplifiersOn | kStatusHomed;
+    in.device_time_us = 7000;
+    in.position = {1000, -2000, 3000};
+    in.buttons = 5;
+    in.temperature_centi_c = 3100;
+    in.orientation_q15 = {31650, 8481, 0, 0};  // 30 degrees about x
+    check_fixture("kerf_input_orientation.bin", in, encode_input, decode_input);
+}
+
 TEST(GoldenFixture, ConfigFeatureReport) {
     check_fixture("kerf_feature_config.bin", ConfigReport{true, 10}, encode_config, decode_config);
 }

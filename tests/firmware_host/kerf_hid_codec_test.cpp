@@ -106,9 +106,48 @@ TEST(KerfHidCodec, RejectsReservedStatusBitsAndBytes) {
     InputReport out;
     EXPECT_EQ(decode_input(b, out), CodecStatus::kReservedNotZero);
     ASSERT_EQ(encode_input(sample_input(), b), CodecStatus::kOk);
-    b[50] = std::byte{1};
+    b[56] = std::byte{1};  // after the orientation field (46..53)
     reseal(b);
     EXPECT_EQ(decode_input(b, out), CodecStatus::kReservedNotZero);
+}
+
+TEST(KerfHidCodec, OrientationIsZeroOrAUnitQuaternionAndSitsAtBytes46To53) {
+    InputReport in = sample_input();
+    in.orientation_q15 = {0, 32767, 0, 0};  // 180 degrees about x
+    Report b{};
+    ASSERT_EQ(encode_input(in, b), CodecStatus::kOk);
+    EXPECT_EQ(b[48], std::byte{0xFF});
+    EXPECT_EQ(b[49], std::byte{0x7F});
+    InputReport out;
+    ASSERT_EQ(decode_input(b, out), CodecStatus::kOk);
+    EXPECT_EQ(out, in);
+    in.orientation_q15 = {16000, 0, 0, 0};  // |q| = 0.49: not a rotation
+    EXPECT_EQ(encode_input(in, b), CodecStatus::kOutOfRange);
+    b[46] = std::byte{0x80};  // w = 128 with x = 32767 -> still unit within 2 %: fine
+    reseal(b);
+    EXPECT_EQ(decode_input(b, out), CodecStatus::kOk);
+    b[47] = std::byte{0x40};  // w = 16512: |q|^2 = 1.25
+    reseal(b);
+    EXPECT_EQ(decode_input(b, out), CodecStatus::kOutOfRange);
+}
+
+TEST(KerfHidCodec, MechanicsOrientationFlagIsBitZeroOfByte5AndTheRestIsReserved) {
+    MechanicsReport m;
+    m.encoder_resolution = 10000;
+    m.peak_force_centi_n = 1000;
+    m.continuous_force_centi_n = 500;
+    m.workspace_min_mm = {-80, -80, -80};
+    m.workspace_max_mm = {80, 80, 80};
+    m.senses_orientation = true;
+    Report b{};
+    ASSERT_EQ(encode_mechanics(m, b), CodecStatus::kOk);
+    EXPECT_EQ(b[5], std::byte{1});
+    MechanicsReport out;
+    ASSERT_EQ(decode_mechanics(b, out), CodecStatus::kOk);
+    EXPECT_TRUE(out.senses_orientation);
+    b[5] = std::byte{3};
+    reseal(b);
+    EXPECT_EQ(decode_mechanics(b, out), CodecStatus::kReservedNotZero);
 }
 
 TEST(KerfHidCodec, RejectsOutOfRangeTemperatureAndCommands) {

@@ -38,6 +38,7 @@ struct RigOptions {
     std::vector<std::string> hapsim_args;  ///< more kerf-hapsim arguments
     std::uint32_t read_timeout_us = 100'000;
     bool start_builder = true;  ///< poll the mailbox on a thread
+    bool lockstep = true;       ///< false: kerf-hapsim runs --realtime, the loop is paced
 };
 
 class Rig {

@@ -92,8 +92,15 @@ bool parse_action(const std::vector<std::string_view>& f, ScriptAction& a, std::
         a.kind = ScriptAction::Kind::kFault;
         a.fault_name = f[1];
         a.fault_value = f[2];
+    } else if (name == "orient") {
+        if (!numbers(f, 4, "w,x,y,z", v, why)) return false;
+        const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3]);
+        if (!(n > 1e-6)) return (why = "orient: the quaternion w,x,y,z must not be zero", false);
+        a.kind = ScriptAction::Kind::kOrient;
+        a.quaternion = {v[0] / n, v[1] / n, v[2] / n, v[3] / n};
     } else {
-        why = "unknown action '" + std::string(name) + "' (move, hold, button, sweep, fault)";
+        why =
+            "unknown action '" + std::string(name) + "' (move, hold, button, sweep, fault, orient)";
         return false;
     }
     if (a.duration_s < 0) return (why = std::string(name) + ": duration_s must be >= 0", false);
@@ -145,8 +152,11 @@ void HandPlayer::advance(double t_s, std::vector<FaultEvent>& events) {
             from_ = pos_;
             started_ = true;
         }
-        if (a.kind == ScriptAction::Kind::kButton || a.kind == ScriptAction::Kind::kFault) {
-            if (a.kind == ScriptAction::Kind::kButton) {
+        if (a.kind == ScriptAction::Kind::kButton || a.kind == ScriptAction::Kind::kFault ||
+            a.kind == ScriptAction::Kind::kOrient) {
+            if (a.kind == ScriptAction::Kind::kOrient) {
+                orientation_ = a.quaternion;
+            } else if (a.kind == ScriptAction::Kind::kButton) {
                 buttons_ =
                     a.pressed ? (buttons_ | (1U << a.button)) : (buttons_ & ~(1U << a.button));
             } else {

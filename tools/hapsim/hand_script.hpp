@@ -7,8 +7,11 @@
 //   button,0,down                    # press (or release: up) button 0..15
 //   sweep,0.02,0,0,2.0,1.5           # sinusoid of amplitude vector (m) at 2 Hz for 1.5 s
 //   fault,drop,on                    # inject a fault (see faults.hpp); off to clear
+//   orient,0.924,0.383,0,0           # tool orientation, quaternion w,x,y,z (normalised; reported
+//                                    # only by a device started with --orientation)
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -27,8 +30,9 @@ struct ScriptError {
 };
 
 struct ScriptAction {
-    enum class Kind { kMove, kHold, kButton, kSweep, kFault } kind = Kind::kHold;
-    Vec3 vec{};  ///< move: target; sweep: amplitude
+    enum class Kind { kMove, kHold, kButton, kSweep, kFault, kOrient } kind = Kind::kHold;
+    std::array<double, 4> quaternion{1, 0, 0, 0};  ///< orient: unit (w, x, y, z)
+    Vec3 vec{};                                    ///< move: target; sweep: amplitude
     double duration_s = 0;
     double frequency_hz = 0;  ///< sweep
     int button = 0;
@@ -57,6 +61,8 @@ public:
     const Vec3& position_m() const noexcept { return pos_; }
     const Vec3& velocity_m_per_s() const noexcept { return vel_; }
     unsigned buttons() const noexcept { return buttons_; }
+    /// The hand's tool orientation, unit quaternion (w, x, y, z); identity until an `orient`.
+    const std::array<double, 4>& orientation_wxyz() const noexcept { return orientation_; }
     bool finished() const noexcept { return index_ >= script_.size(); }
 
 private:
@@ -66,6 +72,7 @@ private:
     bool started_ = false;
     Vec3 from_{}, pos_{}, vel_{};
     unsigned buttons_ = 0;
+    std::array<double, 4> orientation_{1, 0, 0, 0};
 };
 
 }  // namespace kerf::hapsim

@@ -86,6 +86,10 @@ void KerfHidSide::step_and_report(Outbox& out) {
     }
     in.buttons = static_cast<std::uint16_t>(sim_.hand().buttons());
     in.temperature_centi_c = 3100;
+    if (p_.mechanics.senses_orientation) {  // a 6-DoF-in device: the hand's tool orientation
+        const auto& q = sim_.hand().orientation_wxyz();
+        for (int i = 0; i < 4; ++i) in.orientation_q15[i] = std::int16_t(std::lround(q[i] * 32767));
+    }
     std::array<std::byte, fh::kReportSize> buf{};
     if (fh::encode_input(in, buf) == fh::CodecStatus::kOk) out.push(fh::tag::kIn, buf);
 }

@@ -18,6 +18,7 @@ using namespace kerf::hapsim;
 namespace fh = kerf::firmware_host;
 
 struct Args {
+    bool orientation = false;  ///< kerf: announce and report the tool orientation (6-DoF input)
     std::string socket_path;
     std::string protocol = "kerf";
     bool realtime = false;
@@ -78,6 +79,7 @@ KerfSideParams kerf_params(const Args& a) {
     std::copy_n(a.serial.begin(), std::min<std::size_t>(a.serial.size(), 16),
                 p.identity.serial.begin());
     p.mechanics.encoder_resolution = static_cast<std::uint32_t>(a.resolution_m * 1e9);
+    p.mechanics.senses_orientation = a.orientation;
     p.mechanics.peak_force_centi_n = static_cast<std::uint16_t>(a.peak_force_n * 100);
     p.mechanics.continuous_force_centi_n =
         static_cast<std::uint16_t>(std::min(a.continuous_force_n, a.peak_force_n) * 100);
@@ -209,6 +211,9 @@ int hapsim_main(int argc, char** argv) {
     app.add_flag("--commands", a.commands,
                  "read `fault <name> <value>` / `status` / `quit` lines on stdin");
     app.add_flag("--firmware-loaded", a.firmware_loaded, "falcon: start with firmware running");
+    app.add_flag("--orientation", a.orientation,
+                 "kerf: sense the tool orientation (announced in the mechanics report; the "
+                 "script's orient action sets it)");
     app.add_option("--homing-steps", a.homing_steps, "periods homing takes")
         ->check(CLI::Range(1U, 100000U));
     // CLI::Range lets NaN through (every comparison is false): finiteness is checked first.
