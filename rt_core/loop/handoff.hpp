@@ -38,6 +38,12 @@ public:
         delete pending_.exchange(next.release(), std::memory_order_acq_rel);
     }
 
+    /// Non-RT: takes back the offered object the loop has not taken yet (nullptr: it took it, or
+    /// nothing was offered). Lets the offering side merge a superseded offer into the next one.
+    std::unique_ptr<T> reclaim() {
+        return std::unique_ptr<T>(pending_.exchange(nullptr, std::memory_order_acq_rel));
+    }
+
     /// RT: the newest offered object, or nullptr (nothing new, or no retire slot free yet).
     /// noexcept, wait-free.
     T* try_take() noexcept {

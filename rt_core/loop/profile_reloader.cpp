@@ -18,7 +18,8 @@ ProfileReloader::ProfileReloader(Handoff<ProfileUpdate>& handoff, std::filesyste
                                  double period_s, physics::PhysicsParams base)
     : handoff_(handoff),
       file_(std::move(file)),
-      current_(std::move(current)),
+      committed_(current),
+      offered_(std::move(current)),
       device_(std::move(device)),
       period_s_(period_s),
       base_(base) {}
@@ -88,15 +89,19 @@ bool ProfileReloader::reload_now() {
         spdlog::error("kerf-rt: force profile refused, the running profile stays: {}", error);
         return false;
     }
+    // An offer the loop has not taken yet is taken back: its changes are diffed again from
+    // the profile the loop really has, so no ParametersChanged is lost when reloads come faster
+    // than ticks.
+    if (!handoff_.reclaim()) committed_ = offered_;
     auto update = std::make_unique<ProfileUpdate>();
-    update->change_count = diff_profiles(current_, *loaded, update->changes);
+    update->change_count = diff_profiles(committed_, *loaded, update->changes);
+    offered_ = *loaded;
     if (update->change_count == 0) return false;  // touched, not changed
     update->revision = accepted_.load(std::memory_order_acquire) + 1;
     update->physics = physics::physics_params_from_profile(*loaded, base_);
     update->safety = firmware_host::safety_limits_from(device_, &*loaded, period_s_);
     spdlog::info("kerf-rt: force profile {} reloaded: {} values changed", file_.string(),
                  update->change_count);
-    current_ = std::move(*loaded);
     handoff_.offer(std::move(update));
     accepted_.fetch_add(1, std::memory_order_acq_rel);
     return true;

@@ -47,7 +47,8 @@ private:
     void run();
     Handoff<ProfileUpdate>& handoff_;
     std::filesystem::path file_;
-    config::ForceProfile current_;
+    config::ForceProfile committed_;  ///< the profile the loop has (or had before `offered_`)
+    config::ForceProfile offered_;    ///< the profile of the last offer
     config::DeviceProfile device_;
     double period_s_;
     physics::PhysicsParams base_;
