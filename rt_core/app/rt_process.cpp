@@ -141,11 +141,10 @@ int run_rt_process(const RtOptions& o) {
     if (ec) return fail("journal folder " + cfg->journal_dir.string() + ": " + ec.message());
     const std::string session =
         o.session_name.empty() ? cfg->main.shm.session_name : o.session_name;
-    auto producer = ipc::ProducerBuilder()
-                        .segment_name(session)
-                        .journal_dir(cfg->journal_dir.string())
-                        .group_access(!cfg->main.shm.group.empty())
-                        .create();
+    ipc::ProducerBuilder producer_builder;
+    producer_builder.segment_name(session).journal_dir(cfg->journal_dir.string());
+    if (!cfg->main.shm.group.empty()) producer_builder.group(cfg->main.shm.group);
+    auto producer = producer_builder.create();
     if (!producer) return fail(producer.error().message);
 
     LoopSettings settings;

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "rt_core/ipc/consumer.hpp"
+#include "rt_core/ipc/session_socket.hpp"
 #include "tests/firmware_host/hapsim_process.hpp"
 #include "tests/rt/rt_process_support.hpp"
 #include "tests/rt/rt_rig.hpp"
@@ -98,10 +99,11 @@ TEST(RtProcess, SigtermZeroesForceClosesInOrderAndRemovesTheSegment) {
         {"--config", cfg.kerf_toml(), "--socket", sim.socket_path(), "--session", session});
     ASSERT_TRUE(rt.wait_for_output("real-time report", 30'000)) << rt.output();
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
-    EXPECT_TRUE(std::filesystem::exists("/dev/shm/" + session));
+    const std::string socket = ipc::session_socket_of(ipc::default_runtime_dir(), session);
+    EXPECT_TRUE(std::filesystem::exists(socket)) << socket;
     rt.signal(SIGTERM);
     ASSERT_EQ(rt.wait(10'000), 0) << rt.output();
-    EXPECT_FALSE(std::filesystem::exists("/dev/shm/" + session));
+    EXPECT_FALSE(std::filesystem::exists(socket)) << "the session socket is left behind";
     EXPECT_NE(rt.output().find("kerf-rt summary"), std::string::npos) << rt.output();
 }
 
