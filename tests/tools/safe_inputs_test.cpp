@@ -28,8 +28,9 @@ protected:
     }
     void TearDown() override { fs::remove_all(dir_); }
     fs::path bone() const { return dir_ / "bone.stl"; }
-    ProcessRun kerf(std::vector<std::string> args) {
-        return kerf::test::run_program(dir_, "kerf", std::move(args), std::chrono::seconds(30));
+    ProcessRun kerf(std::vector<std::string> args,
+                    std::chrono::seconds limit = std::chrono::seconds(30)) {
+        return kerf::test::run_program(dir_, "kerf", std::move(args), limit);
     }
     std::string contents(const fs::path& p) { return kerf::test::slurp(p); }
     fs::path dir_;
@@ -133,6 +134,16 @@ TEST_F(SafeInputs, DevicesFindsItsProfilesFromAnyFolder) {
     EXPECT_TRUE(r.out.find("devices/*.toml") != std::string::npos ||
                 r.out.find("profile") != std::string::npos)
         << r.out;
+}
+
+// Item 10: `kerf demo --json` is one JSON document (it printed two).
+TEST_F(SafeInputs, DemoJsonIsOneValidDocument) {
+    const ProcessRun r =
+        kerf({"demo", "--triangles", "30000", "--json"}, std::chrono::seconds(120));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto doc = nlohmann::json::parse(r.out);  // throws on a second document
+    EXPECT_TRUE(doc.contains("report"));
+    EXPECT_TRUE(doc.contains("chevron"));
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "display/mesh/foot_generator.hpp"
@@ -53,15 +54,16 @@ void print_first_metatarsal(const mesh::BoneInfo& m1) {
               << " mm, canal radius " << m1.canal_radius_m * 1e3 << " mm\n";
 }
 
-void report_scene(const DemoScene& scene, const DemoOptions& o) {
+void report_scene(const DemoScene& scene, const DemoOptions& o, nlohmann::ordered_json& doc) {
     const auto start = std::chrono::steady_clock::now();
     const mesh::ValidationReport report = mesh::validate(scene.foot.mesh);
     const double validate_ms = ms_since(start);
     if (o.json) {
-        std::cout << "{\"scene\": \"builtin_foot\", \"seed\": " << o.seed
-                  << ", \"generate_ms\": " << scene.generate_ms
-                  << ", \"validate_ms\": " << validate_ms
-                  << ", \"report\": " << mesh::format_report_json(report) << "}\n";
+        doc["scene"] = "builtin_foot";
+        doc["seed"] = o.seed;
+        doc["generate_ms"] = scene.generate_ms;
+        doc["validate_ms"] = validate_ms;
+        doc["report"] = nlohmann::ordered_json::parse(mesh::format_report_json(report));
         return;
     }
     std::cout << "kerf demo: built-in synthetic forefoot (seed " << o.seed << ", target "
@@ -72,7 +74,7 @@ void report_scene(const DemoScene& scene, const DemoOptions& o) {
 }
 
 /// The chevron osteotomy of the first metatarsal and its pieces (after the intact scene's report).
-void report_chevron(DemoScene& scene, const DemoOptions& o) {
+void report_chevron(DemoScene& scene, const DemoOptions& o, nlohmann::ordered_json& doc) {
     auto chevron = cut_chevron(scene.foot);
     if (!chevron) {
         std::cerr << "kerf demo: chevron osteotomy: first metatarsal: " << chevron.error() << "\n";
@@ -80,13 +82,14 @@ void report_chevron(DemoScene& scene, const DemoOptions& o) {
     }
     const ChevronReport& c = *chevron;
     if (o.json) {
-        std::cout << "{\"chevron\": {\"apex_mm\": [" << c.apex_m[0] * 1e3 << ", "
-                  << c.apex_m[1] * 1e3 << ", " << c.apex_m[2] * 1e3 << "], \"ms\": " << c.elapsed_ms
-                  << ", \"bodies\": " << c.cuts.pieces.size() << ", \"fragments_mm3\": [";
-        for (std::size_t k = 0; k < c.fragments.size(); ++k) {
-            std::cout << (k ? ", " : "") << c.cuts.pieces[c.fragments[k]].volume_m3 * 1e9;
-        }
-        std::cout << "]}}\n";
+        nlohmann::ordered_json out = {
+            {"apex_mm", {c.apex_m[0] * 1e3, c.apex_m[1] * 1e3, c.apex_m[2] * 1e3}},
+            {"ms", c.elapsed_ms},
+            {"bodies", c.cuts.pieces.size()},
+            {"fragments_mm3", nlohmann::ordered_json::array()}};
+        for (const std::size_t k : c.fragments)
+            out["fragments_mm3"].push_back(c.cuts.pieces[k].volume_m3 * 1e9);
+        doc["chevron"] = out;
         return;
     }
     std::cout << "chevron osteotomy:     first metatarsal, apex " << mm(c.apex_m)
@@ -112,8 +115,10 @@ void run_demo(const DemoOptions& o) {
         throw CLI::RuntimeError(kExitFailure);
     }
     // Next stage (cutting issue): cut a chevron osteotomy of scene->foot.first_metatarsal().
-    report_scene(*scene, o);
-    report_chevron(*scene, o);
+    nlohmann::ordered_json doc;  // --json: one document, as the help promises
+    report_scene(*scene, o, doc);
+    report_chevron(*scene, o, doc);
+    if (o.json) std::cout << doc.dump() << "\n";
 }
 
 }  // namespace
