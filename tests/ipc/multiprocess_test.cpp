@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <random>
 #include <sstream>
@@ -375,6 +376,39 @@ TEST(KerfShmCommand, LsStatsAndTailShowALiveSession) {
     out = run_kerf("shm stats " + name + " --json", code);
     EXPECT_EQ(code, 0) << out;
     EXPECT_NE(out.find("\"health\": \"alive\""), std::string::npos) << out;
+    producer.kill_now(SIGTERM);
+    EXPECT_EQ(producer.wait(), 0);
+}
+
+// Issue 9 items 9 and 10: any session name is listed (not only kerf.*), and every --json output
+// parses as JSON with nothing else on stdout (logs go to stderr).
+TEST(KerfShmCommand, JsonOutputsParseAndAnyNameIsListed) {
+    test::ScratchDir dir;
+    const std::string name = "plain-" + std::to_string(getpid());  // no "kerf." prefix
+    Peer producer(dir.path, {"producer", "--name", name, "--journal-dir", dir.path, "--events",
+                             "50", "--per-tick", "5", "--hold-ms", "5000"});
+    ASSERT_TRUE(wait_for_segment(name));
+    const auto stdout_of = [&](const std::string& args) {
+        int code = -1;
+        const std::string out = run_kerf(args + " 2>/dev/null", code);
+        EXPECT_EQ(code, 0) << args;
+        return out;
+    };
+    const auto ls = nlohmann::json::parse(stdout_of("shm ls --json"));
+    bool listed = false;
+    for (const auto& row : ls) listed = listed || row["name"] == name;
+    EXPECT_TRUE(listed) << ls.dump();
+    const auto stats = nlohmann::json::parse(stdout_of("shm stats " + name + " --json"));
+    EXPECT_EQ(stats["health"], "alive");
+    std::istringstream lines(stdout_of("shm tail " + name + " --from 0 --count 10 --json"));
+    std::string line;
+    int events = 0;
+    while (std::getline(lines, line)) {
+        const auto event = nlohmann::json::parse(line);
+        EXPECT_EQ(event["sequence"], events);
+        ++events;
+    }
+    EXPECT_EQ(events, 10);
     producer.kill_now(SIGTERM);
     EXPECT_EQ(producer.wait(), 0);
 }
