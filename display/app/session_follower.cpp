@@ -85,7 +85,7 @@ bool SessionFollower::Impl::try_attach() {
     local.session_id = id;
     spdlog::info("kerf-display: attached to {} (slot {}, session {:016x})", options.segment_name,
                  consumer->slot(), id);
-    if (publish_pending) publish();
+    if (publish_pending && !session->cut_open()) publish();
     return true;
 }
 
@@ -116,7 +116,9 @@ void SessionFollower::Impl::hand_over(std::uint64_t newest_event_ns) {
     const bool geometry =
         changes.everything || changes.bodies || !changes.vertices.empty() || !changes.faces.empty();
     publish_pending = publish_pending || (geometry && options.publish_collision);
-    if (publish_pending && consumer) publish();
+    // Not while a cut is open: kerf-rt's saw owns the blade's own kerf until CutEnd; a partly
+    // opened kerf swapped into its world mid-cut made it end the cut early and begin another.
+    if (publish_pending && consumer && !session->cut_open()) publish();
 }
 
 void SessionFollower::Impl::publish() {

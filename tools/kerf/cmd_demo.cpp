@@ -1,124 +1,452 @@
-// `kerf demo` — the README's main job. Today it builds the default scene (the built-in
-// synthetic forefoot), validates it and says where the first metatarsal is. Each later stage
-// is one named step in `run_demo()`: the cutting issue adds a chevron osteotomy of the first
-// metatarsal between building and reporting; later issues add the simulated device, the
-// real-time process and the display.
+// `kerf demo` — the README's main job: the simulator end to end, as real processes on one
+// shared-memory session. kerf-hapsim plays a scripted surgeon's hand (demo_script.*: a V
+// osteotomy of the built-in foot's first metatarsal, generated from the scene's geometry and
+// kerf-rt's device -> world mapping), kerf-rt runs the 1 kHz loop and cuts, kerf-display (headless,
+// or --window) applies the cuts and publishes the collision mesh. Afterwards the journal kerf-rt
+// left is replayed here through CutSession (demo_replay.*): hash, pieces, volumes and the
+// pictures (before, mid-cut, after); the display's own hash must equal the replay's.
+//
+// Everything lives in a temporary work folder (config copy, sockets, journal, logs) that is
+// removed at exit; the output folder keeps the pictures, the display's last frame, the hand
+// script, the journal, kerf-rt's force trace and report.json. Ctrl-C at any moment: kerf-rt is
+// stopped first (its device goes to zero force), then the others; exit status 130.
+#include <unistd.h>
+
 #include <chrono>
+#include <cmath>
+#include <csignal>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
+#include <thread>
 
+#include "config/load_config.hpp"
+#include "display/app/scene_mesh.hpp"
 #include "display/mesh/foot_generator.hpp"
-#include "display/mesh/validate.hpp"
+#include "rt_core/ipc/journal_reader.hpp"
 #include "tools/kerf/commands.hpp"
-#include "tools/kerf/demo_chevron.hpp"
+#include "tools/kerf/demo_replay.hpp"
+#include "tools/kerf/demo_script.hpp"
+#include "tools/supervise/supervisor.hpp"
 
 namespace kerf::cli {
 namespace {
 
+namespace fs = std::filesystem;
+using supervise::ChildSpec;
+using supervise::Policy;
+using supervise::Supervisor;
+
 struct DemoOptions {
     std::size_t triangles = 200'000;
     std::uint64_t seed = 1;
+    std::string out_dir = "kerf-demo-out";
+    std::string config;  ///< kerf.toml to start from; empty: the installed or in-tree one
+    bool window = false;
+    bool lockstep = false;
     bool json = false;
 };
 
-/// Everything the demo works on.
-struct DemoScene {
-    mesh::Foot foot;
-    double generate_ms = 0.0;
+[[noreturn]] void fail(const std::string& what) {
+    std::cerr << "kerf demo: " << what << "\n";
+    throw CLI::RuntimeError(kExitFailure);
+}
+
+std::string slurp(const fs::path& p) {
+    std::ifstream f(p);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+bool write_file(const fs::path& p, const std::string& text) {
+    const fs::path tmp = p.string() + ".tmp";
+    {
+        std::ofstream f(tmp, std::ios::trunc);
+        f << text;
+        if (!f.flush()) return false;
+    }
+    std::error_code ec;
+    fs::rename(tmp, p, ec);
+    return !ec;
+}
+
+/// The shipped kerf.toml: installed (<prefix>/share/kerf/config) or in the source tree.
+fs::path default_config() {
+    const fs::path installed = supervise::executable_dir() / ".." / "share" / "kerf" / "config";
+    if (fs::exists(installed / "kerf.toml")) return fs::canonical(installed / "kerf.toml");
+    return fs::path(KERF_SOURCE_DIR) / "config" / "kerf.toml";
+}
+
+/// Replaces the value of every `key = ...` line (keeping the comment) in `text`.
+std::string set_key(const std::string& text, const std::string& key, const std::string& value) {
+    std::istringstream in(text);
+    std::string line, out;
+    while (std::getline(in, line)) {
+        const auto first = line.find_first_not_of(' ');
+        if (first != std::string::npos && line.compare(first, key.size() + 1, key + " ") == 0) {
+            const auto hash = line.find('#');
+            line =
+                key + " = " + value + (hash == std::string::npos ? "" : "   " + line.substr(hash));
+        }
+        out += line + "\n";
+    }
+    return out;
+}
+
+/// The temporary work folder: removed (with everything in it) on destruction.
+struct WorkDir {
+    fs::path path;
+    WorkDir() {
+        std::string templ = (fs::temp_directory_path() / "kerf-demo-XXXXXX").string();
+        if (!mkdtemp(templ.data())) fail("cannot create a temporary folder in /tmp");
+        path = templ;
+    }
+    ~WorkDir() {
+        std::error_code ec;
+        fs::remove_all(path, ec);
+    }
+    WorkDir(const WorkDir&) = delete;
+    WorkDir& operator=(const WorkDir&) = delete;
 };
 
-double ms_since(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-        .count();
+/// Copies the configuration into `work`/config with this run's session, journal and scene.
+fs::path prepare_config(const DemoOptions& o, const fs::path& work, const std::string& session) {
+    const fs::path src = o.config.empty() ? default_config() : fs::path(o.config);
+    if (!fs::is_regular_file(src)) fail("configuration " + src.string() + ": not found");
+    const fs::path dst = work / "config";
+    std::error_code ec;
+    fs::copy(src.parent_path(), dst, fs::copy_options::recursive, ec);
+    if (ec) fail("copy of " + src.parent_path().string() + ": " + ec.message());
+    std::string toml = slurp(dst / src.filename());
+    toml = set_key(toml, "session_name", "\"" + session + "\"");
+    toml = set_key(toml, "dir", "\"" + (work / "journal").string() + "\"");
+    toml = set_key(toml, "scene", "\"builtin_foot\"");
+    toml = set_key(toml, "device", "\"simulated\"");
+    toml = set_key(toml, "shared", "\"" + (src.parent_path() / "../../shared").string() + "\"");
+    if (!write_file(dst / "kerf.toml", toml)) fail("cannot write " + (dst / "kerf.toml").string());
+    const fs::path scene = dst / "scenes" / "builtin_foot.toml";
+    std::string s = slurp(scene);
+    s = set_key(s, "target_triangles", std::to_string(o.triangles));
+    s = set_key(s, "seed", std::to_string(o.seed));
+    if (!write_file(scene, s)) fail("cannot write " + scene.string());
+    return dst / "kerf.toml";
 }
 
-std::string mm(const mesh::Point& p) {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "(%.1f, %.1f, %.1f) mm", p[0] * 1e3, p[1] * 1e3, p[2] * 1e3);
-    return buf;
+/// The device origin kerf-rt uses: above the centre of the scene's bounds, 20 mm over the top.
+mesh::Point device_origin(const mesh::TriMesh& scene) {
+    mesh::Point lo{1e9, 1e9, 1e9}, hi{-1e9, -1e9, -1e9};
+    for (const auto v : scene.vertices()) {
+        lo.minimize(scene.point(v));
+        hi.maximize(scene.point(v));
+    }
+    return {(lo[0] + hi[0]) / 2, hi[1] + 0.02, (lo[2] + hi[2]) / 2};
 }
 
-Result<DemoScene, std::string> build_scene(const DemoOptions& o) {
-    const auto start = std::chrono::steady_clock::now();
-    auto foot = mesh::generate_foot({o.triangles, o.seed});
-    if (!foot) return Err{foot.error()};
-    return DemoScene{std::move(*foot), ms_since(start)};
+/// A number after `key` in `text` ("ticks 3000," -> 3000), or -1.
+double number_after(const std::string& text, const std::string& key) {
+    const auto at = text.find(key);
+    if (at == std::string::npos) return -1;
+    return std::strtod(text.c_str() + at + key.size(), nullptr);
 }
 
-void print_first_metatarsal(const mesh::BoneInfo& m1) {
-    std::cout << "first metatarsal:      axis " << mm(m1.base_m) << " to " << mm(m1.head_m)
-              << ", length " << m1.length_m * 1e3 << " mm, shaft radius " << m1.shaft_radius_m * 1e3
-              << " mm, canal radius " << m1.canal_radius_m * 1e3 << " mm\n";
+/// A string value of `"key": "..."` in a flat JSON line, or "".
+std::string json_string(const std::string& text, const std::string& key) {
+    const auto at = text.find("\"" + key + "\": \"");
+    if (at == std::string::npos) return {};
+    const auto start = at + key.size() + 5;
+    return text.substr(start, text.find('"', start) - start);
 }
 
-void report_scene(const DemoScene& scene, const DemoOptions& o, nlohmann::ordered_json& doc) {
-    const auto start = std::chrono::steady_clock::now();
-    const mesh::ValidationReport report = mesh::validate(scene.foot.mesh);
-    const double validate_ms = ms_since(start);
-    if (o.json) {
-        doc["scene"] = "builtin_foot";
-        doc["seed"] = o.seed;
-        doc["generate_ms"] = scene.generate_ms;
-        doc["validate_ms"] = validate_ms;
-        doc["report"] = nlohmann::ordered_json::parse(mesh::format_report_json(report));
-        return;
+/// Forces from kerf-rt's trace: peak and mean magnitude over the ticks that commanded one.
+struct ForceFigures {
+    std::uint64_t ticks = 0, pushing = 0;
+    double peak_n = 0, mean_n = 0;
+};
+ForceFigures read_forces(const fs::path& trace) {
+    ForceFigures f;
+    std::ifstream in(trace);
+    std::string line;
+    std::getline(in, line);  // header
+    double sum = 0;
+    while (std::getline(in, line)) {
+        double v[7];
+        if (std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf", &v[0], &v[1], &v[2], &v[3],
+                        &v[4], &v[5], &v[6]) != 7)
+            continue;
+        ++f.ticks;
+        const double m = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
+        if (m > 1e-6) {
+            ++f.pushing;
+            sum += m;
+            f.peak_n = std::max(f.peak_n, m);
+        }
     }
-    std::cout << "kerf demo: built-in synthetic forefoot (seed " << o.seed << ", target "
-              << o.triangles << " triangles), generated in " << scene.generate_ms
-              << " ms, validated in " << validate_ms << " ms\n";
-    print_first_metatarsal(scene.foot.first_metatarsal());
-    std::cout << mesh::format_report_text(report, mesh::Units::kMillimetres);
+    if (f.pushing) f.mean_n = sum / double(f.pushing);
+    return f;
 }
 
-/// The chevron osteotomy of the first metatarsal and its pieces (after the intact scene's report).
-void report_chevron(DemoScene& scene, const DemoOptions& o, nlohmann::ordered_json& doc) {
-    auto chevron = cut_chevron(scene.foot);
-    if (!chevron) {
-        std::cerr << "kerf demo: chevron osteotomy: first metatarsal: " << chevron.error() << "\n";
-        throw CLI::RuntimeError(kExitFailure);
+/// kerf-rt's exit summary (its last lines from "kerf-rt summary").
+std::string rt_summary(const std::string& log) {
+    const auto at = log.find("kerf-rt summary");
+    return at == std::string::npos ? std::string() : log.substr(at);
+}
+
+fs::path find_journal(const fs::path& dir) {
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir, ec))
+        if (e.is_regular_file()) return e.path();
+    return {};
+}
+
+/// Sequence number just after the middle of the first cut's progress events (0: none).
+std::uint64_t mid_first_cut(const fs::path& journal) {
+    auto reader = ipc::JournalReader::open(journal.string(), 0);
+    if (!reader) return 0;
+    std::uint64_t begin = 0, end = 0;
+    ipc::EventRecord r{};
+    for (std::uint64_t s = 0; s < reader->record_count(); ++s) {
+        if (reader->try_read(s, r) != ipc::JournalRead::kOk) break;
+        if (r.header.type == ipc::EventType::kCutBegin && !begin) begin = s + 1;
+        if (r.header.type == ipc::EventType::kCutEnd) {
+            end = s;
+            break;
+        }
     }
-    const ChevronReport& c = *chevron;
-    if (o.json) {
-        nlohmann::ordered_json out = {
-            {"apex_mm", {c.apex_m[0] * 1e3, c.apex_m[1] * 1e3, c.apex_m[2] * 1e3}},
-            {"ms", c.elapsed_ms},
-            {"bodies", c.cuts.pieces.size()},
-            {"fragments_mm3", nlohmann::ordered_json::array()}};
-        for (const std::size_t k : c.fragments)
-            out["fragments_mm3"].push_back(c.cuts.pieces[k].volume_m3 * 1e9);
-        doc["chevron"] = out;
-        return;
-    }
-    std::cout << "chevron osteotomy:     first metatarsal, apex " << mm(c.apex_m)
-              << ", 60-degree V, seed " << mm(c.seed_m) << ", " << c.elapsed_ms << " ms\n";
-    for (const auto& step : c.cuts.steps) {
-        const auto& st = step.result.stats;
-        std::cout << "  cut " << step.plane + 1 << ": " << st.loops << " loops, " << st.faces_split
-                  << " faces split, " << st.triangles_added << " triangles added ("
-                  << st.cap_triangles << " cap), " << static_cast<double>(st.time_ns) * 1e-6
-                  << " ms\n";
-    }
-    std::cout << "  first metatarsal now " << c.fragments.size() << " pieces:";
-    for (const std::size_t k : c.fragments) {
-        std::cout << " " << c.cuts.pieces[k].volume_m3 * 1e9 << " mm^3";
-    }
-    std::cout << "; " << c.cuts.pieces.size() << " bodies in the scene\n";
+    return begin ? (begin + end) / 2 : 0;
 }
 
 void run_demo(const DemoOptions& o) {
-    auto scene = build_scene(o);
-    if (!scene) {
-        std::cerr << "kerf demo: --triangles: " << scene.error() << "\n";
-        throw CLI::RuntimeError(kExitFailure);
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto elapsed = [&] {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    };
+    const fs::path bin = supervise::executable_dir();
+    for (const char* exe : {"kerf-hapsim", "kerf-rt", "kerf-display"})
+        if (access((bin / exe).c_str(), X_OK) != 0)
+            fail((bin / exe).string() + ": not found (build it: cmake --build build)");
+    const fs::path out = fs::absolute(o.out_dir);
+    std::error_code ec;
+    fs::create_directories(out, ec);
+    if (ec) fail("output folder " + out.string() + ": " + ec.message());
+
+    Supervisor sup;  // from here on Ctrl-C is a stop request, never an abrupt end
+    WorkDir work;
+    const std::string session = "kerf-demo-" + std::to_string(getpid());
+    const fs::path toml = prepare_config(o, work.path, session);
+    auto cfg = config::load_config(toml);
+    if (!cfg) fail(cfg.error().message());
+    auto foot = mesh::generate_foot({o.triangles, o.seed});
+    if (!foot) fail("--triangles: " + foot.error());
+    auto scene = display::build_scene_mesh(*cfg);
+    if (!scene) fail("scene: " + scene.error());
+    auto script = make_demo_script(foot->first_metatarsal(),
+                                   foot->bones[std::min<std::size_t>(2, foot->bones.size() - 1)],
+                                   device_origin(*scene));
+    if (!script) fail("hand script: " + script.error());
+    scene = Err{std::string()};
+    const fs::path hand = work.path / "hand.csv";
+    if (!write_file(hand, script->csv)) fail("cannot write " + hand.string());
+    const double duration_s = std::ceil(script->duration_s + 1.0);
+    if (!o.json)
+        std::cout << "kerf demo: V osteotomy of the first metatarsal (" << script->tilt_deg.size()
+                  << " limbs at +-" << script->tilt_deg.front() << " degrees, feed "
+                  << script->feed_speed_m_s * 1e3 << " mm/s), " << duration_s << " s of surgery, "
+                  << (o.lockstep ? "lockstep" : "real time") << ", work folder "
+                  << work.path.string() << std::endl;
+
+    const fs::path sock = work.path / "hapsim.sock";
+    const fs::path status = work.path / "display.json";
+    const fs::path trace = work.path / "trace.csv";
+    const fs::path logs = work.path;
+    if (Supervisor::stop_requested()) fail("stopped before the processes started");
+    std::vector<std::string> hapsim_args = {
+        (bin / "kerf-hapsim").string(),
+        "--profile",
+        (toml.parent_path() / "devices/simulated.toml").string(),
+        "--socket",
+        sock.string(),
+        "--script",
+        hand.string(),
+        o.lockstep ? "--lockstep" : "--realtime"};
+    auto hapsim =
+        sup.add({{"kerf-hapsim", hapsim_args, logs / "hapsim.log", {}}, Policy::kMayFinish},
+                [&] { return fs::exists(sock); });
+    if (!hapsim) fail(hapsim.error().message());
+    std::vector<std::string> display_args = {(bin / "kerf-display").string(),
+                                             "--config",
+                                             toml.string(),
+                                             "--session",
+                                             session,
+                                             "--mode",
+                                             o.window ? "window" : "headless",
+                                             "--status",
+                                             status.string(),
+                                             "--screenshot",
+                                             (out / "display-last-frame.png").string()};
+    const fs::path display_log = logs / "kerf-display.log";
+    auto display = sup.add(
+        {{"kerf-display", display_args, display_log, {}}, Policy::kRestart},
+        [&] { return number_after(slurp(status), "\"frames\": ") >= 1; },
+        std::chrono::seconds(120));  // scene built, first frame drawn
+    if (!display) fail(display.error().message());
+    std::vector<std::string> rt_args = {(bin / "kerf-rt").string(),
+                                        "--config",
+                                        toml.string(),
+                                        "--device",
+                                        "simulated",
+                                        "--socket",
+                                        sock.string(),
+                                        "--session",
+                                        session,
+                                        "--duration",
+                                        std::to_string(duration_s),
+                                        "--trace",
+                                        trace.string()};
+    if (o.lockstep) rt_args.push_back("--lockstep");
+    const fs::path rt_log = logs / "kerf-rt.log";
+    auto rt = sup.add({{"kerf-rt", rt_args, rt_log, {}}, Policy::kMayFinish},
+                      [&] { return slurp(rt_log).find("kerf-rt: session") != std::string::npos; });
+    if (!rt) fail(rt.error().message() + "\n" + slurp(rt_log));
+
+    // The surgery: until kerf-rt's --duration is over (a stop signal or a crash ends it early).
+    double last_print = 0;
+    const auto progress = [&](const char* phase) {
+        if (o.json || elapsed() - last_print < 1.0) return;
+        last_print = elapsed();
+        const std::string st = slurp(status);
+        std::printf(
+            "  %5.1f s  %s: display %s events applied, %s frames\n", elapsed(), phase,
+            st.empty() ? "-" : std::to_string(long(number_after(st, "\"applied\": "))).c_str(),
+            st.empty() ? "-" : std::to_string(long(number_after(st, "\"frames\": "))).c_str());
+        std::fflush(stdout);
+    };
+    supervise::RunOutcome outcome = sup.run([&] {
+        progress("cutting");
+        return !sup.find("kerf-rt")->running();
+    });
+    const auto stop_and_exit = [&](const std::string& why, int code) {
+        sup.stop_all();
+        std::cerr << "kerf demo: " << why << "\n";
+        if (!slurp(rt_log).empty()) std::cerr << "--- kerf-rt log\n" << slurp(rt_log);
+        if (code == kExitFailure) std::cerr << "--- kerf-display log\n" << slurp(display_log);
+        throw CLI::RuntimeError(code);
+    };
+    if (outcome.reason == supervise::RunOutcome::Reason::kStopSignal)
+        stop_and_exit("stopped by signal " + std::to_string(Supervisor::stop_signal()), 130);
+    const auto* rt_exit = &sup.find("kerf-rt")->exit_info();
+    if (!*rt_exit || !(*rt_exit)->success())
+        stop_and_exit("kerf-rt " + (*rt_exit ? (*rt_exit)->describe() : outcome.detail),
+                      kExitFailure);
+
+    // The display catches up with the whole journal, then is stopped (its last frame is saved).
+    const fs::path journal = find_journal(work.path / "journal");
+    if (journal.empty()) stop_and_exit("kerf-rt left no journal", kExitFailure);
+    std::uint64_t events = 0;
+    if (auto reader = ipc::JournalReader::open(journal.string(), 0); reader)
+        events = reader->record_count();
+    std::string display_hash;
+    const double catch_up_from = elapsed();
+    outcome = sup.run([&] {
+        progress("display catching up");
+        if (elapsed() - catch_up_from > 300) return true;  // reported below
+        const std::string st = slurp(status);
+        if (st.empty() || number_after(st, "\"applied\": ") < 0) return false;
+        const bool caught_up = number_after(st, "\"next_sequence\": ") >= double(events) &&
+                               st.find("\"hash_valid\": true") != std::string::npos &&
+                               number_after(st, "\"hash_sequence\": ") >= double(events);
+        if (caught_up) display_hash = json_string(st, "hash");
+        return caught_up;
+    });
+    if (outcome.reason == supervise::RunOutcome::Reason::kStopSignal)
+        stop_and_exit("stopped by signal " + std::to_string(Supervisor::stop_signal()), 130);
+    if (display_hash.empty())
+        stop_and_exit("kerf-display did not apply the journal's " + std::to_string(events) +
+                          " events within 300 s",
+                      kExitFailure);
+    sup.stop_all();
+    const int display_restarts = sup.restarts("kerf-display");
+
+    // The replay here: hash, pieces, pictures.
+    const std::uint64_t mid = mid_first_cut(journal);
+    auto replay = replay_journal(*cfg, journal,
+                                 {{0, out / "1-before.png", "before"},
+                                  {mid, out / "2-mid-cut.png", "mid-cut (first limb)"},
+                                  {~0ull, out / "3-after.png", "after"}},
+                                 script->apex_world_m);
+    if (!replay) fail("replay of " + journal.string() + ": " + replay.error());
+    fs::copy_file(journal, out / "session.journal", fs::copy_options::overwrite_existing, ec);
+    fs::copy_file(hand, out / "hand.csv", fs::copy_options::overwrite_existing, ec);
+    fs::copy_file(trace, out / "force-trace.csv", fs::copy_options::overwrite_existing, ec);
+    fs::copy_file(rt_log, out / "kerf-rt.log", fs::copy_options::overwrite_existing, ec);
+    fs::copy_file(display_log, out / "kerf-display.log", fs::copy_options::overwrite_existing, ec);
+
+    const std::string rt_text = rt_summary(slurp(rt_log));
+    const ForceFigures forces = read_forces(trace);
+    const bool hashes_equal = display_hash == hash_hex(replay->hash);
+    nlohmann::json pieces_mm3 = nlohmann::json::array();
+    for (const ReplayPiece& p : replay->pieces) pieces_mm3.push_back(p.volume_m3 * 1e9);
+    const nlohmann::json report = {
+        {"lockstep", o.lockstep},
+        {"triangles", o.triangles},
+        {"seed", o.seed},
+        {"surgery_s", duration_s},
+        {"ticks", number_after(rt_text, "ticks ")},
+        {"overruns", number_after(rt_text, "overruns ")},
+        {"late_wakes", number_after(rt_text, "late wakes ")},
+        {"safe_state_entries", number_after(rt_text, "safe-state entries ")},
+        {"wake_p99_us", number_after(rt_text, "p99 ")},
+        {"events", replay->events},
+        {"cut_begins", replay->cut_begins},
+        {"cut_progress", replay->cut_progress},
+        {"cuts_completed", replay->cut_ends_completed},
+        {"cuts_ended_otherwise", replay->cut_ends_other},
+        {"applied", replay->applied},
+        {"refused", replay->refused},
+        {"force_peak_n", forces.peak_n},
+        {"force_mean_n", forces.mean_n},
+        {"force_ticks", forces.pushing},
+        {"display_restarts", display_restarts},
+        {"pieces_mm3", pieces_mm3},
+        {"hash", hash_hex(replay->hash)},
+        {"display_hash", display_hash},
+        {"hashes_equal", hashes_equal},
+        {"out", out.string()}};
+    const std::string js = report.dump();
+    write_file(out / "report.json", js + "\n");
+    if (o.json) {
+        std::cout << js << "\n";
+    } else {
+        std::printf("kerf demo: done in %.1f s\n", elapsed());
+        std::printf("  loop:    %s", rt_text.empty() ? "(no kerf-rt summary)\n" : rt_text.c_str());
+        std::printf(
+            "  events:  %llu (%llu cut begins, %llu progress, %llu cuts completed, %llu "
+            "ended otherwise); replay applied %llu, refused %llu\n",
+            (unsigned long long)replay->events, (unsigned long long)replay->cut_begins,
+            (unsigned long long)replay->cut_progress,
+            (unsigned long long)replay->cut_ends_completed,
+            (unsigned long long)replay->cut_ends_other, (unsigned long long)replay->applied,
+            (unsigned long long)replay->refused);
+        std::printf("  forces:  peak %.2f N, mean %.2f N over %llu of %llu ticks\n", forces.peak_n,
+                    forces.mean_n, (unsigned long long)forces.pushing,
+                    (unsigned long long)forces.ticks);
+        std::printf("  pieces:  ");
+        for (const ReplayPiece& p : replay->pieces)
+            std::printf("body %u %.1f mm^3%s  ", p.body, p.volume_m3 * 1e9,
+                        p.severed_by_cut ? " (severed)" : "");
+        std::printf("\n  hash:    %s (journal replay), display %s: %s\n",
+                    hash_hex(replay->hash).c_str(), display_hash.c_str(),
+                    hashes_equal ? "equal" : "DIFFERENT");
+        std::printf(
+            "  output:  %s (1-before.png 2-mid-cut.png 3-after.png, report.json, "
+            "session.journal, hand.csv)\n",
+            out.string().c_str());
     }
-    // Next stage (cutting issue): cut a chevron osteotomy of scene->foot.first_metatarsal().
-    nlohmann::ordered_json doc;  // --json: one document, as the help promises
-    report_scene(*scene, o, doc);
-    report_chevron(*scene, o, doc);
-    if (o.json) std::cout << doc.dump() << "\n";
+    if (!hashes_equal) throw CLI::RuntimeError(kExitFailure);
 }
 
 }  // namespace
@@ -126,12 +454,19 @@ void run_demo(const DemoOptions& o) {
 void add_demo_command(CLI::App& app) {
     auto opts = std::make_shared<DemoOptions>();
     CLI::App* demo = app.add_subcommand(
-        "demo", "The main job: build the built-in forefoot and print its validation report");
-    demo->add_option("--triangles", opts->triangles,
-                     "approximate triangle count (10000 .. 4000000)")
-        ->capture_default_str();
-    demo->add_option("--seed", opts->seed, "generator seed")->capture_default_str();
-    demo->add_flag("--json", opts->json, "print one JSON object instead of text");
+        "demo",
+        "The main job: kerf-hapsim's scripted hand cuts a V osteotomy of the first metatarsal "
+        "through kerf-rt while kerf-display shows it; pictures and a report");
+    demo->add_option("--triangles", opts->triangles, "approximate triangle count of the foot")
+        ->capture_default_str()
+        ->check(CLI::Range(std::size_t{10'000}, std::size_t{4'000'000}));
+    demo->add_option("--seed", opts->seed, "foot generator seed")->capture_default_str();
+    demo->add_option("-o,--out", opts->out_dir, "output folder")->capture_default_str();
+    demo->add_option("--config", opts->config, "kerf.toml to start from")->check(CLI::ExistingFile);
+    demo->add_flag("--window", opts->window, "show kerf-display in a window (X11)");
+    demo->add_flag("--lockstep", opts->lockstep,
+                   "kerf-rt paced by the emulator: deterministic (same hash every run)");
+    demo->add_flag("--json", opts->json, "print report.json instead of text");
     demo->callback([opts] { run_demo(*opts); });
 }
 

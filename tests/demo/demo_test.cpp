@@ -1,0 +1,138 @@
+// kerf demo end to end, as a person runs it: real processes, real shared memory, real EGL.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string slurp(const fs::path& p) {
+    std::ifstream f(p);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+/// Names in /tmp and /dev/shm that a demo run may leave behind.
+std::set<std::string> leftovers() {
+    std::set<std::string> out;
+    for (const char* dir : {"/tmp", "/dev/shm"}) {
+        std::error_code ec;
+        for (const auto& e : fs::directory_iterator(dir, ec)) {
+            const std::string name = e.path().filename().string();
+            if (name.rfind("kerf-demo-", 0) == 0 || name.find("kerf-demo-") != std::string::npos)
+                out.insert(e.path().string());
+        }
+    }
+    return out;
+}
+
+/// Starts `kerf demo ARGS` with stdout+stderr into `log`; returns its pid.
+pid_t start_demo(const std::vector<std::string>& args, const fs::path& log) {
+    const pid_t pid = fork();
+    if (pid == 0) {
+        std::freopen(log.c_str(), "w", stdout);
+        dup2(fileno(stdout), 2);
+        std::vector<char*> argv;
+        static std::string exe = std::string(KERF_BIN_DIR) + "/kerf";
+        argv.push_back(exe.data());
+        static std::string demo = "demo";
+        argv.push_back(demo.data());
+        for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+        argv.push_back(nullptr);
+        execv(exe.c_str(), argv.data());
+        _exit(127);
+    }
+    return pid;
+}
+
+int wait_exit(pid_t pid) {
+    int status = 0;
+    waitpid(pid, &status, 0);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+std::string value(const std::string& json, const std::string& key) {
+    const auto at = json.find("\"" + key + "\": ");
+    if (at == std::string::npos) return {};
+    const auto start = at + key.size() + 4;
+    return json.substr(start, json.find_first_of(",}", start) - start);
+}
+
+fs::path temp_out(const std::string& stem) {
+    return fs::temp_directory_path() / (stem + "-" + std::to_string(getpid()));
+}
+
+/// The demo needs kerf-rt built beside it (the real-time process; it lands with its own issue).
+bool have_rt() { return access((std::string(KERF_BIN_DIR) + "/kerf-rt").c_str(), X_OK) == 0; }
+
+std::string run_lockstep(const std::string& stem) {
+    const fs::path out = temp_out(stem);
+    const pid_t pid = start_demo({"--lockstep", "--triangles", "20000", "--json", "-o", out},
+                                 out.string() + ".log");
+    const int rc = wait_exit(pid);
+    const std::string log = slurp(out.string() + ".log");
+    EXPECT_EQ(rc, 0) << log;
+    const std::string report = slurp(out / "report.json");
+    for (const char* png : {"1-before.png", "2-mid-cut.png", "3-after.png"})
+        EXPECT_TRUE(fs::exists(out / png) && fs::file_size(out / png) > 10'000u) << png;
+    EXPECT_TRUE(fs::exists(out / "session.journal"));
+    EXPECT_EQ(value(report, "hashes_equal"), "true") << report;
+    EXPECT_EQ(value(report, "cuts_completed"), "2") << report;
+    EXPECT_EQ(value(report, "ticks"), std::to_string(std::stol(value(report, "surgery_s")) * 1000))
+        << report;
+    EXPECT_EQ(value(report, "cut_begins"), "2") << report;  // one per limb, none spurious
+    EXPECT_EQ(value(report, "refused"), "0") << report;
+    EXPECT_EQ(value(report, "safe_state_entries"), "0") << report;
+    EXPECT_NE(value(report, "force_peak_n"), "0") << report;
+    // --json prints exactly the report, one document.
+    EXPECT_EQ(log, report) << log;
+    const std::string hash = value(report, "hash");
+    std::error_code ec;
+    fs::remove_all(out, ec);
+    fs::remove(out.string() + ".log", ec);
+    return hash;
+}
+
+TEST(KerfDemo, LockstepRunsCutThreePiecesAndGiveTheSameHash) {
+    if (!have_rt()) GTEST_SKIP() << "no kerf-rt in " << KERF_BIN_DIR;
+    const auto before = leftovers();
+    const std::string a = run_lockstep("kdemo-test-a");
+    const std::string b = run_lockstep("kdemo-test-b");
+    EXPECT_EQ(a.size(), 18u) << a;  // "0123456789abcdef" with its quotes
+    EXPECT_EQ(a, b) << "two --lockstep demos gave different meshes";
+    EXPECT_EQ(leftovers(), before) << "a demo left files behind";
+}
+
+TEST(KerfDemo, CtrlCMidRunStopsEverythingAndLeavesNothing) {
+    if (!have_rt()) GTEST_SKIP() << "no kerf-rt in " << KERF_BIN_DIR;
+    const auto before = leftovers();
+    const fs::path out = temp_out("kdemo-test-int");
+    // Real time: the surgery takes 30 s, so the signal lands while the saw is in use.
+    const pid_t pid = start_demo({"--triangles", "20000", "-o", out}, out.string() + ".log");
+    std::this_thread::sleep_for(std::chrono::seconds(8));
+    kill(pid, SIGINT);
+    const int rc = wait_exit(pid);
+    const std::string log = slurp(out.string() + ".log");
+    EXPECT_EQ(rc, 130) << log;
+    EXPECT_NE(log.find("stopped by signal 2"), std::string::npos) << log;
+    // No child left: kerf-rt's summary was written (it stopped in order, forces to zero).
+    EXPECT_NE(log.find("kerf-rt summary"), std::string::npos) << log;
+    EXPECT_EQ(leftovers(), before) << log;
+    std::error_code ec;
+    fs::remove_all(out, ec);
+    fs::remove(out.string() + ".log", ec);
+}
+
+}  // namespace
