@@ -277,6 +277,8 @@ ParsedArgs parse_display_args(int argc, char** argv) {
     app.add_option("--status", o.status_path, "write counters as JSON to this file");
     app.add_flag("--on-demand", o.on_demand,
                  "draw only when an edit, the blade or a second calls for it (kiosk, latency)");
+    app.add_flag("--hash", o.hash_in_status,
+                 "keep the session's mesh hash in --status current when idle (O(mesh) each time)");
     try {
         app.parse(argc, argv);
         if (!size.empty()) {
@@ -320,7 +322,7 @@ int run_display(const DisplayOptions& o) {
     auto follower = SessionFollower::start(
         FollowerOptions{o.session.value_or(cfg->main.shm.session_name), true,
                         std::uint64_t{cfg->main.shm.heartbeat_timeout_ms} * 1'000'000u, 1000,
-                        o.exit_after_events},
+                        o.exit_after_events ? o.exit_after_events : (o.hash_in_status ? 1u : 0u)},
         [config] { return build_scene_mesh(config); },
         [&handover](const cut::CutSession& session, const cut::SessionChanges& changes,
                     std::uint64_t newest_event_ns) {

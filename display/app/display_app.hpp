@@ -34,6 +34,7 @@ struct DisplayOptions {
     std::uint64_t exit_after_events = 0;    ///< exit once this many events are applied (0: never)
     std::string status_path;                ///< JSON status file; empty: none
     bool on_demand = false;  ///< draw only when an edit, the blade pose or a second calls for it
+    bool hash_in_status = false;  ///< --hash: keep the mesh hash current when idle
 };
 
 /// Parses the command line; on --help or an error prints and returns the exit code to use.

@@ -286,6 +286,7 @@ void run_demo(const DemoOptions& o) {
                                              o.window ? "window" : "headless",
                                              "--status",
                                              status.string(),
+                                             "--hash",
                                              "--screenshot",
                                              (out / "display-last-frame.png").string()};
     const fs::path display_log = logs / "kerf-display.log";
