@@ -98,11 +98,14 @@ std::string set_key(const std::string& text, const std::string& key, const std::
     return out;
 }
 
-/// The temporary work folder: removed (with everything in it) on destruction.
+/// The temporary work folder (/tmp/kerf-demo-PID-XXXXXX): removed (with everything in it) on
+/// destruction.
 struct WorkDir {
     fs::path path;
     WorkDir() {
-        std::string templ = (fs::temp_directory_path() / "kerf-demo-XXXXXX").string();
+        std::string templ =
+            (fs::temp_directory_path() / ("kerf-demo-" + std::to_string(getpid()) + "-XXXXXX"))
+                .string();
         if (!mkdtemp(templ.data())) fail("cannot create a temporary folder in /tmp");
         path = templ;
     }
