@@ -6,9 +6,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 #include <string>
@@ -72,11 +74,13 @@ int wait_exit(pid_t pid) {
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
+/// The report's `key` as text ("true", "2", "\"0123...\"").
 std::string value(const std::string& json, const std::string& key) {
-    const auto at = json.find("\"" + key + "\": ");
-    if (at == std::string::npos) return {};
-    const auto start = at + key.size() + 4;
-    return json.substr(start, json.find_first_of(",}", start) - start);
+    const auto doc = nlohmann::json::parse(json, nullptr, false);
+    if (doc.is_discarded() || !doc.contains(key)) return {};
+    const auto& v = doc[key];
+    if (v.is_number_float()) return std::to_string(std::llround(v.get<double>()));
+    return v.dump();
 }
 
 fs::path temp_out(const std::string& stem) {
@@ -108,6 +112,7 @@ std::string run_lockstep(const std::string& stem) {
     EXPECT_NE(value(report, "force_peak_n"), "0") << report;
     // --json prints exactly the report, one document.
     EXPECT_EQ(log, report) << log;
+    EXPECT_FALSE(nlohmann::json::parse(log, nullptr, false).is_discarded()) << log;
     const std::string hash = value(report, "hash");
     std::error_code ec;
     fs::remove_all(out, ec);
