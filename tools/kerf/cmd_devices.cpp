@@ -16,6 +16,7 @@
 #include "firmware_host/transport/hidapi_transport.hpp"
 #include "firmware_host/transport/libusb_link.hpp"
 #include "tools/kerf/commands.hpp"
+#include "tools/kerf/safe_text.hpp"
 
 namespace kerf::cli {
 namespace {
@@ -121,9 +122,10 @@ void print_text(const std::vector<Found>& found, const std::vector<std::string>&
         return;
     }
     for (const auto& f : found) {
-        std::cout << f.kind << "  " << hex(f.vid) << ":" << hex(f.pid) << "  " << f.where
-                  << "  serial " << (f.serial.empty() ? "-" : f.serial) << "  " << f.state
-                  << "  profile " << (f.profile.empty() ? "-" : f.profile) << "\n";
+        // Serial and path come from the device and the system: never raw to the terminal.
+        std::cout << f.kind << "  " << hex(f.vid) << ":" << hex(f.pid) << "  " << safe_text(f.where)
+                  << "  serial " << (f.serial.empty() ? "-" : safe_text(f.serial)) << "  "
+                  << f.state << "  profile " << (f.profile.empty() ? "-" : f.profile) << "\n";
     }
 }
 
