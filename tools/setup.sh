@@ -4,6 +4,7 @@
 #
 #   bash tools/setup.sh                       # Release-ish build in ./build
 #   bash tools/setup.sh --werror              # warnings are errors (CI)
+#   bash tools/setup.sh --debug-checks        # arm KERF_ASSERT (CI builds do)
 #   bash tools/setup.sh --build-dir build-asan --sanitize address,undefined
 #   bash tools/setup.sh --fuzz --build-dir build-asan    # clang, ASan+UBSan: tests + fuzz targets
 #   bash tools/setup.sh --bench-peers         # also VTK and CGAL, for the cutting benchmark
@@ -14,18 +15,20 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build_dir="$here/build"
 build_type=RelWithDebInfo
 werror=OFF
+debug_checks=OFF
 sanitize=""
 fuzz=OFF
 bench_peers=0
 do_build=1
 targets=()
 
-usage() { sed -n '2,12p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; }
+usage() { sed -n '2,13p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'; }
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --build-dir) build_dir=$(realpath -m "$2"); shift 2 ;;
     --type) build_type="$2"; shift 2 ;;
     --werror) werror=ON; shift ;;
+    --debug-checks) debug_checks=ON; shift ;;
     --sanitize) sanitize="$2"; shift 2 ;;
     --fuzz) fuzz=ON; shift ;;
     --bench-peers) bench_peers=1; shift ;;
@@ -42,6 +45,7 @@ packages=(
   libegl-dev libgles-dev libgbm-dev libegl-mesa0 libgl1-mesa-dri
   libtomlplusplus-dev libspdlog-dev libcli11-dev libstb-dev libboost-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  clang-format-14
   libembree-dev
   valgrind
   libx11-dev libdrm-dev xvfb
@@ -64,8 +68,12 @@ fi
 [[ $do_build == 1 ]] || exit 0
 
 cmake_args=(-S "$here" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE="$build_type"
-            -DKERF_WERROR="$werror" -DKERF_SANITIZE="$sanitize" -DKERF_FUZZ="$fuzz"
+            -DKERF_WERROR="$werror" -DKERF_DEBUG_CHECKS="$debug_checks" -DKERF_SANITIZE="$sanitize" -DKERF_FUZZ="$fuzz"
             -DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+if [[ $bench_peers == 1 ]]; then
+  # Forget any earlier "not found" so CMake searches again, and make a missing peer an error.
+  cmake_args+=(-DKERF_BENCH_PEERS=ON -UVTK_DIR -UCGAL_DIR)
+fi
 if [[ $fuzz == ON ]]; then
   cmake_args+=(-DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++)
 fi

@@ -7,10 +7,11 @@
 //   Mesh& m = *r;
 #pragma once
 
-#include <cassert>
 #include <type_traits>
 #include <utility>
 #include <variant>
+
+#include "config/base/check.hpp"
 
 namespace kerf {
 
@@ -34,15 +35,15 @@ public:
     explicit operator bool() const noexcept { return has_value(); }
 
     T& value() & noexcept {
-        assert(has_value());
+        KERF_ASSERT(has_value(), "value() of a Result holding an error");
         return *std::get_if<0>(&v_);
     }
     const T& value() const& noexcept {
-        assert(has_value());
+        KERF_ASSERT(has_value(), "value() of a Result holding an error");
         return *std::get_if<0>(&v_);
     }
     T&& value() && noexcept {
-        assert(has_value());
+        KERF_ASSERT(has_value(), "value() of a Result holding an error");
         return std::move(*std::get_if<0>(&v_));
     }
     T& operator*() & noexcept { return value(); }
@@ -52,11 +53,11 @@ public:
     const T* operator->() const noexcept { return &value(); }
 
     const E& error() const& noexcept {
-        assert(!has_value());
+        KERF_ASSERT(!has_value(), "error() of a Result holding a value");
         return *std::get_if<1>(&v_);
     }
     E&& error() && noexcept {
-        assert(!has_value());
+        KERF_ASSERT(!has_value(), "error() of a Result holding a value");
         return std::move(*std::get_if<1>(&v_));
     }
 
@@ -74,7 +75,7 @@ public:
     bool has_value() const noexcept { return ok_; }
     explicit operator bool() const noexcept { return ok_; }
     const E& error() const noexcept {
-        assert(!ok_);
+        KERF_ASSERT(!ok_, "error() of a successful Status");
         return err_;
     }
 
