@@ -33,11 +33,45 @@ struct DeviceLoop {
     /// First half of a tick: read the device and run the safety layer.
     void read_and_decide(std::uint32_t timeout_us = 20000) noexcept {
         status = device->try_read(sample, timeout_us);
+        decide();
+    }
+    /// The safety layer's step on the last read.
+    void decide() noexcept {
         SafetyInput in;
         in.desired_force_n = desired;
         in.read_status = status;
         in.flags = sample.flags;
         out = safety.step(in);
+    }
+    /// Lockstep tick for tests whose point is correctness (sample i is the answer to packet i):
+    /// a read that times out because the emulator was descheduled on a loaded machine is waited
+    /// for (and counted in `late_reads`), never taken as a lost sample. Only for emulators that
+    /// answer every packet: gives up after `max_wait_us` in all.
+    void tick_lockstep(std::uint32_t max_wait_us = 30'000'000) noexcept {
+        read_lockstep(max_wait_us);
+        write();
+    }
+    /// First half of a lockstep tick: read (waiting out late answers), run the safety layer.
+    void read_lockstep(std::uint32_t max_wait_us = 30'000'000) noexcept {
+        constexpr std::uint32_t kSliceUs = 20000;
+        status = device->try_read(sample, kSliceUs);
+        for (std::uint32_t waited = kSliceUs;
+             status == DeviceStatus::kNoData && waited < max_wait_us; waited += kSliceUs) {
+            ++late_reads;
+            status = device->try_read(sample, kSliceUs);
+        }
+        decide();
+    }
+    /// Reads every answer already queued (a stalled tick leaves the exchange a packet behind),
+    /// keeps the newest sample and runs the safety layer once on it. Waits for nothing.
+    void drain() noexcept {
+        DeviceSample newer;
+        while (device->try_read(newer, 0) == DeviceStatus::kOk) {
+            sample = newer;
+            status = DeviceStatus::kOk;
+            ++drained;
+        }
+        decide();
     }
     /// Second half: send the command.
     void write() noexcept {
@@ -52,6 +86,9 @@ struct DeviceLoop {
     DeviceStatus write_status = DeviceStatus::kOk;
     Vec3d desired{};
     Vec3d out{};
+    std::uint64_t late_reads = 0;       ///< lockstep reads that had to wait past one 20 ms slice
+    std::uint64_t drained = 0;          ///< queued answers drain() read
+    std::uint64_t engage_restarts = 0;  ///< test::engage() attempts that had to start over
 };
 
 }  // namespace kerf::firmware_host::test

@@ -2,7 +2,7 @@
 // KERF_BIN_DIR. One role per run; each prints one line of `key=value` results on stdout and exits
 // 0 when its own checks passed (nonzero says which check failed).
 //
-//   producer          --name N --journal-dir D --events E --per-tick K [--hold-ms H]
+//   producer          --name N --journal-dir D --events E --per-tick K [--hold-ms H] [--lockstep]
 //   [--read-mailbox] telemetry-producer --name N --journal-dir D --count C [--pace] [--hold-ms H]
 //   consumer          --name N --out FILE --events E [--tolerant] [--max-ms T]
 //   telemetry-consumer --name N --count C [--slow-every K]
@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "rt_core/ipc/consumer.hpp"
+#include "rt_core/ipc/journal_writer.hpp"
 #include "rt_core/ipc/mesh_mailbox.hpp"
 #include "rt_core/ipc/producer.hpp"
 #include "rt_core/ipc/record_check.hpp"
@@ -90,6 +91,28 @@ void hold(Producer& p, std::uint64_t hold_ms, std::uint64_t& tick) {
     }
 }
 
+// --lockstep: before each tick, waits (heart still beating) until the journal thread and every
+// attached consumer are within half a queue of the producer, so a test whose point is
+// correctness ("a consumer that keeps up gets everything") holds on a loaded machine where
+// either may be descheduled for a second. Never used by kerf-rt: its loop drops and counts.
+void wait_for_readers(Producer& p, std::uint64_t published, std::uint64_t per_tick,
+                      std::uint64_t& tick) {
+    const SegmentLayout& l = p.layout();
+    const std::uint64_t give_up = monotonic_ns() + 60'000'000'000u;  // a dead reader: go on, lose
+    while (monotonic_ns() < give_up) {
+        bool behind =
+            published + per_tick > l.journal_next_sequence.value.load() + kJournalQueueCapacity / 2;
+        for (const ConsumerSlot& slot : l.slots) {
+            if (slot.control.consumer_pid.load() == 0) continue;
+            behind =
+                behind || published + per_tick > slot.control.delivered.load() + kEventCapacity / 2;
+        }
+        if (!behind || g_stop) return;
+        p.heartbeat(++tick, monotonic_ns());
+        sleep_ns(1'000'000);
+    }
+}
+
 int run_producer(const Args& a) {
     auto p = ProducerBuilder()
                  .segment_name(a.get("--name"))
@@ -108,7 +131,9 @@ int run_producer(const Args& a) {
     push_ns.reserve(events);
     std::uint64_t tick = 0, published = 0, meshes = 0;
     const std::uint64_t start = monotonic_ns();
+    const bool lockstep = a.flag("--lockstep");
     while (published < events && !g_stop) {
+        if (lockstep) wait_for_readers(*p, published, per_tick, tick);
         wait_tick(start, tick);
         p->heartbeat(++tick, monotonic_ns());
         for (std::uint64_t k = 0; k < per_tick && published < events; ++k, ++published) {
