@@ -4,6 +4,7 @@
 // timeout and never allocate.
 #pragma once
 
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -43,6 +44,14 @@ public:
 private:
     int fd_ = -1;
 };
+
+/// Microseconds from now until `deadline` (0 once it has passed): the `timeout_us` to give
+/// receive() so that several receives share one deadline. noexcept, no allocation.
+inline std::uint32_t us_until(std::chrono::steady_clock::time_point deadline) noexcept {
+    const auto left = std::chrono::duration_cast<std::chrono::microseconds>(
+        deadline - std::chrono::steady_clock::now());
+    return left.count() > 0 ? static_cast<std::uint32_t>(left.count()) : 0U;
+}
 
 class SeqpacketListener {
 public:

@@ -11,12 +11,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-std::uint32_t us_left(Clock::time_point deadline) noexcept {
-    const auto left =
-        std::chrono::duration_cast<std::chrono::microseconds>(deadline - Clock::now());
-    return left.count() > 0 ? static_cast<std::uint32_t>(left.count()) : 0U;
-}
-
 }  // namespace
 
 LinkStatus SocketReportTransport::try_write_report(std::span<const std::byte> report) noexcept {
@@ -30,7 +24,7 @@ LinkStatus SocketReportTransport::await(std::byte want, std::span<std::byte> pay
     std::array<std::byte, 256> datagram{};
     for (;;) {
         std::size_t n = 0;
-        const auto s = socket_.receive(datagram, n, us_left(deadline));
+        const auto s = socket_.receive(datagram, n, us_until(deadline));
         if (s == LinkStatus::kOverflow) continue;  // oversized datagram: not a report, dropped
         if (s != LinkStatus::kOk) return s;
         if (n >= 1 && datagram[0] == want) {

@@ -11,12 +11,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-std::uint32_t us_left(Clock::time_point deadline) noexcept {
-    const auto left =
-        std::chrono::duration_cast<std::chrono::microseconds>(deadline - Clock::now());
-    return left.count() > 0 ? static_cast<std::uint32_t>(left.count()) : 0U;
-}
-
 }  // namespace
 
 LinkStatus SocketUsbLink::control_transfer(std::uint8_t request_type, std::uint8_t request,
@@ -33,13 +27,13 @@ LinkStatus SocketUsbLink::control_transfer(std::uint8_t request_type, std::uint8
     std::array<std::byte, 600> reply{};
     for (;;) {  // bulk IN data queued before the reply is stale: the FTDI purges it too
         std::size_t n = 0;
-        const auto s = socket_.receive(reply, n, us_left(deadline));
+        const auto s = socket_.receive(reply, n, us_until(deadline));
         if (s == LinkStatus::kOverflow) continue;
         if (s != LinkStatus::kOk) return s;
         if (n == 2 && reply[0] == tag::kControlReply) {
             return reply[1] == std::byte{1} ? LinkStatus::kOk : LinkStatus::kStall;
         }
-        if (us_left(deadline) == 0) return LinkStatus::kTimeout;
+        if (us_until(deadline) == 0) return LinkStatus::kTimeout;
     }
 }
 
@@ -55,7 +49,7 @@ LinkStatus SocketUsbLink::bulk_read(std::span<std::byte> buffer, std::size_t& re
     std::array<std::byte, 600> datagram{};
     for (;;) {
         std::size_t n = 0;
-        const auto s = socket_.receive(datagram, n, us_left(deadline));
+        const auto s = socket_.receive(datagram, n, us_until(deadline));
         if (s != LinkStatus::kOk) return s;
         if (n >= 1 && datagram[0] == tag::kIn) {
             if (n - 1 > buffer.size()) return LinkStatus::kOverflow;

@@ -1,8 +1,6 @@
 // `kerf cut` as a real process (fork/exec): pieces written and reported, sequential cuts, and a
 // clear error with the right exit code for every kind of bad argument.
-#include <fcntl.h>
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -15,24 +13,15 @@
 #include "display/mesh/mesh_io.hpp"
 #include "display/mesh/shapes.hpp"
 #include "tests/cut/mesh_checks.hpp"
+#include "tests/run_process.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using kerf::mesh::Units;
 
-struct ProcessRun {
-    int exit_code = -1;
-    std::string out;
-    std::string err;
-};
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using kerf::test::ProcessRun;
+using kerf::test::slurp;
 
 class KerfCut : public ::testing::Test {
 protected:
@@ -51,23 +40,8 @@ protected:
     fs::path tube() const { return dir_ / "tube.ply"; }
 
     ProcessRun kerf(std::vector<std::string> args) {
-        const fs::path out = dir_ / "stdout", err = dir_ / "stderr";
-        std::string bin = std::string(KERF_BIN_DIR) + "/kerf";
-        std::vector<char*> argv{bin.data(), const_cast<char*>("cut")};
-        for (std::string& a : args) argv.push_back(a.data());
-        argv.push_back(nullptr);
-        const pid_t pid = ::fork();
-        if (pid == 0) {
-            const int o = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-            const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-            ::dup2(o, 1);
-            ::dup2(e, 2);
-            ::execv(argv[0], argv.data());
-            ::_exit(127);
-        }
-        int status = 0;
-        ::waitpid(pid, &status, 0);
-        return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+        args.insert(args.begin(), "cut");
+        return kerf::test::run_process(std::string(KERF_BIN_DIR) + "/kerf", std::move(args), dir_);
     }
 
     /// Runs a cut that must be refused as a usage error naming `what`.

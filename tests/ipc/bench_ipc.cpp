@@ -3,7 +3,12 @@
 // harness; plus the full kerf Producer path (checksum, fan-out over slots, journal enqueue, drop
 // accounting) against a boost push of the same 128-byte record. Prints ratios at the end.
 //
-//   build/bin/bench_ipc --benchmark_counters_tabular=true
+//   build/bin/bench_ipc --benchmark_counters_tabular=true [--producer-cpu=0 --consumer-cpu=1]
+//
+// Pinned: the producer (this process) and the consumer (each forked child) run on the CPUs given
+// (default 0 and 1; the summary says which). Unpinned, both may share one CPU and both then run
+// several times faster, which says nothing about two cores. Five repetitions unless the command
+// line says otherwise; every summary figure is the median with its min-max over them.
 #include <benchmark/benchmark.h>
 #include <sched.h>
 #include <sys/mman.h>
@@ -15,9 +20,11 @@
 #include <boost/lockfree/spsc_queue.hpp>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <new>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "rt_core/ipc/consumer.hpp"
@@ -28,6 +35,17 @@
 namespace {
 
 using namespace kerf::ipc;
+
+int g_producer_cpu = 0;  ///< --producer-cpu: this process
+int g_consumer_cpu = 1;  ///< --consumer-cpu: every forked consumer
+
+/// Pins the calling process to `cpu`; false when the machine has no such CPU.
+bool pin_to(int cpu) {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    CPU_SET(cpu, &set);
+    return sched_setaffinity(0, sizeof(set), &set) == 0;
+}
 
 constexpr std::uint32_t kCap = 4096;
 constexpr std::uint32_t kMaxLatencySamples = 200'000;
@@ -90,6 +108,7 @@ template <class Ring>
 pid_t start_consumer(std::uint64_t count, bool latency) {
     const pid_t pid = fork();
     if (pid != 0) return pid;
+    pin_to(g_consumer_cpu);
     Shared* s = shared();
     SpscConsumerEnd<Rec64, kCap> kerf_end(&s->ring, s->slots);
     s->consumer_ready.store(1, std::memory_order_release);
@@ -119,7 +138,6 @@ pid_t start_consumer(std::uint64_t count, bool latency) {
 }
 
 std::map<std::string, std::vector<double>> g_runs;  // per repetition; medians printed at the end
-std::map<std::string, double> g_results;
 
 template <class Ring>
 void BM_Throughput64(benchmark::State& state) {
@@ -198,6 +216,7 @@ void BM_ProducerPublishEvent(benchmark::State& state) {
     p->heartbeat(0, monotonic_ns());
     const pid_t child = fork();
     if (child == 0) {
+        pin_to(g_consumer_cpu);
         auto c =
             ConsumerBuilder().segment_name(name).from_sequence(ConsumerBuilder::kFromNow).attach();
         if (!c) _exit(2);
@@ -246,6 +265,7 @@ void BM_BoostPush128(benchmark::State& state) {
     auto* stop = new (static_cast<char*>(mem) + sizeof(Q)) std::atomic<int>(0);
     const pid_t child = fork();
     if (child == 0) {
+        pin_to(g_consumer_cpu);
         EventRecord r;
         while (stop->load(std::memory_order_acquire) == 0) q->pop(r);
         _exit(0);
@@ -300,33 +320,72 @@ BENCHMARK(BM_BoostPush128)->Iterations(10'000)->UseRealTime();
 }  // namespace
 
 int main(int argc, char** argv) {
+    std::vector<char*> args;
+    bool repetitions_given = false;
+    for (int i = 0; i < argc; ++i) {
+        const std::string_view a(argv[i]);
+        if (a.rfind("--producer-cpu=", 0) == 0) {
+            g_producer_cpu = std::atoi(argv[i] + 15);
+        } else if (a.rfind("--consumer-cpu=", 0) == 0) {
+            g_consumer_cpu = std::atoi(argv[i] + 15);
+        } else {
+            repetitions_given = repetitions_given || a.rfind("--benchmark_repetitions", 0) == 0;
+            args.push_back(argv[i]);
+        }
+    }
+    std::string reps = "--benchmark_repetitions=5";
+    if (!repetitions_given) args.push_back(reps.data());
+    argc = static_cast<int>(args.size());
+    argv = args.data();
     benchmark::Initialize(&argc, argv);
+    const bool pinned = pin_to(g_producer_cpu) && g_consumer_cpu < CPU_SETSIZE &&
+                        g_consumer_cpu < static_cast<int>(sysconf(_SC_NPROCESSORS_ONLN));
     RatioReporter reporter;
     benchmark::RunSpecifiedBenchmarks(&reporter);
-    for (auto& [k, v] : g_runs) {  // median over repetitions
-        std::sort(v.begin(), v.end());
-        g_results[k] = v[v.size() / 2];
-    }
-    auto get = [](const char* k) {
-        auto it = g_results.find(k);
-        return it == g_results.end() ? 0.0 : it->second;
+    struct Spread {
+        double median = 0, min = 0, max = 0;
+        std::size_t n = 0;
     };
-    auto ratio = [&](const char* a, const char* b) { return get(b) > 0 ? get(a) / get(b) : 0.0; };
+    std::map<std::string, Spread> results;
+    for (auto& [k, v] : g_runs) {  // median, min and max over repetitions
+        std::sort(v.begin(), v.end());
+        const std::size_t n = v.size();
+        const double median = n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+        results[k] = Spread{median, v.front(), v.back(), n};
+    }
+    auto get = [&](const std::string& k) { return results[k]; };
+    // Ratio of medians, and the widest range the repetitions allow.
+    auto ratio = [&](const std::string& a, const std::string& b) {
+        const Spread sa = get(a), sb = get(b);
+        char text[96];
+        if (sb.median <= 0 || sb.min <= 0) return std::string("n/a");
+        std::snprintf(text, sizeof text, "%.2f (%.2f-%.2f)", sa.median / sb.median, sa.min / sb.max,
+                      sa.max / sb.min);
+        return std::string(text);
+    };
+    auto fig = [&](const std::string& k, int decimals) {  // "median (min-max)"
+        const Spread s = get(k);
+        char text[96];
+        std::snprintf(text, sizeof text, "%.*f (%.*f-%.*f)", decimals, s.median, decimals, s.min,
+                      decimals, s.max);
+        return std::string(text);
+    };
     std::printf("\n== kerf vs boost::lockfree::spsc_queue, same run, same harness ==\n");
-    std::printf(
-        "throughput 64 B (median of %zu runs): kerf %.1f M/s, boost %.1f M/s, "
-        "kerf/boost = %.2f\n",
-        g_runs["kerf_mps"].size(), get("kerf_mps"), get("boost_mps"),
-        ratio("kerf_mps", "boost_mps"));
+    std::printf("pinned: %s (producer cpu %d, consumer cpu %d); median (min-max) of %zu runs\n",
+                pinned ? "yes" : "NO (pinning failed)", g_producer_cpu, g_consumer_cpu,
+                get("kerf_mps").n);
+    std::printf("throughput 64 B: kerf %s M/s, boost %s M/s, kerf/boost = %s\n",
+                fig("kerf_mps", 1).c_str(), fig("boost_mps", 1).c_str(),
+                ratio("kerf_mps", "boost_mps").c_str());
     for (const char* p : {"p50", "p99", "p999"}) {
         const std::string k = std::string("kerf_lat_") + p, b = std::string("boost_lat_") + p;
-        std::printf("one-way latency %-4s: kerf %.0f ns, boost %.0f ns, kerf/boost = %.2f\n", p,
-                    get(k.c_str()), get(b.c_str()), ratio(k.c_str(), b.c_str()));
+        std::printf("one-way latency %-4s: kerf %s ns, boost %s ns, kerf/boost = %s\n", p,
+                    fig(k, 0).c_str(), fig(b, 0).c_str(), ratio(k, b).c_str());
     }
     std::printf(
-        "push median: kerf Producer::publish_event (128 B, journal+drops on) %.0f ns, "
-        "boost push 128 B %.0f ns, kerf/boost = %.2f\n",
-        get("kerf_push_median"), get("boost_push_median"),
-        ratio("kerf_push_median", "boost_push_median"));
+        "push median: kerf Producer::publish_event (128 B, journal+drops on) %s ns, "
+        "boost push 128 B %s ns, kerf/boost = %s\n",
+        fig("kerf_push_median", 0).c_str(), fig("boost_push_median", 0).c_str(),
+        ratio("kerf_push_median", "boost_push_median").c_str());
     return 0;
 }

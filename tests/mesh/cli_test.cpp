@@ -1,7 +1,5 @@
 // `kerf mesh info`, `kerf gen foot` and `kerf demo` run as real processes (fork/exec).
-#include <fcntl.h>
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -11,22 +9,13 @@
 #include <string>
 #include <vector>
 
+#include "tests/run_process.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct ProcessRun {
-    int exit_code = -1;
-    std::string out;
-    std::string err;
-};
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using kerf::test::ProcessRun;
 
 class KerfCli : public ::testing::Test {
 protected:
@@ -37,24 +26,7 @@ protected:
     void TearDown() override { fs::remove_all(dir_); }
 
     ProcessRun kerf(std::vector<std::string> args) {
-        const fs::path out = dir_ / "stdout", err = dir_ / "stderr";
-        std::vector<char*> argv;
-        std::string bin = std::string(KERF_BIN_DIR) + "/kerf";
-        argv.push_back(bin.data());
-        for (std::string& a : args) argv.push_back(a.data());
-        argv.push_back(nullptr);
-        const pid_t pid = ::fork();
-        if (pid == 0) {
-            const int o = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-            const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-            ::dup2(o, 1);
-            ::dup2(e, 2);
-            ::execv(argv[0], argv.data());
-            ::_exit(127);
-        }
-        int status = 0;
-        ::waitpid(pid, &status, 0);
-        return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(out), slurp(err)};
+        return kerf::test::run_process(std::string(KERF_BIN_DIR) + "/kerf", std::move(args), dir_);
     }
 
     fs::path dir_;

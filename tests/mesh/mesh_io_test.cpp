@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -55,7 +56,16 @@ INSTANTIATE_TEST_SUITE_P(EveryFormat, RoundTrip,
                                            Case{Format::kPly, Encoding::kAscii, true},
                                            Case{Format::kPly, Encoding::kBinaryLittleEndian, true},
                                            Case{Format::kPly, Encoding::kBinaryBigEndian, true},
-                                           Case{Format::kOff, Encoding::kAscii, true}));
+                                           Case{Format::kOff, Encoding::kAscii, true}),
+                         [](const auto& param_info) {  // e.g. ply_binary_little_endian
+                             std::string name = std::string(to_string(param_info.param.format)) +
+                                                "_" +
+                                                std::string(to_string(param_info.param.encoding));
+                             for (char& c : name) {
+                                 if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                             }
+                             return name;
+                         });
 
 TEST(MeshIo, PlyCarriesVertexMaterialsThroughARoundTrip) {
     const TriMesh tube = make_hollow_tube(0.04, 0.006, 0.003, 16, 4);
