@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "config/expand_path.hpp"
 #include "config/base/result.hpp"
+#include "config/expand_path.hpp"
 #include "config/scene.hpp"
 
 namespace kerf::mesh {
