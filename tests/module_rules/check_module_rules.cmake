@@ -10,7 +10,7 @@
 # Rules (id: what breaks it):
 #   headless-graphics  a headless library (base, config, mesh, cut, ipc, physics, firmware_host)
 #                      links EGL / GLES / GL / GBM / DRM / X11 / GLM, directly or through others
-#   rt-core-openmesh   a file under rt_core/ includes OpenMesh, or an rt_core target links it
+#   rt-core-openmesh   a file under rt_core/ includes OpenMesh, or an rt_core library links it
 #   firmware-host-ipc  a file under firmware_host/ includes rt_core/, or its targets link kerf_ipc
 #   display-rt-core    a display/ target links an rt_core/ target other than kerf_ipc, or a
 #                      display/ file includes rt_core/ outside rt_core/ipc/
@@ -40,6 +40,7 @@ set(all_targets "")
 foreach(line IN LISTS lines)
   string(REPLACE "|" ";" fields "${line}")
   list(GET fields 0 name)
+  list(GET fields 1 type)
   list(GET fields 2 dir)
   list(LENGTH fields n)
   set(deps "")
@@ -48,6 +49,7 @@ foreach(line IN LISTS lines)
   endif()
   string(MAKE_C_IDENTIFIER "${name}" key)
   set(DIR_${key} "${dir}")
+  set(TYPE_${key} "${type}")
   set(DEPS_${key} "${deps}")
   list(APPEND all_targets "${name}")
 endforeach()
@@ -97,6 +99,12 @@ endforeach()
 
 targets_under(rt_core rt_targets)
 foreach(t IN LISTS rt_targets)
+  # Libraries only: the kerf-rt executable may load the scene through kerf_mesh's plain-array API
+  # at start-up (no OpenMesh header in rt_core/, which the source grep below checks).
+  string(MAKE_C_IDENTIFIER "${t}" key)
+  if(TYPE_${key} STREQUAL "EXECUTABLE")
+    continue()
+  endif()
   closure(${t} deps)
   foreach(d IN LISTS deps)
     if(d MATCHES "OpenMesh")
