@@ -8,7 +8,7 @@
 #include <fstream>
 #include <string>
 
-#include "tests/tools/run_process.hpp"
+#include "tests/run_process.hpp"
 
 namespace {
 

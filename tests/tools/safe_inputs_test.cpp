@@ -11,7 +11,7 @@
 
 #include "display/mesh/mesh_io.hpp"
 #include "display/mesh/shapes.hpp"
-#include "tests/tools/run_process.hpp"
+#include "tests/run_process.hpp"
 
 namespace {
 
