@@ -209,6 +209,10 @@ int run_rt_process(const RtOptions& o) {
     const WorldBuilderStats ws = builder.stats();
     std::printf(
         "%s", summary(loop->stats(), ws.rejected, reloader.accepted(), reloader.refused()).c_str());
+    if (const auto fault = loop->checks().first()) {
+        std::printf("  FAULT: check `%s` failed at %s:%u (%u times); force was held at zero\n",
+                    fault->condition, fault->file, fault->line, loop->checks().failures());
+    }
     if (!o.trace_path.empty() && !write_trace(o.trace_path, trace, trace_rows)) {
         return fail("could not write the trace " + o.trace_path);
     }

@@ -129,6 +129,8 @@ inline constexpr std::uint32_t kLoopFlagSafeState = 1u << 0;    ///< forced zero
 inline constexpr std::uint32_t kLoopFlagDegradedRt = 1u << 1;   ///< running without SCHED_FIFO
 inline constexpr std::uint32_t kLoopFlagDeviceFault = 1u << 2;  ///< device read failed or fault
 inline constexpr std::uint32_t kLoopFlagFixedBlade = 1u << 3;   ///< blade from the planned cut
+inline constexpr std::uint32_t kLoopFlagCheckFailed = 1u
+                                                      << 4;  ///< a KERF_RT_CHECK failed: zero force
 
 /// Latest value behind the seqlock (readers want "now", not history). 128 bytes.
 struct LatestState {

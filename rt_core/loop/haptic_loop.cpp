@@ -163,11 +163,18 @@ void HapticLoop::compute_kinematics() noexcept {
     tool_.pose.orientation = blade_.orientation();
     tool_.velocity_m_s = settings_.motion_scale * (r * to_vec(sample_.velocity_m_per_s));
     tool_.saw_running = blade_.saw_running();
+    KERF_RT_CHECK(
+        physics::is_finite(tool_.pose.position_m) && physics::is_finite(tool_.velocity_m_s),
+        checks_, LoopCheck::kNonFiniteToolPose);
 }
 
 void HapticLoop::collide_and_force() noexcept {
     const bool fresh = read_status_ == DeviceStatus::kOk && sample_.count != last_sample_count_;
     last_sample_count_ = sample_.count;
+    if (checks_.tripped()) {  // never feed a broken pose to the proxy
+        physics_out_ = physics::PhysicsOutput{};
+        return;
+    }
     if (!proxy_reset_) {
         if (!fresh) {
             physics_out_ = physics::PhysicsOutput{};
@@ -182,7 +189,9 @@ void HapticLoop::collide_and_force() noexcept {
 void HapticLoop::apply_safety(const TickTiming& timing) noexcept {
     track_timing(timing);
     // The physics works in the world frame; the device takes forces in its own frame.
-    const physics::Vec3 f_world = physics_out_.force_n;
+    physics::Vec3 f_world = physics_out_.force_n;
+    if (!KERF_RT_CHECK(physics::is_finite(f_world), checks_, LoopCheck::kNonFiniteForce))
+        f_world = {};
     const physics::Vec3 f_device =
         physics::transpose_times(settings_.blade.world_from_device, f_world);
     firmware_host::SafetyInput in;
@@ -190,8 +199,9 @@ void HapticLoop::apply_safety(const TickTiming& timing) noexcept {
     in.read_status = read_status_;
     in.flags = sample_.flags;
     const firmware_host::Vec3d out = safety_.step(in);
-    command_.force_n = safe_state_ ? firmware_host::Vec3d{} : out;
-    command_.enable = !safe_state_ && safety_.engaged();
+    const bool zero = safe_state_ || checks_.tripped();
+    command_.force_n = zero ? firmware_host::Vec3d{} : out;
+    command_.enable = !zero && safety_.engaged();
     track_device_state();
 }
 
@@ -266,7 +276,8 @@ void HapticLoop::publish(const TickTiming& timing) noexcept {
     s.loop_flags = (safe_state_ ? ipc::kLoopFlagSafeState : 0u) |
                    (settings_.degraded_realtime ? ipc::kLoopFlagDegradedRt : 0u) |
                    (device_state_ == ipc::DeviceState::kReady ? 0u : ipc::kLoopFlagDeviceFault) |
-                   (blade_.sensed() ? 0u : ipc::kLoopFlagFixedBlade);
+                   (blade_.sensed() ? 0u : ipc::kLoopFlagFixedBlade) |
+                   (checks_.tripped() ? ipc::kLoopFlagCheckFailed : 0u);
     producer_.publish_telemetry(s);
 
     ipc::LatestState st{};

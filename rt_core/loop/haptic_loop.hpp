@@ -17,6 +17,7 @@
 
 #include <cstdint>
 
+#include "config/base/check.hpp"
 #include "firmware_host/device/device.hpp"
 #include "firmware_host/safety/force_safety.hpp"
 #include "rt_core/ipc/producer.hpp"
@@ -41,6 +42,14 @@ struct LoopSettings {
     BladePlan blade;                         ///< fallback orientation and button steps
     bool degraded_realtime = false;          ///< reported in every sample's loop_flags
     bool lockstep = false;  ///< paced by the emulator: tick work includes its answer, no misses
+};
+
+/// The loop's always-on invariants (KERF_RT_CHECK codes). A failed check latches: the loop
+/// commands zero force with the amplifiers off from that tick on, flags every telemetry sample
+/// (kLoopFlagCheckFailed) and kerf-rt names the check in its summary. Never an abort in the loop.
+enum class LoopCheck : std::uint16_t {
+    kNonFiniteToolPose = 1,  ///< the tool pose (device sample through kinematics) is not finite
+    kNonFiniteForce = 2,     ///< the force model returned a non-finite force
 };
 
 /// Timing of one tick as the runner measured it.
@@ -101,6 +110,8 @@ public:
     /// The tool position of the last tick, world frame, m.
     const physics::Vec3& tool_position_m() const noexcept { return tool_.pose.position_m; }
     bool in_safe_state() const noexcept { return safe_state_; }
+    /// The latched failed invariant, if any (readable from any thread; see LoopCheck).
+    const FaultLatch& checks() const noexcept { return checks_; }
     /// This tick's device read result and the newest sample (tests, tools).
     firmware_host::DeviceStatus last_read_status() const noexcept { return read_status_; }
     const firmware_host::DeviceSample& last_sample() const noexcept { return sample_; }
@@ -151,6 +162,7 @@ private:
     std::uint32_t clean_ticks_ = 0;
     std::uint32_t consecutive_not_ok_ = 0;
     bool safe_state_ = false;
+    FaultLatch checks_;
     bool overran_last_ = false;
     ipc::DeviceState device_state_ = ipc::DeviceState::kConnecting;
     std::uint32_t period_ns_max_ = 0, compute_ns_max_ = 0;

@@ -5,6 +5,9 @@
 // never engages into a standing force).
 #include <gtest/gtest.h>
 
+#include <limits>
+#include <string>
+
 #include "tests/rt/rt_rig.hpp"
 
 namespace kerf::rt {
@@ -76,6 +79,28 @@ INSTANTIATE_TEST_SUITE_P(DeviceFaults, RtLoopFault,
                                            FaultCase{"stuck_encoder", "on", "off", false, true},
                                            FaultCase{"estop", "on", "off", false, true}),
                          [](const auto& param_info) { return std::string(param_info.param.name); });
+
+// An always-on invariant of the loop (KERF_RT_CHECK) that fails — here a non-finite tool pose
+// from a broken device-to-world scale — never aborts the loop: force stays zero with the
+// amplifiers off, the fault is latched with its source location and flagged in telemetry.
+TEST(RtLoopCheck, ABrokenInvariantHoldsZeroForceAndIsReportedNeverAborts) {
+    if (!test::have_shared_meshes()) GTEST_SKIP() << "no " << test::calcaneus_path();
+    test::RigOptions options{test::press_script(0.02), {}, 20'000, true};
+    options.motion_scale = std::numeric_limits<double>::quiet_NaN();
+    test::Rig rig(options);
+    ASSERT_TRUE(rig.ok()) << rig.error();
+    for (int i = 0; i < 2000; ++i) {
+        rig.tick();
+        ASSERT_EQ(rig.force_norm(), 0.0) << "force at tick " << i;
+    }
+    const FaultLatch& checks = rig.loop().checks();
+    ASSERT_TRUE(checks.tripped());
+    const auto fault = checks.first();
+    ASSERT_TRUE(fault.has_value());
+    EXPECT_EQ(fault->code, std::uint16_t(LoopCheck::kNonFiniteToolPose));
+    EXPECT_NE(std::string(fault->file).find("haptic_loop.cpp"), std::string::npos);
+    EXPECT_GE(checks.failures(), 1000u);  // every tick with a sample fails it again
+}
 
 }  // namespace
 }  // namespace kerf::rt

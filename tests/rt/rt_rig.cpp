@@ -106,6 +106,7 @@ bool Rig::open_device() {
     LoopSettings settings;
     settings.read_timeout_us = options_.read_timeout_us;
     settings.lockstep = options_.lockstep;
+    settings.motion_scale = options_.motion_scale;
     settings.device_origin_in_world_m = device_origin_above(*bone_, 0.01);
     firmware_host::SafetyLimits limits;
     limits.peak_force_n = 8.0;

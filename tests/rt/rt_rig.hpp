@@ -39,6 +39,7 @@ struct RigOptions {
     std::uint32_t read_timeout_us = 100'000;
     bool start_builder = true;  ///< poll the mailbox on a thread
     bool lockstep = true;       ///< false: kerf-hapsim runs --realtime, the loop is paced
+    double motion_scale = 1.0;  ///< LoopSettings::motion_scale (NaN: a broken configuration)
 };
 
 class Rig {
