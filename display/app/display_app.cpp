@@ -366,15 +366,13 @@ int run_display(const DisplayOptions& o) {
         ++frame;
         const std::uint64_t t1 = monotonic_ns();
         record_frame(measures, t0, t1, in.drawn_event_ns);
-        drawn = DrawnState{in.edits,
-                           status.state_valid ? status.state.tool_position_m[0] : 0.0,
-                           status.state_valid ? status.state.tool_position_m[1] : 0.0,
-                           status.state_valid ? status.state.tool_position_m[2] : 0.0,
-                           status.state_valid ? status.state.tool_orientation_wxyz[0] : 1.0,
-                           status.state_valid ? status.state.tool_orientation_wxyz[1] : 0.0,
-                           status.state_valid ? status.state.tool_orientation_wxyz[2] : 0.0,
-                           status.state_valid ? status.state.tool_orientation_wxyz[3] : 0.0,
-                           t1};
+        drawn = DrawnState{in.edits, {}, t1};
+        if (status.state_valid) {
+            for (int i = 0; i < 3; ++i) drawn.pose[i] = status.state.tool_position_m[i];
+            for (int i = 0; i < 4; ++i) drawn.pose[3 + i] = status.state.tool_orientation_wxyz[i];
+        } else {
+            drawn.pose[3] = 1.0;  // identity orientation
+        }
 
         const bool last_frame = (o.frames && frame >= o.frames) || exiting;
         if (!shot_taken && wants_screenshot(o, frame, in.cut_ended, last_frame)) {
