@@ -27,35 +27,6 @@ inline bool& quick_mode() {
     return quick;
 }
 
-/// `m` with every triangle split into 4, `levels` times (conforming: shared edge midpoints).
-inline test::TestMesh refine_fast(const test::TestMesh& in, int levels) {
-    test::TestMesh m = in;
-    for (int l = 0; l < levels; ++l) {
-        test::TestMesh out;
-        out.positions = m.positions;
-        out.positions.reserve(m.positions.size() * 4);
-        out.indices.reserve(m.indices.size() * 4);
-        out.materials.reserve(m.materials.size() * 4);
-        std::unordered_map<std::uint64_t, std::uint32_t> mid;
-        mid.reserve(m.indices.size() * 2);
-        const auto middle = [&](std::uint32_t a, std::uint32_t b) {
-            const std::uint64_t key = (std::uint64_t{std::min(a, b)} << 32) | std::max(a, b);
-            auto [it, added] = mid.try_emplace(key, 0);
-            if (added) it->second = out.add_vertex((m.vertex(a) + m.vertex(b)) * 0.5);
-            return it->second;
-        };
-        for (std::size_t i = 0; i < m.indices.size(); i += 3) {
-            const std::uint32_t a = m.indices[i], b = m.indices[i + 1], c = m.indices[i + 2];
-            const std::uint32_t ab = middle(a, b), bc = middle(b, c), ca = middle(c, a);
-            const Material mat = m.materials[i / 3];
-            out.add_triangle(a, ab, ca, mat), out.add_triangle(b, bc, ab, mat);
-            out.add_triangle(c, ca, bc, mat), out.add_triangle(ab, bc, ca, mat);
-        }
-        m = std::move(out);
-    }
-    return m;
-}
-
 /// The calcaneus (58,334 triangles, CT-segmented, mm -> m) refined `levels` times (x4 each),
 /// cached per level. Empty when the shared meshes are absent.
 inline const test::TestMesh& bone(int levels) {
@@ -65,7 +36,7 @@ inline const test::TestMesh& bone(int levels) {
         const auto file =
             std::filesystem::path(KERF_SHARED_MESHES) / "jma_norm01_calcaneus_right.stl";
         const test::TestMesh raw = test::read_binary_stl(file.string(), 0.001);
-        slot = std::make_unique<test::TestMesh>(raw.triangles() ? refine_fast(raw, levels) : raw);
+        slot = std::make_unique<test::TestMesh>(raw.triangles() ? test::refine(raw, levels) : raw);
     }
     return *slot;
 }

@@ -11,6 +11,7 @@
 #include <map>
 #include <string>
 #include <tuple>
+#include <unordered_map>
 #include <vector>
 
 #include "rt_core/physics/collision_mesh.hpp"
@@ -98,12 +99,16 @@ inline TestMesh refine(const TestMesh& in, int levels) {
         TestMesh out;
         out.positions = m.positions;
         out.pose = m.pose;
-        std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> mid;
+        out.positions.reserve(m.positions.size() * 4);
+        out.indices.reserve(m.indices.size() * 4);
+        out.materials.reserve(m.materials.size() * 4);
+        std::unordered_map<std::uint64_t, std::uint32_t> mid;
+        mid.reserve(m.indices.size() * 2);
         const auto middle = [&](std::uint32_t a, std::uint32_t b) {
-            const auto key = std::minmax(a, b);
-            auto it = mid.find(key);
-            if (it != mid.end()) return it->second;
-            return mid[key] = out.add_vertex((m.vertex(a) + m.vertex(b)) * 0.5);
+            const std::uint64_t key = (std::uint64_t{std::min(a, b)} << 32) | std::max(a, b);
+            auto [it, added] = mid.try_emplace(key, 0);
+            if (added) it->second = out.add_vertex((m.vertex(a) + m.vertex(b)) * 0.5);
+            return it->second;
         };
         for (std::size_t i = 0; i < m.indices.size(); i += 3) {
             const std::uint32_t a = m.indices[i], b = m.indices[i + 1], c = m.indices[i + 2];
