@@ -185,7 +185,6 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
                       4 * n_points + 3 * n_caps + 3 * plan.merged.size(),
                       2 * n_points + 2 * n_caps + 2 * plan.merged.size());
     std::vector<VertexHandle> rim(plan.points.size());
-    std::uint32_t splits = 0;
     for (const PlanLoop& l : plan.loops) {
         if (!l.selected) continue;
         for (std::uint32_t i = l.first; i < l.first + l.count; ++i) {
@@ -196,7 +195,6 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
             }
             rim[i] = make_edge_vertex(m, p);
             m.split_copy(EdgeHandle(p.key.id), rim[i]);
-            ++splits;
         }
     }
     // Cut points within tol of their loop neighbour: split, then collapse into the neighbour's
@@ -266,7 +264,7 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
         static_cast<std::uint32_t>(static_cast<int>(m.n_faces()) - faces_before);
     stats.cap_triangles += static_cast<std::uint32_t>(2 * plan.cap_triangles.size());
     stats.loops += static_cast<std::uint32_t>(out.loops_2d.size());
-    (void)splits;
+    stats.vertices_merged += static_cast<std::uint32_t>(plan.merged.size());
     return CutStatus::kOk;
 }
 

@@ -32,6 +32,9 @@ std::string_view to_string(CutStatus s) noexcept;
 struct CutStats {
     std::uint32_t faces_split = 0;        ///< original triangles that were split by the plane(s)
     std::uint32_t vertices_added = 0;     ///< edge-crossing vertices plus duplicates
+    std::uint32_t vertices_merged = 0;    ///< cut points within the on-plane tolerance of their
+                                          ///< loop neighbour, collapsed into it (each moved
+                                          ///< the surface by at most tolerance_m)
     std::uint32_t triangles_added = 0;    ///< triangles created: split parts plus caps
     std::uint32_t triangles_removed = 0;  ///< triangles deleted (biplanar slab only)
     std::uint32_t cap_triangles = 0;      ///< triangles of all caps

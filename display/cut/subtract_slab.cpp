@@ -136,6 +136,7 @@ std::vector<FaceHandle> slab_faces(detail::ContextState& s, const std::vector<Fa
 void add(CutStats& into, const CutStats& a) {
     into.faces_split += a.faces_split;
     into.vertices_added += a.vertices_added;
+    into.vertices_merged += a.vertices_merged;
     into.triangles_added += a.triangles_added;
     into.loops += a.loops;
 }

@@ -10,8 +10,9 @@
 //
 // After an accepted cut: every piece is a closed, consistently oriented 2-manifold with no
 // non-finite or near-zero-area triangle, and a uniplanar cut conserves the signed volume (relative
-// 1e-9); a slab never adds volume. After a refusal: the mesh is bit-identical (mesh_hash).
-// kInternalError is always a failure.
+// 1e-9, plus what the cut points merged into a neighbour within the tolerance may sweep:
+// volume_change_bound); a slab never adds more than that bound. After a refusal: the mesh is
+// bit-identical (mesh_hash). kInternalError is always a failure.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -129,6 +130,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                          op, mode % 3, n_vertices, point[0], point[1], point[2], normal[0],
                          normal[1], normal[2], seed_vertex.idx(), kerf_byte);
         const double volume_before = kerf::cut::testing::signed_volume(mesh);
+        const double area_before = kerf::cut::testing::surface_area(mesh);
         const std::uint64_t hash_before = kerf::cut::mesh_hash(mesh);
         const kerf::cut::Seed seed{mesh.point(seed_vertex), kerf::mesh::FaceHandle(), -1.0};
         kerf::cut::CutResult r;
@@ -147,7 +149,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 r = kerf::cut::subtract_slab(ctx, *plane, 1e-4 * (1 + kerf_byte % 40), seed, slab);
                 break;
         }
-        if (verbose) std::fprintf(stderr, "  -> %s\n", std::string(to_string(r.status)).c_str());
+        if (verbose)
+            std::fprintf(stderr, "  -> %s, %u point(s) merged\n",
+                         std::string(to_string(r.status)).c_str(), r.stats.vertices_merged);
         if (r.status == CutStatus::kInternalError) fail(std::string(what) + ": internal error");
         if (!r.ok()) {
             if (kerf::cut::mesh_hash(mesh) != hash_before)
@@ -158,10 +162,19 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         check_mesh(mesh, what);
         const double volume_after = kerf::cut::testing::signed_volume(mesh);
         if (mode % 3 != 2) {
-            if (std::abs(volume_after - volume_before) > 1e-9 * std::abs(volume_before))
-                fail(std::string(what) + ": volume " + std::to_string(volume_before) + " -> " +
-                     std::to_string(volume_after) + " m^3");
-        } else if (volume_after > volume_before * (1.0 + 1e-9)) {
+            const double bound = kerf::cut::testing::volume_change_bound(
+                volume_before, r.stats.vertices_merged, ctx.tolerance_m(), area_before);
+            if (std::abs(volume_after - volume_before) > bound) {
+                char buf[200];
+                std::snprintf(buf, sizeof buf,
+                              ": volume %.17g -> %.17g m^3 (change %.3g, bound %.3g, %u merged)",
+                              volume_before, volume_after, volume_after - volume_before, bound,
+                              r.stats.vertices_merged);
+                fail(std::string(what) + buf);
+            }
+        } else if (volume_after - volume_before >
+                   kerf::cut::testing::volume_change_bound(volume_before, r.stats.vertices_merged,
+                                                           ctx.tolerance_m(), area_before)) {
             fail("biplanar slab added volume");
         }
     }

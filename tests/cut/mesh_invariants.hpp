@@ -45,6 +45,27 @@ inline double signed_volume(const kerf::mesh::TriMesh& mesh) {
     return v;
 }
 
+/// Total area of the non-deleted faces, m^2.
+inline double surface_area(const kerf::mesh::TriMesh& mesh) {
+    double a = 0.0;
+    for (auto f : mesh.faces()) {
+        auto it = mesh.cfv_iter(f);
+        const auto p0 = mesh.point(*it++);
+        const auto p1 = mesh.point(*it++);
+        const auto p2 = mesh.point(*it);
+        a += 0.5 * OpenMesh::cross(p1 - p0, p2 - p0).norm();
+    }
+    return a;
+}
+
+/// How much a cut may change the enclosed volume, m^3: rounding (1e-9 relative) plus, per cut
+/// point merged into its loop neighbour (CutStats::vertices_merged), the volume a vertex moved
+/// by at most `tolerance_m` can sweep: tolerance_m * (one-ring area) / 3 <= tolerance_m * area / 3.
+inline double volume_change_bound(double volume_m3, std::uint32_t vertices_merged,
+                                  double tolerance_m, double surface_area_m2) {
+    return 1e-9 * std::abs(volume_m3) + vertices_merged * tolerance_m * surface_area_m2 / 3.0;
+}
+
 /// Bounding-box diagonal of the points used by non-deleted faces, m.
 inline double used_bbox_diagonal(const kerf::mesh::TriMesh& mesh) {
     OpenMesh::Vec3d lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
