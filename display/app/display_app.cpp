@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "config/data_dir.hpp"
 #include "config/load_config.hpp"
 #include "display/app/render_sync.hpp"
 #include "display/app/scene_mesh.hpp"
@@ -261,7 +262,9 @@ ParsedArgs parse_display_args(int argc, char** argv) {
         "kerf-display: applies the cuts from the session's events, renders the bone and "
         "publishes the collision mesh"};
     std::string size;
-    app.add_option("--config", o.config_path, "kerf.toml to read")->check(CLI::ExistingFile);
+    app.add_option("--config", o.config_path,
+                   "kerf.toml to read (default: $KERF_DATA_DIR, installed share/kerf or config/)")
+        ->check(CLI::ExistingFile);
     app.add_option("--mode", o.mode, "headless | window | kms (overrides [display] mode)")
         ->check(CLI::IsMember({"headless", "window", "kms"}));
     app.add_option("--size", size, "WIDTHxHEIGHT in pixels (overrides [display])");
@@ -299,7 +302,8 @@ ParsedArgs parse_display_args(int argc, char** argv) {
 }
 
 int run_display(const DisplayOptions& o) {
-    auto cfg = config::load_config(o.config_path);
+    auto cfg =
+        config::load_config(o.config_path.empty() ? config::data_file("kerf.toml") : o.config_path);
     if (!cfg) {
         spdlog::error("kerf-display: {}", cfg.error().message());
         return 2;

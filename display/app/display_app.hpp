@@ -23,7 +23,7 @@
 namespace kerf::display {
 
 struct DisplayOptions {
-    std::filesystem::path config_path = "config/kerf.toml";
+    std::filesystem::path config_path;      ///< empty: config::data_file("kerf.toml")
     std::optional<std::string> mode;        ///< overrides [display] mode: headless | window | kms
     std::optional<int> width, height;       ///< override [display] width_px / height_px
     std::optional<std::string> session;     ///< overrides [shm] session_name

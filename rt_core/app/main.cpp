@@ -8,7 +8,9 @@
 int main(int argc, char** argv) {
     kerf::rt::RtOptions o;
     CLI::App app{"kerf-rt: the 1 kHz haptic loop (device, collision, force, cut events)"};
-    app.add_option("--config", o.config, "kerf.toml to read")->check(CLI::ExistingFile);
+    app.add_option("--config", o.config,
+                   "kerf.toml to read (default: $KERF_DATA_DIR, installed share/kerf or config/)")
+        ->check(CLI::ExistingFile);
     app.add_option("--device", o.device, "simulated | falcon | hid[:SERIAL] (default: kerf.toml)")
         ->check([](const std::string& d) {
             if (d == "simulated" || d == "falcon" || d == "hid" || d.rfind("hid:", 0) == 0)

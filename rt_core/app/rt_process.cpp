@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "config/data_dir.hpp"
 #include "config/load_config.hpp"
 #include "display/mesh/scene_arrays.hpp"
 #include "firmware_host/open/open_device.hpp"
@@ -122,7 +123,7 @@ int run_rt_process(const RtOptions& o) {
     for (int s : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&signals, s);
     pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
-    auto cfg = config::load_config(o.config);
+    auto cfg = config::load_config(o.config.empty() ? config::data_file("kerf.toml") : o.config);
     if (!cfg) return fail(cfg.error().message());
     auto device_profile = pick_device(*cfg, o);
     if (!device_profile) return fail(device_profile.error());

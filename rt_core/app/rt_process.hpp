@@ -10,14 +10,14 @@ namespace kerf::rt {
 
 /// What the command line says.
 struct RtOptions {
-    std::filesystem::path config = "config/kerf.toml";
-    std::string device;         ///< "", "simulated", "falcon", "hid" or "hid:SERIAL"
-    std::string socket_path;    ///< simulated: the emulator socket (overrides the profile)
-    std::string firmware_path;  ///< falcon: firmware image to load
-    std::string session_name;   ///< overrides [shm] session_name
-    double duration_s = 0;      ///< 0: until SIGINT / SIGTERM
-    bool lockstep = false;      ///< paced by the emulator (deterministic)
-    std::string trace_path;     ///< optional: per-tick force trace (CSV), written at exit
+    std::filesystem::path config;  ///< empty: config::data_file("kerf.toml")
+    std::string device;            ///< "", "simulated", "falcon", "hid" or "hid:SERIAL"
+    std::string socket_path;       ///< simulated: the emulator socket (overrides the profile)
+    std::string firmware_path;     ///< falcon: firmware image to load
+    std::string session_name;      ///< overrides [shm] session_name
+    double duration_s = 0;         ///< 0: until SIGINT / SIGTERM
+    bool lockstep = false;         ///< paced by the emulator (deterministic)
+    std::string trace_path;        ///< optional: per-tick force trace (CSV), written at exit
 };
 
 /// Runs kerf-rt; returns the process exit status (0 ok, 1 runtime failure, 3 real time refused).

@@ -24,6 +24,7 @@
 #include <string>
 #include <thread>
 
+#include "config/data_dir.hpp"
 #include "config/load_config.hpp"
 #include "display/app/scene_mesh.hpp"
 #include "display/mesh/foot_generator.hpp"
@@ -75,12 +76,8 @@ bool write_file(const fs::path& p, const std::string& text) {
     return !ec;
 }
 
-/// The shipped kerf.toml: installed (<prefix>/share/kerf/config) or in the source tree.
-fs::path default_config() {
-    const fs::path installed = supervise::executable_dir() / ".." / "share" / "kerf" / "config";
-    if (fs::exists(installed / "kerf.toml")) return fs::canonical(installed / "kerf.toml");
-    return fs::path(KERF_SOURCE_DIR) / "config" / "kerf.toml";
-}
+/// The shipped kerf.toml: $KERF_DATA_DIR, installed share/kerf or the source tree's config/.
+fs::path default_config() { return config::data_file("kerf.toml"); }
 
 /// Replaces the value of every `key = ...` line (keeping the comment) in `text`.
 std::string set_key(const std::string& text, const std::string& key, const std::string& value) {
@@ -419,7 +416,8 @@ void run_demo(const DemoOptions& o) {
         {"hash", hash_hex(replay->hash)},
         {"display_hash", display_hash},
         {"hashes_equal", hashes_equal},
-        {"out", out.string()}};
+        {"out", out.string()},
+        {"config", (o.config.empty() ? default_config() : fs::path(o.config)).string()}};
     const std::string js = report.dump();
     write_file(out / "report.json", js + "\n");
     if (o.json) {

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "config/data_dir.hpp"
 #include "config/device_profile.hpp"
 #include "firmware_host/falcon/ftdi.hpp"
 #include "firmware_host/transport/hidapi_transport.hpp"
@@ -95,21 +96,12 @@ void list_hid(const std::vector<config::NamedDeviceProfile>& profiles, std::vect
     }
 }
 
-/// The device-profile folder: --devices-dir if given; else $KERF_DATA_DIR/devices, the installed
-/// data (<prefix>/share/kerf/devices, compiled in) and the source tree's config/devices (compiled
-/// in), the first that exists — so `kerf devices` works from any folder, installed or in-tree.
+/// The device-profile folder: --devices-dir if given; else the data folder's devices/
+/// (config/data_dir.hpp: $KERF_DATA_DIR, installed share/kerf, the source tree's config/) — so
+/// `kerf devices` works from any folder, installed or in-tree.
 std::string find_devices_dir(const std::string& given) {
     if (!given.empty()) return given;
-    std::vector<std::string> candidates;
-    if (const char* d = std::getenv("KERF_DATA_DIR"); d != nullptr && d[0] != '\0')
-        candidates.push_back(std::string(d) + "/devices");
-    candidates.push_back(KERF_INSTALL_DATA_DIR "/devices");
-    candidates.push_back(KERF_SOURCE_DATA_DIR "/devices");
-    std::error_code ec;
-    for (const auto& c : candidates) {
-        if (std::filesystem::is_directory(c, ec)) return c;
-    }
-    return candidates.back();
+    return (config::data_dir() / "devices").string();
 }
 
 void print_text(const std::vector<Found>& found, const std::vector<std::string>& errors,
