@@ -75,11 +75,8 @@ std::array<double, 4> quaternion(TableReader& t) {
     return {q[0] / norm, q[1] / norm, q[2] / norm, q[3] / norm};
 }
 
-void read_transform(TableReader t, RigidTransform& out) {
-    if (t.has("translation_m"))
-        out.translation_m = t.numbers<3>("translation_m", closed(-10, 10, "m"));
-    else
-        t.problems().mark_known(&t.raw(), "translation_m");
+/// rotation_axis + rotation_angle_deg, or rotation_quaternion_wxyz, or neither (identity).
+void read_rotation(TableReader& t, std::array<double, 4>& out) {
     bool quat = t.has("rotation_quaternion_wxyz");
     bool axis = t.has("rotation_axis") || t.has("rotation_angle_deg");
     for (auto key : {"rotation_axis", "rotation_angle_deg", "rotation_quaternion_wxyz"})
@@ -90,8 +87,64 @@ void read_transform(TableReader t, RigidTransform& out) {
                "rotation_quaternion_wxyz");
         return;
     }
-    if (quat) out.rotation_wxyz = quaternion(t);
-    if (axis) out.rotation_wxyz = axis_angle(t);
+    if (quat) out = quaternion(t);
+    if (axis) out = axis_angle(t);
+}
+
+void read_transform(TableReader t, RigidTransform& out) {
+    if (t.has("translation_m"))
+        out.translation_m = t.numbers<3>("translation_m", closed(-10, 10, "m"));
+    else
+        t.problems().mark_known(&t.raw(), "translation_m");
+    read_rotation(t, out.rotation_wxyz);
+}
+
+void read_device_mapping(TableReader t, DeviceMapping& out) {
+    out.origin_given = t.has("origin_m");
+    if (out.origin_given)
+        out.origin_m = t.numbers<3>("origin_m", closed(-10, 10, "m"));
+    else
+        t.problems().mark_known(&t.raw(), "origin_m");
+    out.scale = t.number_or("scale", 1.0, closed(0.1, 10, ""));
+    read_rotation(t, out.rotation_wxyz);
+}
+
+/// `key` as a unit vector (any non-zero length is accepted and normalised).
+std::array<double, 3> unit_vector(TableReader& t, std::string_view key) {
+    auto v = t.numbers<3>(key, closed(-1e6, 1e6, ""));
+    const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (n < 1e-9) {
+        if (t.problems().empty()) t.fail(key, ConfigErrorKind::kOutOfRange, "a non-zero vector");
+        return {0, 0, 1};
+    }
+    return {v[0] / n, v[1] / n, v[2] / n};
+}
+
+void read_planned_cut(TableReader t, PlannedCut& out) {
+    out.point_m = t.numbers<3>("point_m", closed(-10, 10, "m"));
+    out.normal = unit_vector(t, "normal");
+    out.half_extent_m = t.number_or("half_extent_m", 0.03, closed(0.001, 1, "m"));
+    const auto& n = out.normal;
+    std::array<double, 3> e{};
+    if (t.has("edge")) {
+        e = unit_vector(t, "edge");
+    } else {  // the world axis least aligned with the normal
+        t.problems().mark_known(&t.raw(), "edge");
+        const std::size_t axis = std::abs(n[0]) <= std::abs(n[1])
+                                     ? (std::abs(n[0]) <= std::abs(n[2]) ? 0 : 2)
+                                     : (std::abs(n[1]) <= std::abs(n[2]) ? 1 : 2);
+        e[axis] = 1.0;
+    }
+    const double d = e[0] * n[0] + e[1] * n[1] + e[2] * n[2];
+    std::array<double, 3> u{e[0] - d * n[0], e[1] - d * n[1], e[2] - d * n[2]};
+    const double len = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    if (len < 0.1) {  // within ~6 degrees of the normal: not a direction in the plane
+        if (t.problems().empty())
+            t.fail("edge", ConfigErrorKind::kBadValue,
+                   "a direction in the plane (at least 6 degrees off the normal)");
+        return;
+    }
+    out.edge = {u[0] / len, u[1] / len, u[2] / len};
 }
 
 SceneBody read_body(TableReader b) {
@@ -110,6 +163,9 @@ Scene read_scene(TableReader& root) {
     auto bodies = root.tables("bodies");
     if (bodies.empty() && root.has("bodies"))
         root.fail("bodies", ConfigErrorKind::kOutOfRange, "at least one [[bodies]] table");
+    read_device_mapping(root.table("device_mapping", false), s.device_mapping);
+    s.has_planned_cut = root.has("planned_cut");
+    if (s.has_planned_cut) read_planned_cut(root.table("planned_cut"), s.planned_cut);
     for (auto& b : bodies) {
         s.bodies.push_back(read_body(b));
         const std::string& name = s.bodies.back().name;

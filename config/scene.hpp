@@ -10,6 +10,7 @@
 //   rotation_axis = [0.0, 0.0, 1.0] + rotation_angle_deg = 90.0   (right-handed, non-zero axis)
 //   rotation_quaternion_wxyz = [1.0, 0.0, 0.0, 0.0]                (unit length within 1e-3)
 // and the body is placed as x_world = R * (x_file * metres_per_unit) + translation_m.
+// The same two forms rotate the device's frame in [device_mapping] (see DeviceMapping).
 #pragma once
 
 #include <array>
@@ -61,11 +62,32 @@ struct SceneBody {
     BodyMaterial material = BodyMaterial::kCortical;
 };
 
+/// How the device's workspace maps into the scene ([device_mapping], optional):
+///   x_world = origin_m + scale * R(rotation) * x_device      (metres; forces go back by R^T)
+struct DeviceMapping {
+    bool origin_given = false;  ///< false: origin_m is 20 mm above the scene's bounds, centred
+    std::array<double, 3> origin_m{};  ///< world point the device's origin maps to, m
+    double scale = 1.0;                ///< world metres per device metre (0.1 .. 10)
+    std::array<double, 4> rotation_wxyz{1.0, 0.0, 0.0, 0.0};  ///< world from device, unit
+};
+
+/// The cut the surgeon is to make ([planned_cut], optional), world frame: the display draws it
+/// as a guide; kerf-rt orients the blade by it when the device senses no orientation.
+struct PlannedCut {
+    std::array<double, 3> point_m{};        ///< a point on the plane, m
+    std::array<double, 3> normal{0, 0, 1};  ///< unit plane normal
+    std::array<double, 3> edge{1, 0, 0};    ///< unit blade edge direction, in the plane
+    double half_extent_m = 0.03;            ///< half the side of the guide drawn, m
+};
+
 /// One scene.
 struct Scene {
     std::string name;
     std::string description;
     std::vector<SceneBody> bodies;  ///< at least one; names unique
+    DeviceMapping device_mapping;
+    bool has_planned_cut = false;
+    PlannedCut planned_cut;  ///< valid when has_planned_cut
 };
 
 /// Parses a scene from TOML text; `source_name` is used in error messages.

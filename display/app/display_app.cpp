@@ -320,6 +320,12 @@ int run_display(const DisplayOptions& o) {
         return 3;
     }
     spdlog::info("kerf-display: {}", output->description());
+    if (cfg->scene.has_planned_cut) {  // the scene's planned osteotomy, a translucent guide
+        const config::PlannedCut& c = cfg->scene.planned_cut;
+        renderer->set_planned_cut(render::PlannedCut{{c.point_m[0], c.point_m[1], c.point_m[2]},
+                                                     {c.normal[0], c.normal[1], c.normal[2]},
+                                                     c.half_extent_m});
+    }
 
     Handover handover;
     const config::Config config = *cfg;

@@ -23,6 +23,7 @@
 #include "rt_core/loop/profile_reloader.hpp"
 #include "rt_core/loop/realtime_setup.hpp"
 #include "rt_core/loop/rt_log.hpp"
+#include "rt_core/loop/scene_mapping.hpp"
 #include "rt_core/loop/world_builder.hpp"
 #include "rt_core/physics/physics_params_from_profile.hpp"
 
@@ -70,17 +71,19 @@ Result<std::unique_ptr<ipc::CollisionMesh>, std::string> scene_mesh(const config
 }
 
 std::string summary(const LoopStats& s, std::uint64_t worlds_rejected, std::uint64_t reloads,
-                    std::uint64_t refused) {
+                    std::uint64_t refused, const ReconnectStats& reconnect) {
     const auto us = [](std::uint64_t ns) { return double(ns) / 1000.0; };
-    char buf[1024];
+    char buf[1280];
     std::snprintf(
         buf, sizeof buf,
         "kerf-rt summary: ticks %llu, overruns %llu, late wakes %llu (deadlines skipped %llu), "
         "safe-state entries %llu (%llu ticks)\n"
         "  wake latency us: p50 %.1f  p99 %.1f  p99.9 %.1f  max %.1f\n"
         "  tick work us:    p50 %.1f  p99 %.1f  p99.9 %.1f  max %.1f\n"
-        "  events %llu (not journalled %llu), device reads not ok %llu, worlds swapped %llu "
-        "(mailbox refused %llu), profile reloads %llu (refused %llu)\n",
+        "  events %llu (not journalled %llu), device reads not ok %llu (no new sample %llu, "
+        "malformed %llu, error %llu; stale episodes %llu), worlds swapped %llu "
+        "(mailbox refused %llu), profile reloads %llu (refused %llu)\n"
+        "  device lost %llu, re-opened %llu (attempts %llu), ticks without a device %llu\n",
         (unsigned long long)s.ticks, (unsigned long long)s.overruns,
         (unsigned long long)s.late_wakes, (unsigned long long)s.missed_deadlines,
         (unsigned long long)s.safe_state_entries, (unsigned long long)s.safe_state_ticks,
@@ -89,9 +92,13 @@ std::string summary(const LoopStats& s, std::uint64_t worlds_rejected, std::uint
         us(s.compute.percentile(0.5)), us(s.compute.percentile(0.99)),
         us(s.compute.percentile(0.999)), us(s.compute.max_ns()),
         (unsigned long long)s.events_published, (unsigned long long)s.events_not_journalled,
-        (unsigned long long)s.device_not_ok, (unsigned long long)s.worlds_swapped,
+        (unsigned long long)s.device_not_ok, (unsigned long long)s.device_no_data,
+        (unsigned long long)s.device_malformed, (unsigned long long)s.device_error,
+        (unsigned long long)s.stale_episodes, (unsigned long long)s.worlds_swapped,
         (unsigned long long)worlds_rejected, (unsigned long long)reloads,
-        (unsigned long long)refused);
+        (unsigned long long)refused, (unsigned long long)s.devices_lost,
+        (unsigned long long)s.devices_reopened, (unsigned long long)reconnect.attempts,
+        (unsigned long long)s.device_lost_ticks);
     return buf;
 }
 
@@ -153,21 +160,32 @@ int run_rt_process(const RtOptions& o) {
     settings.misses_to_safe_state = rts.consecutive_misses_to_safe_state;
     settings.read_timeout_us = o.lockstep ? 200'000 : 0;
     settings.lockstep = o.lockstep;
-    settings.device_origin_in_world_m = device_origin_above(**mesh);
+    apply_scene_mapping(cfg->scene, **mesh, settings);  // [device_mapping], [planned_cut]
     const physics::PhysicsParams physics = physics::physics_params_from_profile(cfg->force);
     const auto safety = firmware_host::safety_limits_from(*device_profile, &cfg->force, period_s);
 
     RtLog log;
     RtLogDrain drain(log);
     auto loop = std::make_unique<HapticLoop>(**device, *producer, log, settings, physics, safety);
+    // A lost device is opened again by this thread (normal priority), as at start.
+    DeviceReconnector reconnector(
+        loop->device_link(), loop->device_handoff(),
+        [profile = *device_profile,
+         overrides]() -> Result<std::unique_ptr<firmware_host::Device>, std::string> {
+            auto opened = firmware_host::open_device(profile, overrides);
+            if (!opened) return Err{opened.error().message()};
+            return std::move(*opened);
+        });
     WorldBuilder builder(loop->world_handoff(), producer->layout());
     if (auto built = builder.build(**mesh); !built) return fail("scene mesh: " + built.error());
     std::printf("kerf-rt: session %s, device %s, scene %s (%u bodies, %u triangles), %s\n",
                 session.c_str(), device_profile->name.c_str(), cfg->scene.name.c_str(),
                 (*mesh)->body_count, (*mesh)->index_count / 3,
                 o.lockstep ? "lockstep (paced by the emulator)" : "real time");
+    std::printf("kerf-rt: %s\n", describe_mapping(cfg->scene, settings).c_str());
     mesh->reset();
     builder.start();
+    reconnector.start();
     const auto profile_path = cfg->config_dir / "force" / (cfg->main.profiles.force + ".toml");
     ProfileReloader reloader(loop->profile_handoff(), profile_path, cfg->force, *device_profile,
                              period_s, physics);
@@ -203,13 +221,17 @@ int run_rt_process(const RtOptions& o) {
         if (sig == SIGINT || sig == SIGTERM) stop.store(true, std::memory_order_release);
     }
     rt_thread.join();
+    reconnector.stop();
     reloader.stop();
     builder.stop();
-    if (auto* hid = dynamic_cast<firmware_host::KerfHidDevice*>(device->get())) hid->shutdown(200);
+    if (auto* hid = dynamic_cast<firmware_host::KerfHidDevice*>(&loop->device())) {
+        if (!loop->waiting_for_device()) hid->shutdown(200);
+    }
     producer->stop();
     const WorldBuilderStats ws = builder.stats();
-    std::printf(
-        "%s", summary(loop->stats(), ws.rejected, reloader.accepted(), reloader.refused()).c_str());
+    std::printf("%s", summary(loop->stats(), ws.rejected, reloader.accepted(), reloader.refused(),
+                              reconnector.stats())
+                          .c_str());
     if (const auto fault = loop->checks().first()) {
         std::printf("  FAULT: check `%s` failed at %s:%u (%u times); force was held at zero\n",
                     fault->condition, fault->file, fault->line, loop->checks().failures());

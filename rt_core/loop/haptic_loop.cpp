@@ -66,7 +66,7 @@ ipc::EventRecord cut_record(const physics::CutEvent& e) noexcept {
 HapticLoop::HapticLoop(firmware_host::Device& device, ipc::Producer& producer, RtLog& log,
                        const LoopSettings& settings, const physics::PhysicsParams& physics,
                        const firmware_host::SafetyLimits& safety)
-    : device_(device),
+    : device_(&device),
       producer_(producer),
       log_(log),
       settings_(settings),
@@ -77,16 +77,17 @@ HapticLoop::HapticLoop(firmware_host::Device& device, ipc::Producer& producer, R
 HapticLoop::~HapticLoop() {
     delete world_;
     delete profile_;
+    delete device_slot_;
 }
 
 void HapticLoop::prime() noexcept {
     command_ = firmware_host::DeviceCommand{};
-    device_.try_write(command_);
+    device_->try_write(command_);
 }
 
 void HapticLoop::command_zero() noexcept {
     command_ = firmware_host::DeviceCommand{};
-    device_.try_write(command_);
+    device_->try_write(command_);
 }
 
 void HapticLoop::tick(const TickTiming& timing) noexcept {
@@ -115,6 +116,28 @@ void HapticLoop::record_compute(std::uint64_t compute_ns) noexcept {
 void HapticLoop::swap_at_tick_boundary() noexcept {
     if (WorldSnapshot* next = world_handoff_.try_take()) install_world(next);
     if (ProfileUpdate* next = profile_handoff_.try_take()) install_profile(next);
+    if (DeviceSlot* next = device_handoff_.try_take()) install_device(next);
+}
+
+void HapticLoop::install_device(DeviceSlot* slot) noexcept {
+    device_handoff_.retire(device_slot_);  // closed and freed by the reconnector's thread
+    device_slot_ = slot;
+    device_ = slot->device.get();
+    device_lost_ = false;
+    device_link_.report_installed(slot->generation);
+    // A new device starts from nothing: no sample, zero force, engaged again by the safety layer
+    // only once homed and quiet, ramping in; the proxy restarts outside the bone.
+    sample_ = firmware_host::DeviceSample{};
+    read_status_ = DeviceStatus::kNoData;
+    last_sample_count_ = 0;
+    consecutive_not_ok_ = 0;
+    proxy_reset_ = false;
+    proxy_outside_ = true;
+    safety_ = firmware_host::ForceSafety(safety_.limits());
+    command_ = firmware_host::DeviceCommand{};
+    device_->try_write(command_);  // lockstep emulators answer host packets
+    ++stats_.devices_reopened;
+    log_.try_push(LogCode::kDeviceReopened, double(slot->generation), double(tick_));
 }
 
 void HapticLoop::install_world(WorldSnapshot* world) noexcept {
@@ -149,8 +172,20 @@ void HapticLoop::install_profile(ProfileUpdate* update) noexcept {
 }
 
 void HapticLoop::read_device() noexcept {
-    read_status_ = device_.try_read(sample_, settings_.read_timeout_us);
+    // A lost device is not read again (its transport is dead); the reconnector brings a new one.
+    read_status_ = device_lost_ ? DeviceStatus::kDisconnected
+                                : device_->try_read(sample_, settings_.read_timeout_us);
     if (read_status_ != DeviceStatus::kOk) ++stats_.device_not_ok;
+    stats_.device_no_data += read_status_ == DeviceStatus::kNoData ? 1 : 0;
+    stats_.device_malformed += read_status_ == DeviceStatus::kMalformed ? 1 : 0;
+    stats_.device_error += read_status_ == DeviceStatus::kError ? 1 : 0;
+    if (read_status_ == DeviceStatus::kDisconnected && !device_lost_) {
+        device_lost_ = true;  // the reconnector opens a new one off this thread
+        device_link_.report_lost();
+        ++stats_.devices_lost;
+        log_.try_push(LogCode::kDeviceLost, double(tick_), double(stats_.devices_lost));
+    }
+    if (device_lost_) ++stats_.device_lost_ticks;
 }
 
 void HapticLoop::compute_kinematics() noexcept {
@@ -162,7 +197,7 @@ void HapticLoop::compute_kinematics() noexcept {
                             settings_.motion_scale * (r * to_vec(sample_.position_m));
     tool_.pose.orientation = blade_.orientation();
     tool_.velocity_m_s = settings_.motion_scale * (r * to_vec(sample_.velocity_m_per_s));
-    tool_.saw_running = blade_.saw_running();
+    tool_.saw_running = blade_.saw_running() && !device_lost_;  // no device: the saw stopped
     KERF_RT_CHECK(
         physics::is_finite(tool_.pose.position_m) && physics::is_finite(tool_.velocity_m_s),
         checks_, LoopCheck::kNonFiniteToolPose);
@@ -180,7 +215,11 @@ void HapticLoop::collide_and_force() noexcept {
             physics_out_ = physics::PhysicsOutput{};
             return;
         }
-        model_.reset(tool_.pose.position_m);  // the proxy starts where the tool first is
+        if (proxy_outside_) {  // a re-engaged device: the tool may be inside the bone
+            model_.reset_outside(collision_, tool_.pose.position_m, kReengageReach);
+        } else {
+            model_.reset(tool_.pose.position_m);  // the proxy starts where the tool first is
+        }
         proxy_reset_ = true;
     }
     physics_out_ = model_.step(collision_, tool_, double(settings_.period_ns) * 1e-9);
@@ -199,6 +238,9 @@ void HapticLoop::apply_safety(const TickTiming& timing) noexcept {
     in.read_status = read_status_;
     in.flags = sample_.flags;
     const firmware_host::Vec3d out = safety_.step(in);
+    const bool stale = (safety_.reasons() & firmware_host::kReasonStale) != 0;
+    if (stale && !stale_last_ && !device_lost_) ++stats_.stale_episodes;
+    stale_last_ = stale;
     const bool zero = safe_state_ || checks_.tripped();
     command_.force_n = zero ? firmware_host::Vec3d{} : out;
     command_.enable = !zero && safety_.engaged();
@@ -235,7 +277,7 @@ void HapticLoop::track_device_state() noexcept {
     ipc::DeviceState next = ipc::DeviceState::kConnecting;
     if (safe_state_) {
         next = ipc::DeviceState::kSafeStop;
-    } else if (read_status_ == DeviceStatus::kDisconnected) {
+    } else if (device_lost_) {
         next = ipc::DeviceState::kDisconnected;
     } else if (sample_.flags.any_fault() || consecutive_not_ok_ > 50) {
         next = ipc::DeviceState::kFault;
@@ -245,7 +287,9 @@ void HapticLoop::track_device_state() noexcept {
     if (next != device_state_) publish_device_state(next);
 }
 
-void HapticLoop::write_device() noexcept { device_.try_write(command_); }
+void HapticLoop::write_device() noexcept {
+    if (!device_lost_) device_->try_write(command_);
+}
 
 void HapticLoop::publish(const TickTiming& timing) noexcept {
     publish_cut_events();

@@ -22,6 +22,7 @@
 #include "firmware_host/safety/force_safety.hpp"
 #include "rt_core/ipc/producer.hpp"
 #include "rt_core/loop/blade_pose.hpp"
+#include "rt_core/loop/device_reconnector.hpp"
 #include "rt_core/loop/handoff.hpp"
 #include "rt_core/loop/latency_histogram.hpp"
 #include "rt_core/loop/profile_update.hpp"
@@ -71,14 +72,23 @@ struct LoopStats {
     std::uint64_t profiles_swapped = 0;
     std::uint64_t events_published = 0;
     std::uint64_t events_not_journalled = 0;
-    std::uint64_t device_not_ok = 0;  ///< reads that were not kOk
-    LatencyHistogram wake_latency;    ///< ns
-    LatencyHistogram compute;         ///< ns, the tick's work
+    std::uint64_t device_not_ok = 0;      ///< reads that were not kOk, of which:
+    std::uint64_t device_no_data = 0;     ///< ... kNoData: no new sample since the last tick
+    std::uint64_t device_malformed = 0;   ///< ... kMalformed: bytes that failed the codec
+    std::uint64_t device_error = 0;       ///< ... kError: other transport errors
+    std::uint64_t stale_episodes = 0;     ///< times ForceSafety zeroed force for stale samples
+    std::uint64_t devices_lost = 0;       ///< reads that found the device disconnected (episodes)
+    std::uint64_t devices_reopened = 0;   ///< new devices installed (DeviceReconnector)
+    std::uint64_t device_lost_ticks = 0;  ///< ticks run without a device
+    LatencyHistogram wake_latency;        ///< ns
+    LatencyHistogram compute;             ///< ns, the tick's work
 };
 
 class HapticLoop {
 public:
     static constexpr std::uint32_t kRecoveryTicks = 100;  ///< clean ticks to leave safe state
+    /// m: a re-engaged device's tool this deep in bone gets its proxy on the nearest surface.
+    static constexpr double kReengageReach = 0.05;
 
     /// Configure: everything allocated here. `device`, `producer` and `log` outlive the loop.
     HapticLoop(firmware_host::Device& device, ipc::Producer& producer, RtLog& log,
@@ -101,6 +111,15 @@ public:
 
     Handoff<WorldSnapshot>& world_handoff() noexcept { return world_handoff_; }
     Handoff<ProfileUpdate>& profile_handoff() noexcept { return profile_handoff_; }
+    /// Re-opened devices for the loop (DeviceReconnector offers, the loop takes and retires).
+    Handoff<DeviceSlot>& device_handoff() noexcept { return device_handoff_; }
+    /// Whether the device is lost, and which one is installed (DeviceReconnector reads it).
+    const DeviceLink& device_link() const noexcept { return device_link_; }
+    /// The device in use (the one given at construction until a re-open replaced it). Read it
+    /// from another thread only while the loop is stopped.
+    firmware_host::Device& device() noexcept { return *device_; }
+    /// True from the tick a read found the device gone until a new one is installed.
+    bool waiting_for_device() const noexcept { return device_lost_; }
     const LoopStats& stats() const noexcept { return stats_; }
     /// The force commanded by the last tick, device frame, N.
     const firmware_host::Vec3d& last_force_n() const noexcept { return command_.force_n; }
@@ -129,13 +148,14 @@ private:
 
     void install_world(WorldSnapshot* world) noexcept;
     void install_profile(ProfileUpdate* update) noexcept;
+    void install_device(DeviceSlot* slot) noexcept;
     void track_timing(const TickTiming& timing) noexcept;
     void track_device_state() noexcept;
     void publish_cut_events() noexcept;
     void publish_device_state(ipc::DeviceState next) noexcept;
     void publish_event(ipc::EventRecord& record) noexcept;
 
-    firmware_host::Device& device_;
+    firmware_host::Device* device_;
     ipc::Producer& producer_;
     RtLog& log_;
     LoopSettings settings_;
@@ -147,6 +167,10 @@ private:
     Handoff<ProfileUpdate> profile_handoff_;
     WorldSnapshot* world_ = nullptr;
     ProfileUpdate* profile_ = nullptr;
+    Handoff<DeviceSlot> device_handoff_;
+    DeviceSlot* device_slot_ = nullptr;  ///< the re-opened device in use (nullptr: the first)
+    DeviceLink device_link_;
+    bool device_lost_ = false;
 
     firmware_host::DeviceSample sample_;
     firmware_host::DeviceStatus read_status_ = firmware_host::DeviceStatus::kNoData;
@@ -154,6 +178,9 @@ private:
     physics::ToolInput tool_;
     physics::PhysicsOutput physics_out_;
     bool proxy_reset_ = false;
+    bool proxy_outside_ = false;
+    bool stale_last_ = false;  ///< ForceSafety reported stale samples last tick  ///< the next
+                               ///< proxy reset places it outside the bone
     std::uint64_t last_sample_count_ = 0;
 
     std::uint64_t tick_ = 0;

@@ -57,6 +57,9 @@ void run_loop(HapticLoop& loop, const RunOptions& o) noexcept {
             timing.missed_deadlines = timing.wake_latency_ns / period;
             deadline += (timing.missed_deadlines + 1) * period;
         } else {
+            // Lockstep is paced by the emulator; without a device (lost, being re-opened) the
+            // clock paces it so the run neither spins nor burns its ticks in a moment.
+            if (loop.waiting_for_device()) sleep_until(monotonic_ns() + period);
             timing.start_ns = monotonic_ns();
         }
         loop.tick(timing);

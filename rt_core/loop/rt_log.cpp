@@ -25,6 +25,10 @@ const char* to_string(LogCode code) noexcept {
             return "cut event type {} (cut {})";
         case LogCode::kEventNotJournalled:
             return "event {} could not be journalled ({} so far: journal queue full)";
+        case LogCode::kDeviceLost:
+            return "device lost at tick {} (loss {}): zero force, re-opening off the loop";
+        case LogCode::kDeviceReopened:
+            return "re-opened device {} installed at tick {}: engages when quiet, ramping in";
     }
     return "unknown log code {} {}";
 }
@@ -68,7 +72,8 @@ void RtLogDrain::drain_once() {
     LogRecord r;
     while (log_.try_pop(r)) {
         const std::string text = fmt::format(fmt::runtime(to_string(r.code)), r.a, r.b);
-        if (r.code == LogCode::kSafeStateEntered || r.code == LogCode::kEventNotJournalled) {
+        if (r.code == LogCode::kSafeStateEntered || r.code == LogCode::kEventNotJournalled ||
+            r.code == LogCode::kDeviceLost) {
             spdlog::warn("kerf-rt: {}", text);
         } else {
             spdlog::info("kerf-rt: {}", text);

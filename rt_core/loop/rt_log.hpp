@@ -26,6 +26,8 @@ enum class LogCode : std::uint16_t {
     kOverrun,             ///< a = tick, b = compute ns
     kCutEvent,            ///< a = EventType, b = cut id
     kEventNotJournalled,  ///< a = sequence, b = 0
+    kDeviceLost,          ///< a = tick, b = losses so far
+    kDeviceReopened,      ///< a = re-open generation, b = tick
 };
 const char* to_string(LogCode code) noexcept;
 

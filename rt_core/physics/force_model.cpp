@@ -18,6 +18,22 @@ void ForceModel::reset(const Vec3& tool_position_m) noexcept {
     passivity_.reset();
 }
 
+void ForceModel::reset_outside(const CollisionWorld& world, const Vec3& tool_position_m,
+                               double reach_m) noexcept {
+    passivity_.reset();
+    place_proxy_outside(world, tool_position_m, reach_m);
+}
+
+void ForceModel::place_proxy_outside(const CollisionWorld& world, const Vec3& tool_position_m,
+                                     double reach_m) noexcept {
+    const SurfaceHit near = world.closest_point(tool_position_m, reach_m, kBoneSurfaces);
+    if (near.found && dot(tool_position_m - near.point, near.normal) < 0) {
+        contact_.reset(near.point + near.normal * (4 * params_.contact.skin_m));
+    } else {
+        contact_.reset(tool_position_m);
+    }
+}
+
 PhysicsOutput ForceModel::step(const CollisionWorld& world, const ToolInput& input,
                                double dt_s) noexcept {
     PhysicsOutput out;
@@ -48,13 +64,7 @@ PhysicsOutput ForceModel::step(const CollisionWorld& world, const ToolInput& inp
     } else {
         if (was_locked) {
             // The cut ended this tick: put the proxy back outside the bone, on the nearest surface.
-            const double reach = params_.saw.blade.length_m;
-            const SurfaceHit near = world.closest_point(tool, reach, kBoneSurfaces);
-            if (near.found && dot(tool - near.point, near.normal) < 0) {
-                contact_.reset(near.point + near.normal * (4 * params_.contact.skin_m));
-            } else {
-                contact_.reset(tool);
-            }
+            place_proxy_outside(world, tool, params_.saw.blade.length_m);
             out.contact = contact_.step(world, tool, input.velocity_m_s, dt_s);
         }
         force = out.contact.force_n;

@@ -58,6 +58,11 @@ public:
     const PhysicsParams& params() const noexcept { return params_; }
     /// Re-starts contact at `tool_position_m` (outside every body) and forgets observed energy.
     void reset(const Vec3& tool_position_m) noexcept;
+    /// Re-starts contact for a tool that may be inside a body (a device re-engaged after a loss):
+    /// the proxy goes to the nearest surface within `reach_m` when the tool is behind it, else to
+    /// the tool. One closest-point query. noexcept.
+    void reset_outside(const CollisionWorld& world, const Vec3& tool_position_m,
+                       double reach_m) noexcept;
     /// One tick. noexcept, no allocation, bounded work; non-finite input gives zero force.
     PhysicsOutput step(const CollisionWorld& world, const ToolInput& input, double dt_s) noexcept;
 
@@ -66,6 +71,8 @@ public:
     const PassivityObserver& passivity() const noexcept { return passivity_; }
 
 private:
+    void place_proxy_outside(const CollisionWorld& world, const Vec3& tool_position_m,
+                             double reach_m) noexcept;
     PhysicsParams params_;
     ProxyContact contact_;
     SawModel saw_;

@@ -46,6 +46,77 @@ TEST(SceneParse, FileMeshKeepsItsPathTemplateAndUnits) {
     EXPECT_DOUBLE_EQ(b.transform.translation_m[1], 0.11307);
 }
 
+TEST(SceneParse, DeviceMappingAndPlannedCutOfTheCalcaneusScene) {
+    auto s = parse_scene(kCalcaneus, "c");
+    ASSERT_TRUE(s) << s.error().message();
+    EXPECT_FALSE(s->device_mapping.origin_given);  // the default: above the scene's bounds
+    EXPECT_DOUBLE_EQ(s->device_mapping.scale, 1.0);
+    EXPECT_DOUBLE_EQ(s->device_mapping.rotation_wxyz[0], 1.0);
+    ASSERT_TRUE(s->has_planned_cut);
+    EXPECT_DOUBLE_EQ(s->planned_cut.point_m[2], 0.025);
+    EXPECT_DOUBLE_EQ(s->planned_cut.normal[2], 1.0);
+    EXPECT_DOUBLE_EQ(s->planned_cut.edge[0], 1.0);
+}
+
+TEST(SceneParse, NoMappingAndNoPlannedCutMeanTheDefaults) {
+    auto s = parse_scene(kBuiltin, "b");
+    ASSERT_TRUE(s) << s.error().message();
+    EXPECT_FALSE(s->device_mapping.origin_given);
+    EXPECT_DOUBLE_EQ(s->device_mapping.scale, 1.0);
+    EXPECT_FALSE(s->has_planned_cut);
+}
+
+TEST(SceneParse, MappingOriginScaleAndRotationAreRead) {
+    auto text = edit(kCalcaneus, "scale = 1.0 ",
+                     "origin_m = [0.01, 0.07, -0.02]\nscale = 2.5\nrotation_axis = [0, 1, 0]\n"
+                     "rotation_angle_deg = 90.0\n#");
+    auto s = parse_scene(text, "c");
+    ASSERT_TRUE(s) << s.error().message();
+    const DeviceMapping& m = s->device_mapping;
+    EXPECT_TRUE(m.origin_given);
+    EXPECT_DOUBLE_EQ(m.origin_m[1], 0.07);
+    EXPECT_DOUBLE_EQ(m.scale, 2.5);
+    EXPECT_NEAR(m.rotation_wxyz[0], std::sqrt(0.5), 1e-12);
+    EXPECT_NEAR(m.rotation_wxyz[2], std::sqrt(0.5), 1e-12);
+}
+
+TEST(SceneParse, AnEdgeOffThePlaneIsProjectedIntoIt) {
+    auto s = parse_scene(edit(kCalcaneus, "edge = [1.0, 0.0, 0.0]", "edge = [2.0, 0.0, 1.0]"), "c");
+    ASSERT_TRUE(s) << s.error().message();
+    EXPECT_NEAR(s->planned_cut.edge[0], 1.0, 1e-12);
+    EXPECT_NEAR(s->planned_cut.edge[2], 0.0, 1e-12);
+}
+
+TEST(SceneParse, BadMappingAndPlannedCutValuesNameTheirFileLineAndKey) {
+    struct Case {
+        const char* from;
+        const char* to;
+        const char* key;
+        ConfigErrorKind kind;
+    };
+    const Case cases[] = {
+        {"scale = 1.0 ", "scale = 0.0 ", "device_mapping.scale", ConfigErrorKind::kOutOfRange},
+        {"scale = 1.0 ", "scale = 1.0 \norigin_m = [0, 20, 0]\n#", "device_mapping.origin_m[1]",
+         ConfigErrorKind::kOutOfRange},
+        {"normal = [0.0, 0.0, 1.0]", "normal = [0.0, 0.0, 0.0]", "planned_cut.normal",
+         ConfigErrorKind::kOutOfRange},
+        {"edge = [1.0, 0.0, 0.0]", "edge = [0.0, 0.0, 3.0]", "planned_cut.edge",
+         ConfigErrorKind::kBadValue},
+        {"point_m = [0.0, 0.0, 0.025]", "point_m = [0.0, 0.025]", "planned_cut.point_m",
+         ConfigErrorKind::kOutOfRange},
+        {"scale = 1.0 ", "scale = 1.0 \norigin_mm = [0, 0, 0]\n#", "device_mapping.origin_mm",
+         ConfigErrorKind::kBadUnit},
+    };
+    for (const Case& c : cases) {
+        const std::string text = edit(kCalcaneus, c.from, c.to);
+        const ConfigError e = parse_error(text);
+        EXPECT_EQ(e.key, c.key) << c.to << ": " << e.message();
+        EXPECT_EQ(e.kind, c.kind) << c.to << ": " << e.message();
+        EXPECT_NE(e.message().find("scenes/test.toml:"), std::string::npos) << e.message();
+        EXPECT_GT(e.line, 0) << e.message();
+    }
+}
+
 TEST(SceneParse, AxisAngleBecomesANormalisedQuaternion) {
     auto text = edit(edit(kBuiltin, "rotation_axis = [0.0, 0.0, 1.0]", "rotation_axis = [0, 0, 2]"),
                      "rotation_angle_deg = 0.0", "rotation_angle_deg = 90.0");

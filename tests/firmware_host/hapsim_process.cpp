@@ -36,7 +36,8 @@ std::string temp_path(const std::string& stem) {
     return path;
 }
 
-HapsimProcess::HapsimProcess(std::vector<std::string> args) : socket_(temp_path("hapsim.sock")) {
+HapsimProcess::HapsimProcess(std::vector<std::string> args, std::string socket_path)
+    : socket_(socket_path.empty() ? temp_path("hapsim.sock") : std::move(socket_path)) {
     args.insert(args.begin(),
                 {std::string(KERF_BIN_DIR) + "/kerf-hapsim", "--socket", socket_, "--commands"});
     int in_pipe[2], out_pipe[2];
@@ -116,6 +117,16 @@ int HapsimProcess::stop() {
     ::waitpid(pid_, &status, 0);
     pid_ = -1;
     return -1;
+}
+
+void HapsimProcess::kill() {
+    if (pid_ <= 0) return;
+    ::kill(pid_, SIGKILL);
+    int status = 0;
+    ::waitpid(pid_, &status, 0);
+    pid_ = -1;
+    if (to_child_ >= 0) ::close(to_child_);
+    to_child_ = -1;
 }
 
 HapsimProcess::~HapsimProcess() {

@@ -11,8 +11,9 @@ namespace kerf::firmware_host::test {
 
 class HapsimProcess {
 public:
-    /// Starts kerf-hapsim with `args` plus --socket <unique path> --commands.
-    explicit HapsimProcess(std::vector<std::string> args);
+    /// Starts kerf-hapsim with `args` plus --socket <socket_path> --commands (an empty path: a
+    /// unique one under /tmp; a given one lets a test restart an emulator where a host expects it).
+    explicit HapsimProcess(std::vector<std::string> args, std::string socket_path = {});
     ~HapsimProcess();
     HapsimProcess(const HapsimProcess&) = delete;
     HapsimProcess& operator=(const HapsimProcess&) = delete;
@@ -23,6 +24,8 @@ public:
     bool command(const std::string& line);
     /// Asks it to quit and waits (kills after a timeout); returns the exit status.
     int stop();
+    /// SIGKILLs it (a crashed emulator: its socket file stays) and reaps it.
+    void kill();
     /// Everything it wrote on stdout so far (for failure messages).
     const std::string& output() const { return out_; }
 

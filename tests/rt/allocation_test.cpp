@@ -41,5 +41,36 @@ TEST(RtLoopAllocations, TenThousandTicksOfTheRealConfigurationAllocateNothing) {
     EXPECT_GT(pushing, 1000) << "the tool never pressed into the bone";
 }
 
+// A device lost and re-opened: the loop notices the loss, ticks without a device and installs
+// the new one the DeviceReconnector opened on its own thread, all without allocating. The
+// counter is disarmed only while the test thread talks to the emulator (its commands allocate).
+TEST(RtLoopAllocations, LosingAndReinstallingTheDeviceAllocatesNothing) {
+    if (!test::have_shared_meshes()) GTEST_SKIP() << "no " << test::calcaneus_path();
+    const char* script =
+        "hold,0.05\nmove,0.0,-0.02,0.0,0.4\nhold,1.0\nmove,0.0,0.0,0.0,0.3\nhold,0.3\n"
+        "move,0.0,-0.02,0.0,0.4\nhold,60\n";
+    test::Rig rig({script, {}, 20'000, true});
+    ASSERT_TRUE(rig.ok()) << rig.error();
+    std::uint64_t allocations = 0;
+    const auto ticks_counted = [&](int n, auto until) {
+        kerf::test::arm_allocation_counter();
+        int i = 0;
+        for (; i < n && !until(); ++i) rig.tick();
+        allocations += kerf::test::disarm_allocation_counter();
+        return i < n;
+    };
+    ASSERT_TRUE(ticks_counted(4000, [&] { return rig.force_norm() > 0.05; }));
+    ASSERT_TRUE(rig.sim().command("fault unplug on"));
+    ASSERT_TRUE(ticks_counted(2000, [&] { return rig.loop().waiting_for_device(); }));
+    ticks_counted(50, [] { return false; });  // 50 ticks without a device
+    ASSERT_TRUE(rig.sim().command("fault unplug off"));
+    EXPECT_TRUE(ticks_counted(6000, [&] {
+        return rig.loop().stats().devices_reopened == 1 && rig.force_norm() > 0.05;
+    })) << "no force from the re-opened device";
+    EXPECT_EQ(allocations, 0u);
+    EXPECT_EQ(rig.loop().stats().devices_lost, 1u);
+    EXPECT_GE(rig.loop().stats().device_lost_ticks, 50u);
+}
+
 }  // namespace
 }  // namespace kerf::rt

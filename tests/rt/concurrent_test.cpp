@@ -13,6 +13,7 @@
 #include "rt_core/ipc/mesh_mailbox.hpp"
 #include "rt_core/ipc/shm_segment.hpp"
 #include "rt_core/loop/collision_mesh_builder.hpp"
+#include "rt_core/loop/device_reconnector.hpp"
 #include "rt_core/loop/handoff.hpp"
 #include "rt_core/loop/world_builder.hpp"
 
@@ -27,6 +28,61 @@ struct Counted {
     std::uint64_t value;
     std::uint64_t payload[8] = {};  // written by the offering thread, read by the taking one
 };
+
+/// A device that only counts (the thread-safety of the re-open hand-off is the point here; the
+/// real devices are re-opened against kerf-hapsim in kerf_rt_integration_tests).
+struct CountingDevice final : firmware_host::Device {
+    explicit CountingDevice(std::uint64_t g) : generation(g) { g_alive.fetch_add(1); }
+    ~CountingDevice() override { g_alive.fetch_sub(1); }
+    firmware_host::DeviceStatus try_read(firmware_host::DeviceSample&,
+                                         std::uint32_t) noexcept override {
+        return firmware_host::DeviceStatus::kDisconnected;
+    }
+    firmware_host::DeviceStatus try_write(const firmware_host::DeviceCommand&) noexcept override {
+        return firmware_host::DeviceStatus::kOk;
+    }
+    const firmware_host::DeviceCounters& counters() const noexcept override { return c; }
+    std::uint64_t generation;
+    firmware_host::DeviceCounters c;
+};
+
+// The loop thread loses its device again and again; the reconnector thread opens a new one each
+// time (failing every other attempt) and hands it over; the loop installs it and retires the
+// old one, which the reconnector frees. No device is opened twice for one loss; all are freed.
+TEST(RtDeviceReconnector, EveryLossGetsOneNewDeviceAndEveryOldOneIsFreed) {
+    {
+        Handoff<DeviceSlot> handoff;
+        DeviceLink link;
+        std::atomic<std::uint64_t> opened{0}, calls{0};
+        DeviceReconnector reconnector(
+            link, handoff,
+            [&]() -> Result<std::unique_ptr<firmware_host::Device>, std::string> {
+                if (calls.fetch_add(1) % 2 == 0) return Err{std::string("not there yet")};
+                return std::unique_ptr<firmware_host::Device>(
+                    std::make_unique<CountingDevice>(opened.fetch_add(1) + 1));
+            },
+            ReopenBackoff{1, 2, 1});
+        reconnector.start();
+        DeviceSlot* current = nullptr;
+        constexpr std::uint64_t kLosses = 200;
+        for (std::uint64_t loss = 1; loss <= kLosses; ++loss) {
+            link.report_lost();
+            DeviceSlot* next = nullptr;
+            while ((next = handoff.try_take()) == nullptr) std::this_thread::yield();
+            ASSERT_EQ(next->generation, loss);
+            ASSERT_EQ(static_cast<CountingDevice*>(next->device.get())->generation, loss);
+            ASSERT_TRUE(handoff.retire(current));
+            current = next;
+            link.report_installed(next->generation);
+        }
+        reconnector.stop();
+        EXPECT_EQ(opened.load(), kLosses);
+        EXPECT_EQ(reconnector.stats().reopened, kLosses);
+        EXPECT_GE(reconnector.stats().failures, kLosses);
+        handoff.retire(current);
+    }
+    EXPECT_EQ(g_alive.load(), 0);
+}
 
 TEST(RtHandoff, TheLoopSeesNewerObjectsOnlyAndEveryObjectIsFreed) {
     {

@@ -1,8 +1,9 @@
 // Faults on the device side — injected into the real kerf-hapsim process while the loop presses
 // the tool into a real bone — take the commanded force to zero within 2 ticks of the first tick
 // that sees them, keep it at zero while they last, and the loop delivers force again once they
-// clear (after a reconnect for an unplug, and after the user lifted the tool: the safety layer
-// never engages into a standing force).
+// clear (for an unplug, after the loop's DeviceReconnector opened the device again on its own
+// thread, and after the user lifted the tool: the safety layer never engages into a standing
+// force).
 #include <gtest/gtest.h>
 
 #include <limits>
@@ -45,10 +46,15 @@ TEST_P(RtLoopFault, ZeroForceWithinTwoTicksOfTheFaultAndRecovery) {
     ASSERT_GT(rig.force_norm(), 0.05);
 
     ASSERT_TRUE(rig.sim().command(std::string("fault ") + c.name + " " + c.on));
-    int first_bad = -1, first_zero = -1;
+    int first_bad = -1, first_zero = -1, run_start = -1;
     for (int i = 0; i < 30; ++i) {
         rig.tick();
-        if (first_bad < 0 && device_looks_bad(rig.loop())) first_bad = i;
+        // The fault starts the first run of at least two bad ticks: a lone late answer before
+        // it (this loaded machine stalls the emulator too) is not the fault.
+        run_start = device_looks_bad(rig.loop()) ? (run_start < 0 ? i : run_start) : -1;
+        if (first_bad < 0 && run_start >= 0 && i > run_start) first_bad = run_start;
+        if (first_bad < 0 && run_start >= 0 && rig.loop().last_sample().flags.any_fault())
+            first_bad = run_start;  // a flagged fault counts from its first tick
         if (first_zero < 0 && rig.force_norm() == 0.0) first_zero = i;
         if (first_zero >= 0) {
             ASSERT_EQ(rig.force_norm(), 0.0) << "force came back at tick " << i;
@@ -63,11 +69,13 @@ TEST_P(RtLoopFault, ZeroForceWithinTwoTicksOfTheFaultAndRecovery) {
     }
 
     ASSERT_TRUE(rig.sim().command(std::string("fault ") + c.name + " " + c.off));
-    if (c.reconnect) {
-        ASSERT_TRUE(rig.reconnect()) << rig.error();
-    }
     EXPECT_TRUE(rig.tick_until_force(4000)) << "no force after the fault cleared";
     EXPECT_EQ(rig.loop().device_state(), ipc::DeviceState::kReady);
+    if (c.reconnect) {  // the loop's reconnector opened the device again, off the loop's thread
+        EXPECT_EQ(rig.loop().stats().devices_lost, 1u);
+        EXPECT_EQ(rig.loop().stats().devices_reopened, 1u);
+        EXPECT_GE(rig.reconnector().stats().attempts, 1u);
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(DeviceFaults, RtLoopFault,

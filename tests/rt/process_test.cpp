@@ -4,12 +4,15 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
 #include <thread>
+#include <vector>
 
 #include "rt_core/ipc/consumer.hpp"
 #include "rt_core/ipc/session_socket.hpp"
@@ -171,6 +174,121 @@ TEST(RtProcess, ForceProfileReloadsLiveAndABadFileIsRefusedWithItsLine) {
     rt.signal(SIGINT);
     EXPECT_EQ(rt.wait(10'000), 0) << rt.output();
     EXPECT_NE(rt.output().find("(refused 1)"), std::string::npos) << rt.output();
+}
+
+/// What a consumer saw of kerf-rt while a test waited: device states in order, the largest force.
+struct Watch {
+    std::vector<ipc::DeviceState> states;
+    double max_force_n = 0;
+    std::uint64_t heartbeat = 0;
+};
+
+/// Drains events and telemetry until `done(watch)` or `timeout_ms`; true when done.
+template <class Done>
+bool watch_until(ipc::Consumer& c, Watch& w, int timeout_ms, Done done) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+    while (std::chrono::steady_clock::now() < end) {
+        ipc::EventRecord r;
+        while (c.try_next(r) == ipc::Poll::kEvent) {
+            if (r.header.type == ipc::EventType::kDeviceStateChanged)
+                w.states.push_back(r.device.state);
+        }
+        ipc::TelemetrySample t;
+        while (c.try_next_telemetry(t) == ipc::Poll::kEvent) {
+            const double f = std::sqrt(double(t.force_n[0]) * t.force_n[0] +
+                                       double(t.force_n[1]) * t.force_n[1] +
+                                       double(t.force_n[2]) * t.force_n[2]);
+            w.max_force_n = std::max(w.max_force_n, f);
+        }
+        ipc::LatestState st;
+        if (c.try_read_state(st) == ipc::SeqlockRead::kOk) w.heartbeat = st.tick;
+        if (done(w)) return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return false;
+}
+
+/// Press into the bone and lift off, over and over (1.7 s a cycle): after a re-open the safety
+/// layer engages only while the hand is lifted (quiet), then the next press must be felt.
+std::string press_lift_cycles() {
+    std::string s = "hold,0.05\n";
+    for (int i = 0; i < 40; ++i)
+        s += "move,0.0,-0.03,0.0,0.3\nhold,0.7\nmove,0.0,0.0,0.0,0.3\nhold,0.4\n";
+    return s;
+}
+
+// The device lost mid-run, twice: kerf-hapsim SIGKILLed and started again on the same socket,
+// then its unplug fault on and off. kerf-rt keeps ticking, publishes DeviceStateChanged
+// (disconnected, then ready again), re-opens the device itself on its reconnector thread and
+// the force comes back once the re-opened device is engaged.
+TEST(RtProcess, ALostDeviceIsReopenedByKerfRtAndForceResumes) {
+    if (!test::have_shared_meshes()) GTEST_SKIP() << "no " << test::calcaneus_path();
+    test::TempConfig cfg;
+    const std::string socket = firmware_host::test::temp_path("reopen.sock");
+    const std::vector<std::string> sim_args = {"--protocol", "kerf", "--realtime", "--script",
+                                               test::write_script("reopen", press_lift_cycles())};
+    auto sim = std::make_unique<HapsimProcess>(sim_args, socket);
+    ASSERT_TRUE(sim->ready()) << sim->output();
+    const std::string session = test::unique_session("reopen");
+    test::RtProcess rt({"--config", cfg.kerf_toml(), "--socket", socket, "--session", session});
+    ASSERT_TRUE(rt.wait_for_output("real-time report", 30'000)) << rt.output();
+    auto consumer = ipc::ConsumerBuilder()
+                        .segment_name(session)
+                        .telemetry(true)
+                        .stale_after_ns(5'000'000'000)
+                        .attach();
+    ASSERT_TRUE(consumer) << consumer.error().message;
+    const auto ready_and_pushing = [](const Watch& x) {
+        return std::find(x.states.begin(), x.states.end(), ipc::DeviceState::kReady) !=
+                   x.states.end() &&
+               x.max_force_n > 0.05;
+    };
+    const auto disconnected = [](const Watch& x) {
+        return !x.states.empty() && x.states.back() == ipc::DeviceState::kDisconnected;
+    };
+    Watch w;
+    ASSERT_TRUE(
+        watch_until(*consumer, w, 20'000, [](const Watch& x) { return x.max_force_n > 0.05; }))
+        << "no contact force before the loss (telemetry " << consumer->stats().telemetry << ", max "
+        << w.max_force_n << " N, tick " << w.heartbeat << ")\n"
+        << rt.output();
+
+    // 1. The emulator dies: its socket file stays behind, nobody listens.
+    sim->kill();
+    sim.reset();
+    w = {};
+    ASSERT_TRUE(watch_until(*consumer, w, 10'000, disconnected)) << rt.output();
+    w = {};
+    watch_until(*consumer, w, 0, [](const Watch&) { return true; });
+    const std::uint64_t beat = w.heartbeat;
+    ASSERT_TRUE(watch_until(*consumer, w, 10'000, [&](const Watch& x) {
+        return x.heartbeat > beat + 200;
+    })) << "kerf-rt stopped ticking without a device";
+    EXPECT_EQ(w.max_force_n, 0.0) << "force without a device";
+    sim = std::make_unique<HapsimProcess>(sim_args, socket);  // replugged where it was
+    ASSERT_TRUE(sim->ready()) << sim->output();
+    w = {};
+    EXPECT_TRUE(watch_until(*consumer, w, 20'000, ready_and_pushing))
+        << "not re-opened after the emulator restarted (max " << w.max_force_n << " N)\n"
+        << rt.output();
+
+    // 2. The emulator's unplug fault (the connection closed, none accepted) and replug.
+    ASSERT_TRUE(sim->command("fault unplug on"));
+    w = {};
+    ASSERT_TRUE(watch_until(*consumer, w, 10'000, disconnected)) << rt.output();
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    ASSERT_TRUE(sim->command("fault unplug off"));
+    w = {};
+    EXPECT_TRUE(watch_until(*consumer, w, 20'000, ready_and_pushing))
+        << "not re-opened after the replug (max " << w.max_force_n << " N)\n"
+        << rt.output();
+
+    rt.signal(SIGINT);
+    ASSERT_EQ(rt.wait(10'000), 0) << rt.output();
+    const std::string out = rt.output();
+    EXPECT_EQ(summary_value(out, "device lost"), 2) << out;
+    EXPECT_EQ(summary_value(out, "re-opened"), 2) << out;
+    std::printf("[ info ] %s\n", out.substr(out.find("kerf-rt summary")).c_str());
 }
 
 }  // namespace

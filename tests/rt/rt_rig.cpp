@@ -5,7 +5,9 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
+#include "config/load_config.hpp"
 #include "display/mesh/scene_arrays.hpp"
 #include "firmware_host/transport/socket_report_transport.hpp"
 #include "rt_core/loop/collision_mesh_builder.hpp"
@@ -38,6 +40,28 @@ std::unique_ptr<ipc::CollisionMesh> load_bone(const std::string& path) {
     return out;
 }
 
+std::unique_ptr<ipc::CollisionMesh> load_scene(const std::string& kerf_toml, std::string& error) {
+    auto cfg = config::load_config(kerf_toml);
+    if (!cfg) {
+        error = cfg.error().message();
+        return nullptr;
+    }
+    auto arrays = mesh::load_scene_arrays(cfg->scene, config::path_vars(*cfg));
+    if (!arrays) {
+        error = arrays.error();
+        return nullptr;
+    }
+    auto out = std::make_unique<ipc::CollisionMesh>();
+    for (const auto& b : *arrays) {
+        auto added = append_body(*out, b.positions_m, b.indices, b.materials, b.world_from_body);
+        if (!added) {
+            error = added.error();
+            return nullptr;
+        }
+    }
+    return out;
+}
+
 std::string write_script(const std::string& stem, const std::string& text) {
     const std::string path = firmware_host::test::temp_path(stem) + ".csv";
     std::ofstream(path) << text;
@@ -49,10 +73,10 @@ std::string press_script(double depth_m, double hold_s) {
            std::to_string(hold_s) + "\n";
 }
 
-Rig::Rig(const RigOptions& options) : options_(options) {
-    bone_ = load_bone(calcaneus_path());
+Rig::Rig(const RigOptions& options, const std::string& kerf_toml) : options_(options) {
+    bone_ = kerf_toml.empty() ? load_bone(calcaneus_path()) : load_scene(kerf_toml, error_);
     if (!bone_) {
-        error_ = "could not load " + calcaneus_path();
+        if (error_.empty()) error_ = "could not load " + calcaneus_path();
         return;
     }
     std::vector<std::string> args = {"--protocol", "kerf"};
@@ -79,29 +103,42 @@ Rig::Rig(const RigOptions& options) : options_(options) {
 }
 
 Rig::~Rig() {
+    if (reconnector_) reconnector_->stop();
     if (builder_) builder_->stop();
+    if (loop_ && !loop_->waiting_for_device()) {
+        if (auto* hid = dynamic_cast<firmware_host::KerfHidDevice*>(&loop_->device()))
+            hid->shutdown(200);
+    }
+    reconnector_.reset();
     builder_.reset();
     loop_.reset();
-    if (device_) device_->shutdown(200);
 }
 
-bool Rig::open_device() {
-    auto socket = firmware_host::SeqpacketSocket::connect(sim_->socket_path());
-    if (!socket) {
-        error_ = socket.error().message();
-        return false;
-    }
+namespace {
+
+/// The emulator's Kerf HID device over its socket, as kerf-rt opens it (watchdog 100 ms:
+/// lockstep, the emulator's clock only moves with our packets).
+Result<std::unique_ptr<firmware_host::KerfHidDevice>, std::string> open_hid(
+    const std::string& socket_path) {
+    auto socket = firmware_host::SeqpacketSocket::connect(socket_path);
+    if (!socket) return Err{socket.error().message()};
     firmware_host::KerfHidOptions o;
-    o.watchdog_ms = 100;  // lockstep: the emulator's clock only moves with our packets
+    o.watchdog_ms = 100;
+    o.feature_timeout_ms = 300;
     auto dev = firmware_host::KerfHidDevice::open(
         std::make_unique<firmware_host::SocketReportTransport>(std::move(*socket)), o);
+    if (!dev) return Err{dev.error().message()};
+    return std::move(*dev);
+}
+
+}  // namespace
+
+bool Rig::open_device() {
+    auto dev = open_hid(sim_->socket_path());
     if (!dev) {
-        error_ = dev.error().message();
+        error_ = dev.error();
         return false;
     }
-    if (builder_) builder_->stop();
-    builder_.reset();
-    loop_.reset();
     device_ = std::move(*dev);
     LoopSettings settings;
     settings.read_timeout_us = options_.read_timeout_us;
@@ -122,13 +159,22 @@ bool Rig::open_device() {
         return false;
     }
     if (options_.start_builder) builder_->start();
+    reconnector_ = std::make_unique<DeviceReconnector>(
+        loop_->device_link(), loop_->device_handoff(),
+        [path =
+             sim_->socket_path()]() -> Result<std::unique_ptr<firmware_host::Device>, std::string> {
+            auto d = open_hid(path);
+            if (!d) return Err{d.error()};
+            return std::unique_ptr<firmware_host::Device>(std::move(*d));
+        });
+    reconnector_->start();
     loop_->prime();
     return true;
 }
 
-bool Rig::reconnect() { return open_device(); }
-
 void Rig::tick() {
+    // As the runner: without a device (lost, being re-opened) the clock paces lockstep ticks.
+    if (loop_->waiting_for_device()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     TickTiming t;
     t.start_ns = monotonic_ns();
     loop_->tick(t);

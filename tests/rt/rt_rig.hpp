@@ -11,6 +11,7 @@
 
 #include "firmware_host/device/kerf_hid_device.hpp"
 #include "rt_core/ipc/producer.hpp"
+#include "rt_core/loop/device_reconnector.hpp"
 #include "rt_core/loop/haptic_loop.hpp"
 #include "rt_core/loop/loop_runner.hpp"
 #include "rt_core/loop/rt_log.hpp"
@@ -26,6 +27,8 @@ bool have_shared_meshes();
 
 /// Loads a mesh file (units mm) through the scene loader into a collision mesh of one body.
 std::unique_ptr<ipc::CollisionMesh> load_bone(const std::string& path);
+/// The scene of a kerf.toml as kerf-rt loads it (nullptr and `error` on failure).
+std::unique_ptr<ipc::CollisionMesh> load_scene(const std::string& kerf_toml, std::string& error);
 
 /// Writes a hapsim hand script to a temp file and returns its path.
 std::string write_script(const std::string& stem, const std::string& text);
@@ -44,7 +47,10 @@ struct RigOptions {
 
 class Rig {
 public:
-    explicit Rig(const RigOptions& options);
+    /// `kerf_toml` empty: the raw calcaneus file is the world. Else the scene of that kerf.toml,
+    /// loaded as kerf-rt loads it (same loader, same transforms), so a display-side CutSession
+    /// built from the same configuration shares its frame.
+    explicit Rig(const RigOptions& options, const std::string& kerf_toml = {});
     ~Rig();
 
     bool ok() const { return error_.empty(); }
@@ -59,8 +65,8 @@ public:
     HapticLoop& loop() { return *loop_; }
     ipc::Producer& producer() { return *producer_; }
     WorldBuilder& builder() { return *builder_; }
-    /// Reconnects the device after an unplug (a new KerfHidDevice; the loop is rebuilt on it).
-    bool reconnect();
+    /// The thread that re-opens the device after a loss (as kerf-rt runs it).
+    DeviceReconnector& reconnector() { return *reconnector_; }
 
 private:
     bool open_device();
@@ -73,6 +79,7 @@ private:
     std::unique_ptr<ipc::CollisionMesh> bone_;
     std::unique_ptr<HapticLoop> loop_;
     std::unique_ptr<WorldBuilder> builder_;
+    std::unique_ptr<DeviceReconnector> reconnector_;
 };
 
 }  // namespace kerf::rt::test

@@ -114,13 +114,16 @@ void Server::send_due() {
     }
 }
 
-int Server::poll_timeout_ms() const {
+timespec Server::poll_timeout() const {
+    // ppoll with nanoseconds: poll()'s whole milliseconds would round a 1 ms period up to 2 ms
+    // and the catch-up would send reports in pairs (a host reading once a tick sees gaps).
     auto next = Clock::now() + std::chrono::milliseconds(100);
     if (!options_.lockstep && conn_.valid()) next = std::min(next, next_period_);
     if (!delayed_.empty()) next = std::min(next, delayed_.front().first);
-    const auto ms =
-        std::chrono::duration_cast<std::chrono::microseconds>(next - Clock::now()).count();
-    return ms <= 0 ? 0 : static_cast<int>((ms + 999) / 1000);
+    const auto ns =
+        std::chrono::duration_cast<std::chrono::nanoseconds>(next - Clock::now()).count();
+    if (ns <= 0) return timespec{0, 0};
+    return timespec{static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
 }
 
 int Server::run() {
@@ -135,7 +138,8 @@ int Server::run() {
         fds[n++] = {can_accept ? listener_.fd() : -1, POLLIN, 0};
         fds[n++] = {conn_.valid() ? conn_.fd() : -1, POLLIN, 0};
         fds[n++] = {options_.commands && stdin_open_ ? STDIN_FILENO : -1, POLLIN, 0};
-        if (::poll(fds.data(), n, poll_timeout_ms()) < 0 && errno != EINTR) return 1;
+        const timespec timeout = poll_timeout();
+        if (::ppoll(fds.data(), n, &timeout, nullptr) < 0 && errno != EINTR) return 1;
         if ((fds[2].revents & (POLLIN | POLLHUP)) != 0) read_stdin();
         if (sim_.faults().unplugged && conn_.valid()) disconnect();
         if ((fds[0].revents & POLLIN) != 0 && can_accept) {

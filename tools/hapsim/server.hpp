@@ -3,6 +3,8 @@
 // replies, runs the real-time clock when not in lockstep, and takes commands on stdin.
 #pragma once
 
+#include <time.h>
+
 #include <chrono>
 #include <deque>
 #include <string>
@@ -34,7 +36,7 @@ private:
     void flush(Outbox& out);
     void send_due();
     void disconnect();
-    int poll_timeout_ms() const;
+    timespec poll_timeout() const;
 
     firmware_host::SeqpacketListener listener_;
     firmware_host::SeqpacketSocket conn_{-1};
