@@ -50,6 +50,7 @@ packages=(
   valgrind
   libx11-dev libdrm-dev xvfb
   nlohmann-json3-dev
+  gnuplot-nox
 )
 if [[ $bench_peers == 1 ]]; then packages+=(libvtk9-dev libcgal-dev); fi
 

@@ -24,6 +24,9 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.0, 1e7));
     app.add_flag("--lockstep", o.lockstep, "paced by the emulator: deterministic, not real time");
     app.add_option("--trace", o.trace_path, "write a per-tick force trace (CSV) at exit");
+    app.add_option("--histogram", o.histogram_path,
+                   "write the wake-latency and tick-work histograms (CSV: bin upper edge us, "
+                   "counts) at exit");
     CLI11_PARSE(app, argc, argv);
     return kerf::rt::run_rt_process(o);
 }

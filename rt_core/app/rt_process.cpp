@@ -120,6 +120,26 @@ bool write_trace(const std::string& path, const std::vector<TraceRow>& rows, std
     return std::rename(tmp.c_str(), path.c_str()) == 0;
 }
 
+/// The non-empty bins of the loop's histograms: upper edge (us; the overflow bin: the largest
+/// value seen), wake-latency count, tick-work count.
+bool write_histograms(const std::string& path, const LoopStats& s) {
+    const std::string tmp = path + ".tmp";
+    {
+        std::ofstream f(tmp);
+        f << "upper_us,wake_latency,tick_work\n";
+        for (std::uint32_t b = 0; b < LatencyHistogram::kBins; ++b) {
+            if (!s.wake_latency.bin(b) && !s.compute.bin(b)) continue;
+            const std::uint64_t edge = b + 1 < LatencyHistogram::kBins
+                                           ? LatencyHistogram::upper_edge(b)
+                                           : std::max(s.wake_latency.max_ns(), s.compute.max_ns());
+            f << double(edge) / 1000.0 << "," << s.wake_latency.bin(b) << "," << s.compute.bin(b)
+              << "\n";
+        }
+        if (!f.flush()) return false;
+    }
+    return std::rename(tmp.c_str(), path.c_str()) == 0;
+}
+
 }  // namespace
 
 int run_rt_process(const RtOptions& o) {
@@ -239,6 +259,8 @@ int run_rt_process(const RtOptions& o) {
     if (!o.trace_path.empty() && !write_trace(o.trace_path, trace, trace_rows)) {
         return fail("could not write the trace " + o.trace_path);
     }
+    if (!o.histogram_path.empty() && !write_histograms(o.histogram_path, loop->stats()))
+        return fail("could not write the histograms " + o.histogram_path);
     return status.load();
 }
 

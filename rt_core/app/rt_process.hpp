@@ -18,6 +18,7 @@ struct RtOptions {
     double duration_s = 0;         ///< 0: until SIGINT / SIGTERM
     bool lockstep = false;         ///< paced by the emulator (deterministic)
     std::string trace_path;        ///< optional: per-tick force trace (CSV), written at exit
+    std::string histogram_path;  ///< optional: wake-latency and tick-work histograms (CSV), at exit
 };
 
 /// Runs kerf-rt; returns the process exit status (0 ok, 1 runtime failure, 3 real time refused).

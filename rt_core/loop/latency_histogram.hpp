@@ -59,7 +59,10 @@ public:
     /// Forgets every sample. noexcept.
     void clear() noexcept { *this = LatencyHistogram{}; }
 
-private:
+    static constexpr std::uint32_t kBins = kFineBins + kCoarseBins + 1;  ///< the last: overflow
+    /// Samples in bin `b` (< kBins).
+    std::uint64_t bin(std::uint32_t b) const noexcept { return bins_[b]; }
+    /// Upper edge of bin `b`, ns (the overflow bin's is ~0).
     static std::uint64_t upper_edge(std::uint32_t b) noexcept {
         if (b < kFineBins) return (b + 1) * kFineWidth_ns;
         if (b < kFineBins + kCoarseBins)
@@ -67,7 +70,8 @@ private:
         return ~std::uint64_t{0};
     }
 
-    std::array<std::uint64_t, kFineBins + kCoarseBins + 1> bins_{};
+private:
+    std::array<std::uint64_t, kBins> bins_{};
     std::uint64_t count_ = 0;
     std::uint64_t max_ns_ = 0;
 };

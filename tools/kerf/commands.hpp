@@ -11,6 +11,7 @@ void add_cut_command(CLI::App& app);      ///< `kerf cut`                       
 void add_shm_commands(CLI::App& app);     ///< `kerf shm ls|tail|stats`             (cmd_shm.cpp)
 void add_devices_command(CLI::App& app);  ///< `kerf devices` (cmd_devices.cpp)
 void add_demo_command(CLI::App& app);     ///< `kerf demo`: the README's main job    (cmd_demo.cpp)
+void add_soak_command(CLI::App& app);     ///< `kerf soak`: faults, checks, plots   (cmd_soak.cpp)
 
 /// Process exit codes shared by every subcommand.
 enum ExitCode : int {

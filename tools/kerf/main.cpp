@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
         kerf::cli::add_shm_commands(app);
         kerf::cli::add_devices_command(app);
         kerf::cli::add_demo_command(app);
+        kerf::cli::add_soak_command(app);
         // CLI11 answers an unknown command with "A subcommand is required": name it instead.
         bool known = argc < 2 || argv[1][0] == '-';
         for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
