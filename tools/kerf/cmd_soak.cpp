@@ -37,6 +37,7 @@ struct SoakOptions {
     std::string meshes;  ///< shared mesh folder; empty: $KERF_SHARED_MESHES or kerf.toml's
     std::string config;
     double display_rss_limit_mb = 1024;
+    double rt_growth_limit_pct = 1;
     bool quiet = false;
 };
 
@@ -124,7 +125,7 @@ void run_soak(const SoakOptions& o) {
         std::printf(
             "kerf soak: %.0f s, rounds of %.0f s, faults %s, seed %llu, %zu shared meshes\n",
             *duration, *round, o.faults.c_str(), (unsigned long long)o.seed, meshes.size());
-    int rotation = 0;
+    int device_rotation = 0, host_rotation = 0;
     for (int i = 0; i == 0 || *duration - elapsed() > 30; ++i) {
         RoundSpec spec;
         spec.index = i;
@@ -135,10 +136,12 @@ void run_soak(const SoakOptions& o) {
         spec.seed = o.seed * 1000 + std::uint64_t(i);
         spec.duration_s = std::max(40.0, std::min(*round, *duration - elapsed() - 10));
         spec.faults = *faults;
-        spec.fault_rotation = rotation;
+        spec.device_rotation = device_rotation;
+        spec.host_rotation = host_rotation;
         spec.config = config_file;
         spec.work = work.path / ("round-" + std::to_string(i));
         spec.display_rss_limit_mb = o.display_rss_limit_mb;
+        spec.rt_growth_limit_pct = o.rt_growth_limit_pct;
         if (!o.quiet) {
             std::printf("kerf soak: round %d on %s, %.0f s of cutting\n", i, spec.scene.c_str(),
                         spec.duration_s);
@@ -148,7 +151,8 @@ void run_soak(const SoakOptions& o) {
         if (supervise::Supervisor::stop_requested())
             fail("stopped by signal " + std::to_string(supervise::Supervisor::stop_signal()), 130);
         if (!result) fail("round " + std::to_string(i) + ": " + result.error());
-        rotation += static_cast<int>(result->injected.size());
+        for (const InjectedFault& f : result->injected)
+            ++(is_device_fault(f.fault) ? device_rotation : host_rotation);
         for (const std::string& f : result->failures)
             run.failures.push_back("round " + std::to_string(i) + ": " + f);
         run.rounds.push_back(std::move(*result));
@@ -191,6 +195,10 @@ void add_soak_command(CLI::App& app) {
                      "kerf-display's resident memory bound (MB)")
         ->capture_default_str()
         ->check(CLI::Range(16.0, 1e6));
+    soak->add_option("--rt-growth-limit-pct", opts->rt_growth_limit_pct,
+                     "kerf-rt's resident memory growth allowed after warm-up (%)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1000.0));
     soak->add_flag("--quiet", opts->quiet, "no progress lines (the summary still prints)");
     soak->callback([opts] { run_soak(*opts); });
 }

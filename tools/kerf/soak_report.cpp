@@ -347,9 +347,11 @@ std::string soak_summary(const SoakRun& run, const fs::path& out) {
                   t.force_limit_n);
     s += line;
     std::snprintf(line, sizeof line,
-                  "  memory:    kerf-rt growth after warm-up %.2f %% at most (limit 1 %%); "
+                  "  memory:    kerf-rt growth after warm-up %.2f %% at most (limit %.2g %%); "
                   "kerf-display peak %.0f MB\n",
-                  t.rt_growth_max_pct, t.display_peak_mb);
+                  t.rt_growth_max_pct,
+                  run.rounds.empty() ? 1.0 : run.rounds.front().spec.rt_growth_limit_pct,
+                  t.display_peak_mb);
     s += line;
     std::snprintf(line, sizeof line,
                   "  loop:      %llu ticks, %llu overruns, %llu late wakes, %llu safe-state "

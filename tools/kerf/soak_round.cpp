@@ -174,14 +174,14 @@ std::vector<Slot> host_schedule(const RoundSpec& s, double script_s) {
     for (const SoakFault f : s.faults)
         if (!is_device_fault(f)) host.push_back(f);
     std::vector<Slot> out;
-    int k = s.fault_rotation;
+    int k = s.host_rotation;
     for (double t = 5; !host.empty() && t < script_s - 20; t += 8)
         out.push_back({host[std::size_t(k++) % host.size()], t});
     return out;
 }
 
 /// The device faults, injected one after another while the tool pushes on the bone (|F| > 0.5 N;
-/// at the latest 10 s after the previous one allowed it), 3 s apart; an unplug last, 12 s before
+/// at the latest 6 s after the previous one allowed it), 3 s apart; an unplug last, 12 s before
 /// the end of the script (kerf-hapsim's script stops while no host is connected).
 class DeviceFaultQueue {
 public:
@@ -189,7 +189,7 @@ public:
         for (const SoakFault f : s.faults)
             if (is_device_fault(f) && f != SoakFault::kUnplug) list_.push_back(f);
         unplug_ = std::find(s.faults.begin(), s.faults.end(), SoakFault::kUnplug) != s.faults.end();
-        next_ = std::size_t(s.fault_rotation);
+        next_ = std::size_t(s.device_rotation);
     }
     /// The fault to inject now, if any.
     std::optional<SoakFault> due(double t, float force_n) {
@@ -198,7 +198,7 @@ public:
             return SoakFault::kUnplug;
         }
         if (list_.empty() || t < ready_at_ || t >= script_s_ - 14) return std::nullopt;
-        if (force_n <= 0.5f && t < ready_at_ + 10) return std::nullopt;
+        if (force_n <= 0.5f && t < ready_at_ + 6) return std::nullopt;
         return list_[next_++ % list_.size()];
     }
     /// The previous fault was cleared at `t`.
@@ -624,9 +624,10 @@ Result<RoundResult, std::string> run_round(const RoundSpec& spec, bool quiet) {
     r.display_memory = memory_growth(td_s, display_kb, warmup_s);
     if (!r.rt_memory.measured)
         r.failures.push_back("kerf-rt memory: too few samples after warm-up");
-    else if (r.rt_memory.growth_pct > 1.0)
+    else if (r.rt_memory.growth_pct > spec.rt_growth_limit_pct)
         r.failures.push_back("kerf-rt memory grew " + std::to_string(r.rt_memory.growth_pct) +
-                             " % after warm-up (limit 1 %)");
+                             " % after warm-up (limit " + std::to_string(spec.rt_growth_limit_pct) +
+                             " %)");
     if (r.display_peak_mb > spec.display_rss_limit_mb)
         r.failures.push_back("kerf-display resident memory peaked at " +
                              std::to_string(int(r.display_peak_mb)) + " MB (limit " +

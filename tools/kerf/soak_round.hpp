@@ -27,10 +27,12 @@ struct RoundSpec {
     std::uint64_t seed = 1;
     double duration_s = 60;  ///< the hand script's length (a little more)
     std::vector<SoakFault> faults;
-    int fault_rotation = 0;        ///< where this round starts in the fault list (rounds share it)
+    int device_rotation = 0;       ///< where this round starts in the device faults (rounds share)
+    int host_rotation = 0;         ///< ... and in the display and segment faults
     std::filesystem::path config;  ///< kerf.toml to start from
     std::filesystem::path work;    ///< the round's temporary folder (removed by the caller)
     double display_rss_limit_mb = 1024;
+    double rt_growth_limit_pct = 1;  ///< kerf-rt's VmRSS growth allowed after warm-up
 };
 
 /// An injected fault, for the plots and the report (seconds since the round started).
