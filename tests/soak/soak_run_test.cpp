@@ -15,10 +15,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Every fault but the unplug: kerf-rt does not re-open its device after an unplug yet (issue 11),
-// so `kerf soak` rightly fails that fault's recovery check. Replace with "all" once it does.
-constexpr const char* kFaults =
-    "drop,delay,corrupt,short,estop,stuck-encoder,display-kill,display-stop,scribble";
 // kerf-rt's VmRSS settles about 1 MB (~1 %) above its value after warm-up within the first cuts
 // on the foot, then stays flat (a 25-minute soak: 0 to 1.01 % per 5-minute round); a 2-minute
 // soak's short warm-up sees 0.6 to 1.1 %. 1 % is kerf soak's default; CI allows 2 %.
@@ -31,8 +27,8 @@ TEST(KerfSoak, TwoMinutesOfFaultsPassEveryCheck) {
     setenv("KERF_SHARED_MESHES", KERF_SHARED_MESHES, 0);
     const auto run = kerf::test::run_program(
         dir, "kerf",
-        {"soak", "--duration", "120", "--faults", kFaults, "--rt-growth-limit-pct",
-         kRtGrowthLimitPct, "--seed", "1", "-o", (dir / "out").string()},
+        {"soak", "--duration", "120", "--faults", "all", "--rt-growth-limit-pct", kRtGrowthLimitPct,
+         "--seed", "1", "-o", (dir / "out").string()},
         std::chrono::seconds(600));
     ASSERT_EQ(run.exit_code, 0) << run.out << run.err;
     EXPECT_NE(run.out.find("kerf soak: PASSED"), std::string::npos) << run.out;
