@@ -3,53 +3,14 @@
 #include <cmath>
 #include <cstdio>
 
+#include "tools/kerf/hand_script_writer.hpp"
+
 namespace kerf::cli {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-/// Appends script lines and keeps the clock.
-class ScriptWriter {
-public:
-    explicit ScriptWriter(const mesh::Point& origin) : origin_(origin) {}
-
-    void hold(double s) {
-        char buf[64];
-        std::snprintf(buf, sizeof buf, "hold,%.4f\n", s);
-        text_ += buf;
-        t_ += s;
-    }
-    /// Moves the blade's edge centre to `world` in `s` seconds.
-    void move(const mesh::Point& world, double s) {
-        const mesh::Point d = world - origin_;
-        char buf[160];
-        std::snprintf(buf, sizeof buf, "move,%.6f,%.6f,%.6f,%.4f\n", d[0], d[1], d[2], s);
-        text_ += buf;
-        t_ += s;
-        for (int i = 0; i < 3; ++i) max_abs_ = std::max(max_abs_, std::abs(d[i]));
-    }
-    void button(int b, bool down) {
-        text_ += "button," + std::to_string(b) + (down ? ",down\n" : ",up\n");
-    }
-    /// `count` presses of button `b`, 50 ms down, 50 ms up.
-    void press(int b, int count) {
-        for (int i = 0; i < count; ++i) {
-            button(b, true);
-            hold(0.05);
-            button(b, false);
-            hold(0.05);
-        }
-    }
-    double time() const { return t_; }
-    double max_abs() const { return max_abs_; }
-    std::string text() const { return text_; }
-
-private:
-    mesh::Point origin_;
-    std::string text_;
-    double t_ = 0;
-    double max_abs_ = 0;
-};
+using ScriptWriter = HandScriptWriter;
 
 }  // namespace
 

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <random>
 
+#include "tools/kerf/hand_script_writer.hpp"
+
 namespace kerf::cli {
 namespace {
 
@@ -14,53 +16,7 @@ constexpr const char* kNames[kSoakFaultCount] = {
     "drop",  "delay",         "corrupt",      "short",        "unplug",
     "estop", "stuck-encoder", "display-kill", "display-stop", "scribble"};
 
-/// Appends hand-script lines and keeps the clock; positions are clamped into the workspace.
-class ScriptWriter {
-public:
-    ScriptWriter(const mesh::Point& origin, double half) : origin_(origin), half_(half) {}
-
-    void hold(double s) {
-        char buf[64];
-        std::snprintf(buf, sizeof buf, "hold,%.4f\n", s);
-        text_ += buf;
-        t_ += s;
-    }
-    /// Moves the blade's edge centre to `world` (clamped into the workspace) in `s` seconds.
-    void move(const mesh::Point& world, double s) {
-        mesh::Point d = world - origin_;
-        for (int i = 0; i < 3; ++i) d[i] = std::clamp(d[i], -half_, half_);
-        char buf[160];
-        std::snprintf(buf, sizeof buf, "move,%.6f,%.6f,%.6f,%.4f\n", d[0], d[1], d[2], s);
-        text_ += buf;
-        t_ += s;
-    }
-    void button(int b, bool down) {
-        text_ += "button," + std::to_string(b) + (down ? ",down\n" : ",up\n");
-    }
-    /// `count` presses of button `b`, 50 ms down, 50 ms up.
-    void press(int b, int count) {
-        for (int i = 0; i < count; ++i) {
-            button(b, true);
-            hold(0.05);
-            button(b, false);
-            hold(0.05);
-        }
-    }
-    double time() const { return t_; }
-    const std::string& text() const { return text_; }
-    /// The world point the workspace clamp would move `world` to.
-    mesh::Point clamped(const mesh::Point& world) const {
-        mesh::Point d = world - origin_;
-        for (int i = 0; i < 3; ++i) d[i] = std::clamp(d[i], -half_, half_);
-        return origin_ + d;
-    }
-
-private:
-    mesh::Point origin_;
-    double half_;
-    std::string text_;
-    double t_ = 0;
-};
+using ScriptWriter = HandScriptWriter;
 
 /// One limb: approach above `target`, tilt, press on the bone with the saw off, saw on, feed along
 /// the blade through the bone until the edge is 4 mm below it (or the workspace's floor), saw off,
