@@ -126,7 +126,12 @@ void run_soak(const SoakOptions& o) {
             "kerf soak: %.0f s, rounds of %.0f s, faults %s, seed %llu, %zu shared meshes\n",
             *duration, *round, o.faults.c_str(), (unsigned long long)o.seed, meshes.size());
     int device_rotation = 0, host_rotation = 0;
-    for (int i = 0; i == 0 || *duration - elapsed() > 30; ++i) {
+    // A fixed number of rounds (not "until the time is spent"), so a loaded machine that starts
+    // the processes slowly still gets every round and every fault; each round's own start-up and
+    // checks take ~15 s of its share.
+    const int rounds = std::max(1, static_cast<int>(std::lround(*duration / *round)));
+    const double cutting_s = std::max(40.0, *duration / rounds - 15);
+    for (int i = 0; i < rounds; ++i) {
         RoundSpec spec;
         spec.index = i;
         // The foot on even rounds, the shared meshes in turn on odd ones.
@@ -134,7 +139,7 @@ void run_soak(const SoakOptions& o) {
                                                   : meshes[std::size_t(i / 2) % meshes.size()];
         spec.triangles = o.triangles;
         spec.seed = o.seed * 1000 + std::uint64_t(i);
-        spec.duration_s = std::max(40.0, std::min(*round, *duration - elapsed() - 10));
+        spec.duration_s = cutting_s;
         spec.faults = *faults;
         spec.device_rotation = device_rotation;
         spec.host_rotation = host_rotation;
@@ -182,7 +187,9 @@ void add_soak_command(CLI::App& app) {
     soak->add_option("--seed", opts->seed, "random seed (scenarios, foot, scribbles)")
         ->capture_default_str();
     soak->add_option("-o,--out", opts->out_dir, "output folder")->required();
-    soak->add_option("--round", opts->round, "cutting time per round (one scene per round)")
+    soak->add_option("--round", opts->round,
+                     "about how long a round lasts (one scene per round): --duration / --round "
+                     "rounds, rounded")
         ->capture_default_str();
     soak->add_option("--triangles", opts->triangles, "the built-in foot's triangle count")
         ->capture_default_str()
