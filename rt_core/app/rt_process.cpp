@@ -157,6 +157,7 @@ int run_rt_process(const RtOptions& o) {
     const config::RealtimeSettings& rts = cfg->main.realtime;
     const double period_s = double(rts.period_ns) * 1e-9;
 
+    const RealtimeItem heap = keep_freed_memory();  // before the meshes: their pages are reused
     auto mesh = scene_mesh(*cfg);
     if (!mesh) return fail(mesh.error());
 
@@ -203,6 +204,7 @@ int run_rt_process(const RtOptions& o) {
                 (*mesh)->body_count, (*mesh)->index_count / 3,
                 o.lockstep ? "lockstep (paced by the emulator)" : "real time");
     std::printf("kerf-rt: %s\n", describe_mapping(cfg->scene, settings).c_str());
+    std::printf("kerf-rt: %s: %s\n", heap.what.c_str(), heap.result.c_str());
     mesh->reset();
     builder.start();
     reconnector.start();

@@ -1,5 +1,6 @@
 #include "rt_core/loop/realtime_setup.hpp"
 
+#include <malloc.h>
 #include <pthread.h>
 #include <sched.h>
 #include <sys/mman.h>
@@ -79,6 +80,15 @@ RealtimeReport apply_realtime(const config::RealtimeSettings& settings) {
     report.items.push_back(request_policy(settings));
     if (settings.mlockall) report.items.push_back(request_mlockall());
     return report;
+}
+
+RealtimeItem keep_freed_memory() {
+    RealtimeItem item;
+    item.what = "heap keeps freed memory (mmap threshold 32 MiB, no trim)";
+    // 32 MiB is glibc's largest mmap threshold on 64-bit; blocks below it come from the heap.
+    item.ok = mallopt(M_MMAP_THRESHOLD, 32 << 20) == 1 && mallopt(M_TRIM_THRESHOLD, -1) == 1;
+    item.result = item.ok ? "ok" : "mallopt refused";
+    return item;
 }
 
 }  // namespace kerf::rt

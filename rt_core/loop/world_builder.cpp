@@ -59,6 +59,9 @@ Result<std::uint64_t, std::string> WorldBuilder::build(const ipc::CollisionMesh&
                        physics::to_string(body.error().error) + " at element " +
                        std::to_string(body.error().index)};
         }
+        // The first build of a body also runs one throwaway update: its fresh copies fault in
+        // the pages the first update after a cut will reuse (see keep_freed_memory()).
+        if (!before) (void)physics::CollisionBody::update(**body, view);
         world->bodies[b] = std::shared_ptr<const physics::CollisionBody>(std::move(*body));
         world->poses[b] = view.world_from_body;
     }

@@ -19,6 +19,7 @@ public:
     HapsimProcess& operator=(const HapsimProcess&) = delete;
 
     bool ready() const { return ready_; }
+    pid_t pid() const { return pid_; }
     const std::string& socket_path() const { return socket_; }
     /// Sends one command line; true when kerf-hapsim answered `ok`.
     bool command(const std::string& line);
