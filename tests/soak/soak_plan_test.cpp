@@ -54,15 +54,15 @@ std::vector<std::array<double, 3>> moves(const std::string& csv) {
     return out;
 }
 
-TEST(SoakRoundScript, StaysInTheWorkspaceAndLastsAsLongAsAsked) {
+TEST(SoakRoundScript, StaysInTheWorkspaceAndLastsAboutAsLongAsAsked) {
     const mesh::Point origin{0, 0.032, 0};
     RoundScriptParams p;
     p.duration_s = 90;
     const auto script = make_round_script(two_bones(), origin, 7, p);
     ASSERT_TRUE(script) << script.error();
-    EXPECT_GE(script->duration_s, 90);
-    EXPECT_LT(script->duration_s, 90 + 60);
-    ASSERT_GE(script->cuts.size(), 4u);
+    EXPECT_GE(script->duration_s, 90 - 45);  // a chevron or a slab takes ~40 s
+    EXPECT_LE(script->duration_s, 90 + 30);  // the last may be longer than the one before
+    ASSERT_GE(script->cuts.size(), 3u);
     for (const auto& m : moves(script->csv))
         for (double c : m) EXPECT_LE(std::abs(c), p.workspace_half_m);
     for (const PlannedCut& c : script->cuts) {

@@ -127,7 +127,9 @@ Result<RoundScript, std::string> make_round_script(const std::vector<CutTarget>&
     ScriptWriter w(origin, p.workspace_half_m - 0.004);
     RoundScript out;
     w.hold(p.start_hold_s);
-    while (w.time() < p.duration_s) {
+    double last_s = 0;  // how long the previous scenario took: the next one takes about as long
+    while (out.cuts.empty() || w.time() + last_s / 2 <= p.duration_s) {
+        const double started = w.time();
         const CutTarget& t = targets[rng() % targets.size()];
         const double feed = uniform(p.feed_min_m_s, p.feed_max_m_s);
         const double side = rng() % 2 ? 1.0 : -1.0;
@@ -154,6 +156,7 @@ Result<RoundScript, std::string> make_round_script(const std::vector<CutTarget>&
                 out.cuts.back().kind = "slab face";
             }
         }
+        last_s = w.time() - started;
     }
     w.move(origin, 1.0);  // home
     w.hold(1.0);

@@ -69,9 +69,9 @@ struct RoundScript {
 
 /// Settings of the generator.
 struct RoundScriptParams {
-    double duration_s = 60;       ///< the script is at least this long (last cut finishes)
-    double step_deg = 5;          ///< kerf-rt's tilt step per button press
-    double max_tilt_deg = 30;     ///< tilts drawn from -max..max in steps
+    double duration_s = 60;    ///< about this long (no scenario starts past the middle of its last)
+    double step_deg = 5;       ///< kerf-rt's tilt step per button press
+    double max_tilt_deg = 30;  ///< tilts drawn from -max..max in steps
     double feed_min_m_s = 0.003;  ///< feed speeds drawn from min..max
     double feed_max_m_s = 0.006;
     double blade_length_m = 0.025;   ///< the force profile's blade_length_m
@@ -80,7 +80,8 @@ struct RoundScriptParams {
 };
 
 /// A script of random planes, chevrons and slabs through `targets` (chosen at random) for a
-/// device whose origin is at `device_origin_world_m`, `params.duration_s` long or a little more.
+/// device whose origin is at `device_origin_world_m`, about `params.duration_s` long (at least one
+/// scenario).
 /// Fails when there is no target or the device's workspace cannot reach one.
 Result<RoundScript, std::string> make_round_script(const std::vector<CutTarget>& targets,
                                                    const mesh::Point& device_origin_world_m,

@@ -181,7 +181,8 @@ std::vector<Slot> host_schedule(const RoundSpec& s, double script_s) {
 }
 
 /// The device faults, injected one after another while the tool pushes on the bone (|F| > 0.5 N;
-/// at the latest 6 s after the previous one allowed it), 3 s apart; an unplug last, 12 s before
+/// at the latest 5 % of the script's length after the previous one allowed it, 1.5..6 s),
+/// 1 % of it apart (1..3 s) — short rounds still get every fault; an unplug last, 12 s before
 /// the end of the script (kerf-hapsim's script stops while no host is connected).
 class DeviceFaultQueue {
 public:
@@ -197,12 +198,13 @@ public:
             unplug_ = false;
             return SoakFault::kUnplug;
         }
-        if (list_.empty() || t < ready_at_ || t >= script_s_ - 14) return std::nullopt;
-        if (force_n <= 0.5f && t < ready_at_ + 6) return std::nullopt;
+        if (list_.empty() || t < ready_at_ || t >= script_s_ - 13) return std::nullopt;
+        if (force_n <= 0.5f && t < ready_at_ + std::clamp(0.05 * script_s_, 1.5, 6.0))
+            return std::nullopt;
         return list_[next_++ % list_.size()];
     }
     /// The previous fault was cleared at `t`.
-    void cleared(double t) { ready_at_ = t + 3; }
+    void cleared(double t) { ready_at_ = t + std::clamp(0.01 * script_s_, 1.0, 3.0); }
 
 private:
     std::vector<SoakFault> list_;
