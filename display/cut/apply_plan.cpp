@@ -19,12 +19,13 @@ using mesh::HalfedgeHandle;
 using mesh::TriMesh;
 using mesh::VertexHandle;
 
-// The vertex for an edge cut point: every attribute interpolated with the plan's t, from the
-// lower-index endpoint a towards b; the material is the nearer endpoint's.
-VertexHandle make_edge_vertex(TriMesh& m, const PlanPoint& p) {
+// Writes the attributes of vertex v made for an edge cut point: every attribute interpolated
+// with the plan's t, from the lower-index endpoint a towards b; the material is the nearer
+// endpoint's.
+void set_edge_vertex(TriMesh& m, const PlanPoint& p, VertexHandle v) {
     const VertexHandle a(p.a), b(p.b);
     const double t = p.t;
-    const VertexHandle v = m.add_vertex(p.position);
+    m.set_point(v, p.position);
     OpenMesh::Vec3d n = m.normal(a) + (m.normal(b) - m.normal(a)) * t;
     const double len = n.norm();
     m.set_normal(v, len > 0 ? n / len : m.normal(a));
@@ -36,26 +37,147 @@ VertexHandle make_edge_vertex(TriMesh& m, const PlanPoint& p) {
     for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(ca[i] + (cb[i] - ca[i]) * t);
     m.set_color(v, c);
     m.data(v).set_material(t <= 0.5 ? m.data(a).material() : m.data(b).material());
+}
+
+VertexHandle make_edge_vertex(TriMesh& m, const PlanPoint& p) {
+    const VertexHandle v = m.add_vertex(p.position);
+    set_edge_vertex(m, p, v);
     return v;
 }
 
-VertexHandle duplicate_vertex(TriMesh& m, VertexHandle v) {
-    const TriMesh::Point p = m.point(v);  // copy: add_vertex may reallocate the point array
-    const VertexHandle d = m.add_vertex(p);
+// The 2-4 split of interior edge e at the new vertex v, on the halfedge arrays, into elements
+// already allocated: edges ne, ne+1, ne+2 and faces nf, nf+1. The connectivity is exactly what
+// OpenMesh's TriConnectivity::split makes (same handles, same order, so meshes and hashes are
+// those of split_copy); of the properties only what Kerf owns is written: the new edges take
+// the old edge's status and stamp, the new faces their old face's normal, status, stamp and cap
+// tag (split_copy copied every property generically, one virtual call per property).
+void split_interior_edge(TriMesh& m, const ContextState& s, EdgeHandle e, VertexHandle v, int ne,
+                         int nf) {
+    const HalfedgeHandle h0 = m.halfedge_handle(e, 0), o0 = m.halfedge_handle(e, 1);
+    const VertexHandle v2 = m.to_vertex_handle(o0);
+    const HalfedgeHandle e1(2 * ne), t1(2 * ne + 1);
+    const HalfedgeHandle e0(2 * ne + 2), t0(2 * ne + 3);
+    const HalfedgeHandle e2(2 * ne + 4), t2(2 * ne + 5);
+    const FaceHandle f0 = m.face_handle(h0), f3 = m.face_handle(o0);
+    const FaceHandle f1(nf), f2(nf + 1);
+    m.set_vertex_handle(e1, v2);
+    m.set_vertex_handle(t1, v);
+    m.set_halfedge_handle(v, h0);
+    m.set_vertex_handle(o0, v);
+
+    const HalfedgeHandle h1 = m.next_halfedge_handle(h0), h2 = m.next_halfedge_handle(h1);
+    m.set_vertex_handle(e0, m.to_vertex_handle(h1));
+    m.set_vertex_handle(t0, v);
+    m.set_halfedge_handle(f0, h0);
+    m.set_halfedge_handle(f1, h2);
+    m.set_face_handle(h1, f0);
+    m.set_face_handle(t0, f0);
+    m.set_face_handle(h0, f0);
+    m.set_face_handle(h2, f1);
+    m.set_face_handle(t1, f1);
+    m.set_face_handle(e0, f1);
+    m.set_next_halfedge_handle(h0, h1);
+    m.set_next_halfedge_handle(h1, t0);
+    m.set_next_halfedge_handle(t0, h0);
+    m.set_next_halfedge_handle(e0, h2);
+    m.set_next_halfedge_handle(h2, t1);
+    m.set_next_halfedge_handle(t1, e0);
+
+    const HalfedgeHandle o1 = m.next_halfedge_handle(o0), o2 = m.next_halfedge_handle(o1);
+    m.set_vertex_handle(e2, m.to_vertex_handle(o1));
+    m.set_vertex_handle(t2, v);
+    m.set_halfedge_handle(f2, o1);
+    m.set_halfedge_handle(f3, o0);
+    m.set_face_handle(o1, f2);
+    m.set_face_handle(t2, f2);
+    m.set_face_handle(e1, f2);
+    m.set_face_handle(o2, f3);
+    m.set_face_handle(o0, f3);
+    m.set_face_handle(e2, f3);
+    m.set_next_halfedge_handle(e1, o1);
+    m.set_next_halfedge_handle(o1, t2);
+    m.set_next_halfedge_handle(t2, e1);
+    m.set_next_halfedge_handle(o0, e2);
+    m.set_next_halfedge_handle(e2, o2);
+    m.set_next_halfedge_handle(o2, o0);
+    if (m.halfedge_handle(v2) == h0) m.set_halfedge_handle(v2, t1);
+
+    for (int k = 0; k < 3; ++k) {
+        const EdgeHandle x(ne + k);
+        m.status(x) = m.status(e);
+        m.property(s.e_stamp, x) = m.property(s.e_stamp, e);
+    }
+    for (const auto& [from, to] : {std::pair{f0, f1}, std::pair{f3, f2}}) {
+        m.set_normal(to, m.normal(from));
+        m.status(to) = m.status(from);
+        m.property(s.f_stamp, to) = m.property(s.f_stamp, from);
+        m.property(s.cap, to) = m.property(s.cap, from);
+    }
+}
+
+// Splits every crossing edge of the selected loops (loop order), allocating all their elements
+// in one resize: each split makes vertex nv+i, edges ne+3i..ne+3i+2 and faces nf+2i, nf+2i+1, the
+// handles OpenMesh's add_vertex + split_copy made one at a time. rim[i] gets every point's vertex.
+// False (before any edit) if a crossing edge has a boundary side (the walk refuses those first).
+bool split_crossing_edges(ContextState& s, std::vector<VertexHandle>& rim) {
+    TriMesh& m = s.mesh;
+    const SectionPlan& plan = s.plan;
+    int splits = 0;
+    for (const PlanLoop& l : plan.loops) {
+        if (!l.selected) continue;
+        for (std::uint32_t i = l.first; i < l.first + l.count; ++i) {
+            const PlanPoint& p = plan.points[i];
+            if (!p.key.edge) continue;
+            if (m.is_boundary(EdgeHandle(p.key.id))) return false;
+            ++splits;
+        }
+    }
+    const int nv = static_cast<int>(m.n_vertices()), ne = static_cast<int>(m.n_edges()),
+              nf = static_cast<int>(m.n_faces());
+    if (splits > 0) m.resize(nv + splits, ne + 3 * splits, nf + 2 * splits);
+    int k = 0;
+    for (const PlanLoop& l : plan.loops) {
+        if (!l.selected) continue;
+        for (std::uint32_t i = l.first; i < l.first + l.count; ++i) {
+            const PlanPoint& p = plan.points[i];
+            if (!p.key.edge) {
+                rim[i] = VertexHandle(p.key.id);
+                continue;
+            }
+            rim[i] = VertexHandle(nv + k);
+            set_edge_vertex(m, p, rim[i]);
+            split_interior_edge(m, s, EdgeHandle(p.key.id), rim[i], ne + 3 * k, nf + 2 * k);
+            ++k;
+        }
+    }
+    return true;
+}
+
+// Makes allocated vertex d a copy of v's attributes.
+void duplicate_vertex(TriMesh& m, VertexHandle v, VertexHandle d) {
+    m.set_point(d, m.point(v));
     m.set_normal(d, m.normal(v));
     m.set_texcoord2D(d, m.texcoord2D(v));
     m.set_color(d, m.color(v));
     m.data(d).set_material(m.data(v).material());
-    return d;
 }
 
-// Gives the negative-side face of rim halfedge o (r[i+1] -> r[i]) its own edge x between the
-// duplicates, leaving o as a boundary halfedge of the positive side.
-HalfedgeHandle detach(TriMesh& m, HalfedgeHandle o, VertexHandle from_dup, VertexHandle to_dup) {
+// Allocated edge e as OpenMesh's new_edge(from, to) makes it; its halfedge from -> to.
+HalfedgeHandle make_edge(TriMesh& m, EdgeHandle e, VertexHandle from, VertexHandle to) {
+    const HalfedgeHandle h = m.halfedge_handle(e, 0);
+    m.set_vertex_handle(h, to);
+    m.set_vertex_handle(m.opposite_halfedge_handle(h), from);
+    return h;
+}
+
+// Gives the negative-side face of rim halfedge o (r[i+1] -> r[i]) its own (allocated) edge x
+// between the duplicates, leaving o as a boundary halfedge of the positive side.
+HalfedgeHandle detach(TriMesh& m, HalfedgeHandle o, EdgeHandle edge, VertexHandle from_dup,
+                      VertexHandle to_dup) {
     const FaceHandle f = m.face_handle(o);
     const HalfedgeHandle p = m.prev_halfedge_handle(o);
     const HalfedgeHandle n = m.next_halfedge_handle(o);
-    const HalfedgeHandle x = m.new_edge(from_dup, to_dup);
+    const HalfedgeHandle x = make_edge(m, edge, from_dup, to_dup);
     m.set_next_halfedge_handle(p, x);
     m.set_next_halfedge_handle(x, n);
     m.set_face_handle(x, f);
@@ -72,8 +194,10 @@ std::uint64_t edge_key(VertexHandle a, VertexHandle b) {
            static_cast<std::uint32_t>(b.idx());
 }
 
+// The new edges are the allocated edges next_edge, next_edge + 1, ... (advanced).
 bool separate_loop(TriMesh& m, const std::vector<VertexHandle>& r,
-                   const std::vector<VertexHandle>& d, RimEdges& pos_rim, RimEdges& neg_rim) {
+                   const std::vector<VertexHandle>& d, int& next_edge, RimEdges& pos_rim,
+                   RimEdges& neg_rim) {
     const std::size_t n = r.size();
     std::vector<HalfedgeHandle> h(n), x(n);
     for (std::size_t i = 0; i < n; ++i) {
@@ -83,7 +207,8 @@ bool separate_loop(TriMesh& m, const std::vector<VertexHandle>& r,
             return false;
     }
     for (std::size_t i = 0; i < n; ++i)
-        x[i] = detach(m, m.opposite_halfedge_handle(h[i]), d[(i + 1) % n], d[i]);
+        x[i] = detach(m, m.opposite_halfedge_handle(h[i]), EdgeHandle(next_edge++), d[(i + 1) % n],
+                      d[i]);
     // Move the negative fan of every rim vertex to its duplicate: from x[i] (into r[i]) around
     // r[i] through negative faces until the rim halfedge x[i-1] leaves it.
     for (std::size_t i = 0; i < n; ++i) {
@@ -118,11 +243,6 @@ bool separate_loop(TriMesh& m, const std::vector<VertexHandle>& r,
 // (OpenMesh's add_face would scan a fan vertex's whole one-ring for every triangle).
 bool add_cap(TriMesh& m, const std::vector<std::array<VertexHandle, 3>>& tris, RimEdges& rim,
              std::vector<FaceHandle>& faces) {
-    // Keys are unique (one rim halfedge per directed edge): order and search by key alone.
-    const auto by_key = [](const RimEdges::value_type& a, const RimEdges::value_type& b) {
-        return a.first < b.first;
-    };
-    std::sort(rim.begin(), rim.end(), by_key);
     const std::size_t n = tris.size();
     std::vector<HalfedgeHandle> he(3 * n);
     struct Inner {
@@ -137,11 +257,12 @@ bool add_cap(TriMesh& m, const std::vector<std::array<VertexHandle, 3>>& tris, R
     for (std::size_t t = 0; t < n; ++t)
         for (int k = 0; k < 3; ++k) {
             const VertexHandle u = tris[t][k], v = tris[t][(k + 1) % 3];
-            const auto it = std::lower_bound(
-                rim.begin(), rim.end(), std::make_pair(edge_key(u, v), HalfedgeHandle()), by_key);
-            if (it != rim.end() && it->first == edge_key(u, v)) {
-                if (!m.is_boundary(it->second)) return false;  // used twice
-                he[3 * t + k] = it->second;
+            // A rim edge u -> v is u's own halfedge: separate_loop made every rim vertex's
+            // halfedge its outgoing boundary halfedge (rim vertices are never on a boundary of
+            // the input: the walk refuses those), so no search.
+            const HalfedgeHandle b = m.halfedge_handle(u);
+            if (b.is_valid() && m.is_boundary(b) && m.to_vertex_handle(b) == v) {
+                he[3 * t + k] = b;
                 ++rim_used;
                 continue;
             }
@@ -153,13 +274,21 @@ bool add_cap(TriMesh& m, const std::vector<std::array<VertexHandle, 3>>& tris, R
     for (std::size_t i = 0; i < inner.size(); i += 2) {
         if (inner[i].undirected != inner[i + 1].undirected) return false;
         const std::uint32_t a = inner[i].slot, b = inner[i + 1].slot;
-        const VertexHandle u = tris[a / 3][a % 3], v = tris[a / 3][(a % 3 + 1) % 3];
+        const VertexHandle v = tris[a / 3][(a % 3 + 1) % 3];
         if (tris[b / 3][b % 3] != v) return false;  // the two uses must run opposite ways
-        he[a] = m.new_edge(u, v);
+    }
+    // Every edge and face allocated in one resize, handed out in the order OpenMesh's
+    // new_edge / new_face would give them.
+    const int ne = static_cast<int>(m.n_edges()), nf = static_cast<int>(m.n_faces());
+    m.resize(m.n_vertices(), ne + inner.size() / 2, nf + n);
+    for (std::size_t i = 0; i < inner.size(); i += 2) {
+        const std::uint32_t a = inner[i].slot, b = inner[i + 1].slot;
+        const VertexHandle u = tris[a / 3][a % 3], v = tris[a / 3][(a % 3 + 1) % 3];
+        he[a] = make_edge(m, EdgeHandle(ne + static_cast<int>(i / 2)), u, v);
         he[b] = m.opposite_halfedge_handle(he[a]);
     }
     for (std::size_t t = 0; t < n; ++t) {
-        const FaceHandle f = m.new_face();
+        const FaceHandle f(nf + static_cast<int>(t));
         m.set_halfedge_handle(f, he[3 * t]);
         for (int k = 0; k < 3; ++k) {
             m.set_face_handle(he[3 * t + k], f);
@@ -185,18 +314,7 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
                       4 * n_points + 3 * n_caps + 3 * plan.merged.size(),
                       2 * n_points + 2 * n_caps + 2 * plan.merged.size());
     std::vector<VertexHandle> rim(plan.points.size());
-    for (const PlanLoop& l : plan.loops) {
-        if (!l.selected) continue;
-        for (std::uint32_t i = l.first; i < l.first + l.count; ++i) {
-            const PlanPoint& p = plan.points[i];
-            if (!p.key.edge) {
-                rim[i] = VertexHandle(p.key.id);
-                continue;
-            }
-            rim[i] = make_edge_vertex(m, p);
-            m.split_copy(EdgeHandle(p.key.id), rim[i]);
-        }
-    }
+    if (!split_crossing_edges(s, rim)) return CutStatus::kInternalError;
     // Cut points within tol of their loop neighbour: split, then collapse into the neighbour's
     // vertex (merge_close_points checked the link condition on the unedited mesh).
     for (const MergedPoint& mp : plan.merged) {
@@ -210,13 +328,21 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
     out.plane = plane;
     std::vector<VertexHandle> dup(plan.points.size());
     RimEdges pos_rim, neg_rim;
+    // One duplicate vertex and one detaching edge per rim point, allocated in one resize and
+    // handed out in loop order (the handles add_vertex / new_edge would give one at a time).
+    int rim_points = 0;
+    for (const PlanLoop& l : plan.loops) rim_points += l.selected ? static_cast<int>(l.count) : 0;
+    int next_vertex = static_cast<int>(m.n_vertices()), next_edge = static_cast<int>(m.n_edges());
+    m.resize(next_vertex + rim_points, next_edge + rim_points, m.n_faces());
     for (const PlanLoop& l : plan.loops) {
         if (!l.selected) continue;
         std::vector<VertexHandle> r(rim.begin() + l.first, rim.begin() + l.first + l.count);
         std::vector<VertexHandle> d(l.count);
-        for (std::uint32_t i = 0; i < l.count; ++i)
-            d[i] = dup[l.first + i] = duplicate_vertex(m, r[i]);
-        if (!separate_loop(m, r, d, pos_rim, neg_rim)) return CutStatus::kInternalError;
+        for (std::uint32_t i = 0; i < l.count; ++i) {
+            d[i] = dup[l.first + i] = VertexHandle(next_vertex++);
+            duplicate_vertex(m, r[i], d[i]);
+        }
+        if (!separate_loop(m, r, d, next_edge, pos_rim, neg_rim)) return CutStatus::kInternalError;
         std::vector<Vec2> uv(l.count);
         for (std::uint32_t i = 0; i < l.count; ++i) uv[i] = plan.points[l.first + i].uv;
         out.loops_2d.push_back(std::move(uv));
@@ -232,7 +358,7 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
         if (m.property(s.cap, f) != kCapNone)
             s.cap_faces.push_back(f);
         else
-            s.grid.insert(m, f);
+            s.tree.insert(m, f);
     }
     // Caps: positive side faces -normal (reversed triangles), negative side +normal.
     std::vector<std::array<VertexHandle, 3>> pos_tris, neg_tris;

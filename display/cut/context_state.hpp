@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "display/cut/face_grid.hpp"
+#include "display/cut/face_tree.hpp"
 #include "display/cut/section_plan.hpp"
 #include "display/cut/triangulate.hpp"
 #include "display/mesh/tri_mesh.hpp"
@@ -23,15 +23,16 @@ struct ContextState {
     /// Starts a new stamp generation (resets every stamp on wrap-around).
     void next_generation();
     /// Makes room for `vertices`, `edges`, `faces` more elements without reallocating during the
-    /// edit (capacity doubles when it runs out, so growth is amortised and cuts stay cheap).
+    /// edit. Normally a no-op: idle-time grow_step() keeps headroom ahead of the cuts; if a cut
+    /// still needs more, it grows everything here (O(mesh)) and counts it in growths_in_cuts.
     void ensure_capacity(std::size_t vertices, std::size_t edges, std::size_t faces);
-    /// Doubles the capacity (at least room for that many more) and makes it resident.
-    void grow(std::size_t vertices, std::size_t edges, std::size_t faces);
-    /// Reserves the capacity recorded in reserved_* and writes every element of it once (grow
-    /// to it, shrink back), so that the pages are resident before a cut needs them: a cut that
-    /// first-touches fresh memory spends a third of its time in page faults (measured on the
-    /// 1M foot). Costs resident memory equal to the capacity, O(capacity) time, at load.
-    void reserve_resident();
+    /// One bounded step for idle time: when the spare room of one element kind (vertices, edges,
+    /// faces, the face tree's inserts) is below half its target, grows that kind alone to its
+    /// target and makes it resident. Targets: headroom_faces(min_spare_faces) faces, half as
+    /// many vertices, twice as many edges. Returns whether it grew something. O(that array).
+    bool grow_step(std::size_t min_spare_faces);
+    /// Faces of headroom the context keeps: an eighth of the mesh, at least `min_spare_faces`.
+    std::size_t headroom_faces(std::size_t min_spare_faces) const;
 
     bool vertex_marked(mesh::VertexHandle v) const {
         return mesh.property(v_stamp, v) == generation;
@@ -44,18 +45,17 @@ struct ContextState {
     double scale_m = 0.0;
     double tolerance_m = 0.0;
     double max_edge_m =
-        0.0;  ///< longest non-cap edge (+ vertex moves noted since): full-slice reach
-    FaceGrid grid;
-    std::vector<mesh::FaceHandle> cap_faces;  ///< every cap face made so far (not in the grid)
+        0.0;        ///< longest non-cap edge (+ vertex moves noted since): full-slice reach
+    FaceTree tree;  ///< faces by bounding box, for seed and nested-loop queries
+    std::vector<mesh::FaceHandle> cap_faces;  ///< every cap face made so far (not in the tree)
 
     OpenMesh::VPropHandleT<std::uint32_t> v_stamp;
-    OpenMesh::VPropHandleT<std::int32_t> v_node;
     OpenMesh::EPropHandleT<std::uint32_t> e_stamp;
-    OpenMesh::EPropHandleT<std::int32_t> e_node;
     OpenMesh::FPropHandleT<std::uint32_t> f_stamp;
     OpenMesh::FPropHandleT<std::uint8_t> cap;  ///< named kCapFaceProperty
     std::uint32_t generation = 1;
     std::size_t reserved_vertices = 0, reserved_edges = 0, reserved_faces = 0;
+    std::uint64_t growths_in_cuts = 0;  ///< cuts that had to grow capacity themselves
 
     SectionPlan plan;
     Triangulator triangulator;

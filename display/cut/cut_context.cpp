@@ -1,6 +1,9 @@
 #include "display/cut/cut_context.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <type_traits>
 
 #include "display/cut/context_state.hpp"
 #include "display/cut/cross_section.hpp"
@@ -9,11 +12,19 @@ namespace kerf::cut {
 
 namespace detail {
 
+namespace {
+
+/// Faces of headroom at least (a localised cut on a bone adds a few thousand).
+constexpr std::size_t kMinHeadroomFaces = std::size_t{1} << 16;
+
+// Element kinds grown one at a time by grow_step().
+enum class Kind { kVertices, kEdges, kFaces, kTree };
+
+}  // namespace
+
 ContextState::ContextState(mesh::TriMesh& m) : mesh(m) {
     mesh.add_property(v_stamp);
-    mesh.add_property(v_node);
     mesh.add_property(e_stamp);
-    mesh.add_property(e_node);
     mesh.add_property(f_stamp);
     if (!mesh.get_property_handle(cap, kCapFaceProperty)) mesh.add_property(cap, kCapFaceProperty);
     rebuild();
@@ -21,87 +32,130 @@ ContextState::ContextState(mesh::TriMesh& m) : mesh(m) {
 
 ContextState::~ContextState() {
     mesh.remove_property(v_stamp);
-    mesh.remove_property(v_node);
     mesh.remove_property(e_stamp);
-    mesh.remove_property(e_node);
     mesh.remove_property(f_stamp);
 }
 
 void ContextState::rebuild() {
     Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
-    for (auto v : mesh.vertices()) {
-        lo.minimize(mesh.point(v));
-        hi.maximize(mesh.point(v));
+    const auto nv = static_cast<int>(mesh.n_vertices());
+    const mesh::TriMesh::Point* points = mesh.points();
+    for (int i = 0; i < nv; ++i) {
+        if (mesh.status(mesh::VertexHandle(i)).deleted()) continue;
+        lo.minimize(points[i]);
+        hi.maximize(points[i]);
     }
     scale_m = mesh.n_vertices() == 0 ? 0.0 : (hi - lo).norm();
     tolerance_m = Plane::tolerance_for_scale(scale_m);
     max_edge_m = 0.0;
+    double max_edge_sq = 0.0;
     for (auto e : mesh.edges()) {
         const auto h = mesh.halfedge_handle(e, 0);
         const auto f0 = mesh.face_handle(h),
                    f1 = mesh.face_handle(mesh.opposite_halfedge_handle(h));
         const bool cap_edge = (f0.is_valid() && mesh.property(cap, f0) != kCapNone) ||
                               (f1.is_valid() && mesh.property(cap, f1) != kCapNone);
-        if (!cap_edge) max_edge_m = std::max(max_edge_m, mesh.calc_edge_length(e));
+        if (cap_edge) continue;
+        const Vec3 d =
+            points[mesh.to_vertex_handle(h).idx()] - points[mesh.from_vertex_handle(h).idx()];
+        max_edge_sq = std::max(max_edge_sq, d.sqrnorm());
     }
-    grid.build(mesh);
+    max_edge_m = std::sqrt(max_edge_sq);
+    tree.build(mesh);
     cap_faces.clear();
     for (auto f : mesh.faces())
         if (mesh.property(cap, f) != kCapNone) cap_faces.push_back(f);
-    for (auto v : mesh.all_vertices()) mesh.property(v_stamp, v) = 0;
-    for (auto e : mesh.all_edges()) mesh.property(e_stamp, e) = 0;
-    for (auto f : mesh.all_faces()) mesh.property(f_stamp, f) = 0;
+    std::fill_n(&mesh.property(v_stamp).data_vector()[0], mesh.n_vertices(), 0u);
+    std::fill_n(&mesh.property(e_stamp).data_vector()[0], mesh.n_edges(), 0u);
+    std::fill_n(&mesh.property(f_stamp).data_vector()[0], mesh.n_faces(), 0u);
     generation = 1;
-    // Headroom for the cuts to come: as much again of everything, reserved and made resident
-    // once here, so no cut reallocates or page-faults.
-    reserved_vertices = 2 * mesh.n_vertices() + 4096;
-    reserved_edges = 2 * mesh.n_edges() + 12288;
-    reserved_faces = 2 * mesh.n_faces() + 8192;
-    reserve_resident();
+    // Headroom for the cuts to come, reserved and made resident now (no cut reallocates or
+    // page-faults); idle time keeps it up with grow_step().
+    reserved_vertices = mesh.n_vertices();
+    reserved_edges = mesh.n_edges();
+    reserved_faces = mesh.n_faces();
+    while (grow_step(0)) {
+    }
 }
 
-void ContextState::reserve_resident() {
-    mesh.reserve(reserved_vertices, reserved_edges, reserved_faces);
+std::size_t ContextState::headroom_faces(std::size_t min_spare_faces) const {
+    return std::max({min_spare_faces, mesh.n_faces() / 8, kMinHeadroomFaces});
+}
+
+bool ContextState::grow_step(std::size_t min_spare_faces) {
+    const std::size_t hf = headroom_faces(min_spare_faces);
     const std::size_t nv = mesh.n_vertices(), ne = mesh.n_edges(), nf = mesh.n_faces();
-    // Every connectivity array and property grows into its capacity and shrinks back: std::vector
-    // keeps the capacity, the kernel keeps the pages. Default construction writes nothing for
-    // OpenMesh's vector types (points, normals), so every element of every property is also
-    // written explicitly (a copy of element 0). Nothing observes the intermediate size.
-    mesh.resize(reserved_vertices, reserved_edges, reserved_faces);
-    auto write_each = [this](auto first, std::size_t from, std::size_t to) {
-        using Handle = decltype(first);
-        for (std::size_t i = from; i < to; ++i)
-            mesh.copy_all_properties(first, Handle(static_cast<int>(i)), true);
+    const std::size_t want[4] = {nv + hf / 2, ne + 2 * hf, nf + hf, hf};
+    const std::size_t have[4] = {reserved_vertices, reserved_edges, reserved_faces,
+                                 tree.spare_inserts()};
+    const std::size_t used[4] = {nv, ne, nf, 0};
+    // Writes elements [from, size) of a property whose type default construction leaves
+    // unwritten (OpenMesh's vectors), so that its pages become resident.
+    auto write_tail = [this](auto handle, std::size_t from) {
+        auto& v = mesh.property(handle).data_vector();
+        std::fill(v.begin() + static_cast<std::ptrdiff_t>(from), v.end(),
+                  typename std::decay_t<decltype(v)>::value_type());
     };
-    if (nv > 0) write_each(mesh::VertexHandle(0), nv, reserved_vertices);
-    if (ne > 0) {
-        write_each(mesh::EdgeHandle(0), ne, reserved_edges);
-        write_each(mesh::HalfedgeHandle(0), 2 * ne, 2 * reserved_edges);
+    for (int k = 0; k < 4; ++k) {
+        // Grow a kind whose spare room fell below half its target headroom.
+        const std::size_t target_spare = want[k] - used[k];
+        if (have[k] >= used[k] + target_spare / 2) continue;
+        switch (static_cast<Kind>(k)) {
+            case Kind::kVertices: {
+                // Reserve, then grow into the capacity and shrink back: value-initialised
+                // elements are written by resize, the vector types (which default construction
+                // leaves unwritten) explicitly; std::vector keeps the capacity, the kernel keeps
+                // the pages.
+                mesh.reserve(want[k], ne, nf);
+                mesh.resize(want[k], ne, nf);
+                write_tail(mesh.points_pph(), nv);
+                write_tail(mesh.vertex_normals_pph(), nv);
+                write_tail(mesh.vertex_texcoords2D_pph(), nv);
+                write_tail(mesh.vertex_colors_pph(), nv);
+                mesh.resize(nv, ne, nf);
+                reserved_vertices = want[k];
+                break;
+            }
+            case Kind::kEdges:
+                mesh.reserve(nv, want[k], nf);
+                mesh.resize(nv, want[k], nf);
+                mesh.resize(nv, ne, nf);
+                reserved_edges = want[k];
+                break;
+            case Kind::kFaces:
+                mesh.reserve(nv, ne, want[k]);
+                mesh.resize(nv, ne, want[k]);
+                write_tail(mesh.face_normals_pph(), nf);
+                mesh.resize(nv, ne, nf);
+                cap_faces.reserve(cap_faces.size() + hf);
+                reserved_faces = want[k];
+                break;
+            case Kind::kTree:
+                tree.reserve_resident(hf);
+                break;
+        }
+        return true;
     }
-    if (nf > 0) write_each(mesh::FaceHandle(0), nf, reserved_faces);
-    grid.reserve_resident(reserved_faces - nf);
-    mesh.resize(nv, ne, nf);
+    return false;
 }
 
 void ContextState::ensure_capacity(std::size_t vertices, std::size_t edges, std::size_t faces) {
     const bool room = mesh.n_vertices() + vertices <= reserved_vertices &&
                       mesh.n_edges() + edges <= reserved_edges &&
-                      mesh.n_faces() + faces <= reserved_faces;
-    if (!room) grow(vertices, edges, faces);
-}
-
-void ContextState::grow(std::size_t vertices, std::size_t edges, std::size_t faces) {
-    reserved_vertices = std::max(mesh.n_vertices() + vertices, 2 * reserved_vertices);
-    reserved_edges = std::max(mesh.n_edges() + edges, 2 * reserved_edges);
-    reserved_faces = std::max(mesh.n_faces() + faces, 2 * reserved_faces);
-    reserve_resident();
+                      mesh.n_faces() + faces <= reserved_faces && faces <= tree.spare_inserts() &&
+                      cap_faces.size() + faces <= cap_faces.capacity();
+    if (room) return;
+    ++growths_in_cuts;
+    const std::size_t need = std::max({vertices, edges, faces});
+    while (grow_step(need)) {
+    }
 }
 
 void ContextState::next_generation() {
     if (++generation != 0) return;
-    for (auto v : mesh.all_vertices()) mesh.property(v_stamp, v) = 0;
-    for (auto e : mesh.all_edges()) mesh.property(e_stamp, e) = 0;
-    for (auto f : mesh.all_faces()) mesh.property(f_stamp, f) = 0;
+    std::fill_n(&mesh.property(v_stamp).data_vector()[0], mesh.n_vertices(), 0u);
+    std::fill_n(&mesh.property(e_stamp).data_vector()[0], mesh.n_edges(), 0u);
+    std::fill_n(&mesh.property(f_stamp).data_vector()[0], mesh.n_faces(), 0u);
     generation = 1;
 }
 
@@ -117,7 +171,7 @@ double CutContext::tolerance_m() const noexcept { return state_->tolerance_m; }
 
 void CutContext::note_vertices_moved(double max_distance_m) noexcept {
     if (!(max_distance_m > 0.0)) return;
-    state_->grid.widen(max_distance_m);
+    state_->tree.widen(max_distance_m);
     state_->max_edge_m += 2.0 * max_distance_m;
 }
 
@@ -128,6 +182,15 @@ std::size_t CutContext::spare_faces() const noexcept {
     return state_->reserved_faces > used ? state_->reserved_faces - used : 0;
 }
 
-void CutContext::grow_capacity() { state_->grow(0, 0, 0); }
+bool CutContext::grow_step(std::size_t min_spare_faces) {
+    return state_->grow_step(min_spare_faces);
+}
+
+void CutContext::grow_capacity(std::size_t min_spare_faces) {
+    while (state_->grow_step(min_spare_faces)) {
+    }
+}
+
+std::uint64_t CutContext::growths_in_cuts() const noexcept { return state_->growths_in_cuts; }
 
 }  // namespace kerf::cut

@@ -11,6 +11,7 @@
 // `note_vertices_moved()` allows, call `rebuild()`. Not thread-safe (one cutting thread per mesh).
 #pragma once
 
+#include <cstdint>
 #include <memory>
 
 #include "display/mesh/tri_mesh.hpp"
@@ -45,13 +46,23 @@ public:
     /// Re-measures and re-indexes the mesh (O(n)); required after garbage_collection().
     void rebuild();
 
-    /// Faces the cuts can still add before the reserved capacity runs out. When it does, the
-    /// cut that needs more doubles it inside the call: O(mesh), about 0.6 s at 1.5M elements.
+    /// Faces the cuts can still add before the reserved capacity runs out.
     std::size_t spare_faces() const noexcept;
 
-    /// Doubles the reserved (resident) capacity now, O(mesh), so that no cut has to: call it
-    /// from idle time (between frames) when spare_faces() runs low.
-    void grow_capacity();
+    /// One bounded step of capacity growth, for idle time (between frames): when the spare room
+    /// of one element kind (vertices, edges, faces, the face index) is below half its target,
+    /// grows that kind alone (O(that array): tens of ms at 1M faces) to a headroom of an eighth
+    /// of the mesh, at least `min_spare_faces` faces (half as many vertices, twice as many edges),
+    /// and makes it resident. Returns whether it grew something. Called often enough, no cut
+    /// ever grows capacity (a cut that finds too little room grows everything itself: O(mesh)).
+    bool grow_step(std::size_t min_spare_faces = 0);
+
+    /// Every grow_step() that is due, now.
+    void grow_capacity(std::size_t min_spare_faces = 0);
+
+    /// Cuts that found too little room and grew capacity inside the cut (0 when idle time
+    /// kept up).
+    std::uint64_t growths_in_cuts() const noexcept;
 
     /// Library-internal state (used by the kerf::cut implementation files).
     detail::ContextState& state() noexcept { return *state_; }

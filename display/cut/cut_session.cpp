@@ -317,8 +317,7 @@ ApplyReport CutSession::move_body(const BodyMoved& e) {
 }
 
 bool CutSession::idle(std::size_t min_spare_faces) {
-    if (s_->ctx->spare_faces() >= min_spare_faces) return false;
-    s_->ctx->grow_capacity();
+    if (!s_->ctx->grow_step(min_spare_faces)) return false;
     ++s_->counters.capacity_grown;
     return true;
 }

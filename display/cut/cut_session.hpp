@@ -74,7 +74,7 @@ struct SessionCounters {
     std::uint64_t refused = 0;
     std::uint64_t ignored = 0;
     std::uint64_t cuts_completed = 0;
-    std::uint64_t capacity_grown = 0;  ///< idle() doublings
+    std::uint64_t capacity_grown = 0;  ///< idle() growth steps
 };
 
 class CutSession {
@@ -91,8 +91,9 @@ public:
     ApplyReport end(const CutEnd& event);            ///< completes or leaves the open cut
     ApplyReport move_body(const BodyMoved& event);   ///< replaces a body's pose
 
-    /// Between events: doubles the cutting capacity when fewer than `min_spare_faces` remain
-    /// (O(mesh), so a cut never has to). Returns true when it grew.
+    /// Between events: one bounded step of capacity growth (CutContext::grow_step: one element
+    /// kind, when its headroom runs below half of an eighth of the mesh, at least
+    /// `min_spare_faces` faces), so a cut never has to grow. Returns true when it grew.
     bool idle(std::size_t min_spare_faces = kMinSpareFaces);
 
     /// Fingerprint of the mesh (mesh_hash), every face's body and every body's pose and parent.

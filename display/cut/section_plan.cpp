@@ -129,14 +129,11 @@ public:
         return k.edge ? s_.edge_marked(EdgeHandle(k.id)) : s_.vertex_marked(VertexHandle(k.id));
     }
 
-    void mark(const CutPointKey& k, std::int32_t node) {
-        if (k.edge) {
+    void mark(const CutPointKey& k) {
+        if (k.edge)
             m_.property(s_.e_stamp, EdgeHandle(k.id)) = s_.generation;
-            m_.property(s_.e_node, EdgeHandle(k.id)) = node;
-        } else {
+        else
             m_.property(s_.v_stamp, VertexHandle(k.id)) = s_.generation;
-            m_.property(s_.v_node, VertexHandle(k.id)) = node;
-        }
     }
 
     PlanPoint make_point(const CutPointKey& k) const {
@@ -172,7 +169,7 @@ public:
         CutPointKey k = start;
         const std::size_t limit = 3 * m_.n_faces() + 3;
         while (!marked(k)) {
-            mark(k, static_cast<std::int32_t>(plan.points.size()));
+            mark(k);
             plan.points.push_back(make_point(k));
             bool via_face = false;
             CutPointKey nx;
@@ -266,7 +263,7 @@ FaceHandle find_seed_face(ContextState& s, const Seed& seed) {
         const double d = distance_to_face(m, f, seed.point_m);
         if (d <= best_d) best_d = d, best = f;
     };
-    s.grid.for_each_near_point(seed.point_m, tol, consider);
+    s.tree.for_each_near_point(seed.point_m, tol, consider);
     if (!best.is_valid())
         for (FaceHandle f : s.cap_faces) consider(f.idx());
     return best;
@@ -305,9 +302,9 @@ CutStatus find_start(ContextState& s, Walker& w, const Plane& plane, FaceHandle 
     return CutStatus::kSeedFarFromCut;
 }
 
-// Walks every loop met in the grid cells along each selected outer loop's box, then selects the
-// holes inside a selected outer loop and the islands inside those holes; loops outside stay
-// untouched.
+// Walks every loop met near the plane inside each selected outer loop's box (the face tree), then
+// selects the holes inside a selected outer loop and the islands inside those holes; loops outside
+// stay untouched.
 CutStatus add_nested_loops(ContextState& s, Walker& w, const Plane& plane) {
     SectionPlan& plan = s.plan;
     std::vector<std::size_t> outers;
@@ -322,7 +319,7 @@ CutStatus add_nested_loops(ContextState& s, Walker& w, const Plane& plane) {
             hi.maximize(plan.points[outer.first + i].uv);
         }
         CutStatus error = CutStatus::kOk;
-        s.grid.for_each_near_plane(plane, lo, hi, s.tolerance_m, [&](std::int32_t fi) {
+        s.tree.for_each_near_plane(plane, lo, hi, s.tolerance_m, [&](std::int32_t fi) {
             const FaceHandle f(fi);
             if (error != CutStatus::kOk || fi >= n || s.mesh.status(f).deleted() ||
                 s.face_marked(f))

@@ -73,6 +73,15 @@ Plane tube_plane(int i, int n) {
     return *Plane::make(Vec3(0, 0, z), Vec3(0, 0, 1));
 }
 
+/// Idle time between two cuts, untimed: the context's capacity growth steps, as the display's
+/// CutSession::idle() takes them, so no timed cut grows capacity (counted as growths_in_cuts).
+void idle_between_cuts(CutContext& ctx, benchmark::State& state) {
+    state.PauseTiming();
+    while (ctx.grow_step()) {
+    }
+    state.ResumeTiming();
+}
+
 // ---- localised slice + caps, flat in mesh size --------------------------------------------------
 
 void BM_LocalisedSliceCaps(benchmark::State& state) {
@@ -81,19 +90,65 @@ void BM_LocalisedSliceCaps(benchmark::State& state) {
     CrossSection cs;
     int i = 0;
     int refused = 0;
+    double faces_split = 0;
     const int n = static_cast<int>(state.max_iterations);
     for (auto _ : state) {
+        idle_between_cuts(ctx, state);
         const Plane p = tube_plane(i++, n);
         const Seed seed{Vec3(kTubeOuter, 0, p.point()[2]), kerf::mesh::FaceHandle(), -1.0};
         const auto r = kerf::cut::slice_by_plane(ctx, p, seed, cs);
         refused += r.ok() ? 0 : 1;
+        faces_split += r.stats.faces_split;
         benchmark::DoNotOptimize(cs.positive.cap_faces.data());
     }
+    state.counters["growths_in_cuts"] = static_cast<double>(ctx.growths_in_cuts());
     state.counters["refused"] = refused;  // cuts the library refused (timed all the same)
+    state.counters["faces_split"] = faces_split / static_cast<double>(state.iterations());
     state.counters["triangles"] = static_cast<double>(state.range(0));
     state.counters["rim_points"] = 2.0 * kTubeSegments;
 }
 BENCHMARK(BM_LocalisedSliceCaps)
+    ->Arg(100'000)
+    ->Arg(1'000'000)
+    ->Arg(4'000'000)
+    ->Iterations(40)
+    ->Unit(benchmark::kMicrosecond);
+
+// The same localised cut of a tube with few segments: 32 around, so 128 split faces at every
+// size, while the rings crowd along the axis (ring spacing 64 um at 100k, 1.6 um at 4M, against
+// 1.2 mm around): long thin triangles, the case where a grid sized on face extents holds many
+// faces per cell. Cost must not follow the density.
+constexpr int kThinTubeSegments = 32;
+
+TriMesh thin_tube_with(std::size_t triangles) {
+    const int rings =
+        static_cast<int>((triangles - 4 * kThinTubeSegments) / (4 * kThinTubeSegments));
+    return kerf::mesh::make_hollow_tube(kTubeLength, kTubeOuter, kTubeInner, kThinTubeSegments,
+                                        rings);
+}
+
+void BM_LocalisedSliceCaps_ThinTube(benchmark::State& state) {
+    TriMesh m = thin_tube_with(static_cast<std::size_t>(state.range(0)));
+    CutContext ctx(m);
+    CrossSection cs;
+    int i = 0;
+    int refused = 0;
+    double faces_split = 0;
+    const int n = static_cast<int>(state.max_iterations);
+    for (auto _ : state) {
+        idle_between_cuts(ctx, state);
+        const Plane p = tube_plane(i++, n);
+        const Seed seed{Vec3(kTubeOuter, 0, p.point()[2]), kerf::mesh::FaceHandle(), -1.0};
+        const auto r = kerf::cut::slice_by_plane(ctx, p, seed, cs);
+        refused += r.ok() ? 0 : 1;
+        faces_split += r.stats.faces_split;
+    }
+    state.counters["growths_in_cuts"] = static_cast<double>(ctx.growths_in_cuts());
+    state.counters["refused"] = refused;
+    state.counters["faces_split"] = faces_split / static_cast<double>(state.iterations());
+    state.counters["triangles"] = static_cast<double>(m.n_faces());
+}
+BENCHMARK(BM_LocalisedSliceCaps_ThinTube)
     ->Arg(100'000)
     ->Arg(1'000'000)
     ->Arg(4'000'000)
@@ -119,9 +174,11 @@ void BM_FullSliceCaps_Sphere1M(benchmark::State& state) {
     int i = 0;
     int refused = 0;
     for (auto _ : state) {
+        idle_between_cuts(ctx, state);
         const auto r = kerf::cut::slice_by_plane(ctx, sphere_plane(i++), cs);
         refused += r.ok() ? 0 : 1;
     }
+    state.counters["growths_in_cuts"] = static_cast<double>(ctx.growths_in_cuts());
     state.counters["refused"] = refused;  // cuts the library refused (timed all the same)
 }
 BENCHMARK(BM_FullSliceCaps_Sphere1M)->Iterations(10)->Unit(benchmark::kMillisecond);
@@ -307,6 +364,7 @@ void BM_LocalisedSliceCaps_RealBone1M(benchmark::State& state) {
     int i = 0;
     int refused = 0;
     for (auto _ : state) {
+        idle_between_cuts(ctx, state);
         state.PauseTiming();
         const double x = lo[0] + (hi[0] - lo[0]) * (0.3 + 0.04 * i++) + 1.234e-7;
         const Plane p = *Plane::make(Vec3(x, 0, 0), Vec3(1, 0, 0));
@@ -325,6 +383,7 @@ void BM_LocalisedSliceCaps_RealBone1M(benchmark::State& state) {
             kerf::cut::slice_by_plane(ctx, p, Seed{seed_point, kerf::mesh::FaceHandle(), -1.0}, cs);
         refused += r.ok() ? 0 : 1;
     }
+    state.counters["growths_in_cuts"] = static_cast<double>(ctx.growths_in_cuts());
     state.counters["refused"] = refused;
     state.counters["triangles"] = static_cast<double>(source->n_faces());
 }
@@ -348,6 +407,7 @@ void BM_LocalisedSliceCaps_Foot1M(benchmark::State& state) {
     int refused = 0;
     double faces_split = 0;
     for (auto _ : state) {
+        idle_between_cuts(ctx, state);
         state.PauseTiming();
         // Station along the shaft, between the canal's ends; seed: the crossing of the bone's
         // outer shell farthest from the axis (never the canal wall).
@@ -375,6 +435,7 @@ void BM_LocalisedSliceCaps_Foot1M(benchmark::State& state) {
         refused += r.ok() ? 0 : 1;
         faces_split += r.stats.faces_split;
     }
+    state.counters["growths_in_cuts"] = static_cast<double>(ctx.growths_in_cuts());
     state.counters["refused"] = refused;
     state.counters["faces_split"] = faces_split / static_cast<double>(state.iterations());
     state.counters["triangles"] = static_cast<double>(m.n_faces());
@@ -391,12 +452,24 @@ public:
         ConsoleReporter::ReportRuns(runs);
         for (const Run& r : runs) {
             if (r.error_occurred || r.run_type != Run::RT_Iteration) continue;
-            seconds_[r.run_name.str()].push_back(r.GetAdjustedRealTime() /
-                                                 benchmark::GetTimeUnitMultiplier(r.time_unit));
+            const double unit = benchmark::GetTimeUnitMultiplier(r.time_unit);
+            real_[r.run_name.str()].push_back(r.GetAdjustedRealTime() / unit);
+            cpu_[r.run_name.str()].push_back(r.GetAdjustedCPUTime() / unit);
         }
     }
-    void print_ratios() const {
-        std::printf("\nRatios (same run):\n");
+    /// The ratio table on wall time, then on the cutting thread's CPU time (which a loaded
+    /// machine inflates less: time spent descheduled is not in it).
+    void print_ratios() {
+        seconds_ = &real_;
+        std::printf("\nRatios (same run, wall time):\n");
+        print_table();
+        seconds_ = &cpu_;
+        std::printf("\nRatios (same run, CPU time of the benchmark thread):\n");
+        print_table();
+    }
+
+private:
+    void print_table() const {
         ratio("localised 1M / 100k (flat = 1)", "BM_LocalisedSliceCaps/1000000/iterations:40",
               "BM_LocalisedSliceCaps/100000/iterations:40");
         ratio("localised 4M / 100k (flat = 1)", "BM_LocalisedSliceCaps/4000000/iterations:40",
@@ -417,20 +490,27 @@ public:
               "BM_LocalisedSliceCaps_RealBone1M/iterations:10", "BM_FlatPass_Sphere1M");
         ratio("foot 1M metatarsal localised / flat-pass floor",
               "BM_LocalisedSliceCaps_Foot1M/iterations:40", "BM_FlatPass_Sphere1M");
+        ratio("thin tube localised 1M / 100k (flat = 1)",
+              "BM_LocalisedSliceCaps_ThinTube/1000000/iterations:40",
+              "BM_LocalisedSliceCaps_ThinTube/100000/iterations:40");
+        ratio("thin tube localised 4M / 100k (flat = 1)",
+              "BM_LocalisedSliceCaps_ThinTube/4000000/iterations:40",
+              "BM_LocalisedSliceCaps_ThinTube/100000/iterations:40");
         absolute("localised slice + caps, 1M tube", "BM_LocalisedSliceCaps/1000000/iterations:40");
+        per_split_face("per split face, 1M tube (2,048 split faces)",
+                       "BM_LocalisedSliceCaps/1000000/iterations:40", 2048);
         absolute("localised slice + caps, foot 1M metatarsal",
                  "BM_LocalisedSliceCaps_Foot1M/iterations:40");
         absolute("separation step, 1M tube", "BM_SeparationStep_Tube1M/iterations:60");
     }
 
-private:
     struct Spread {
         double median, min, max;
         std::size_t n;
     };
     std::optional<Spread> spread(const std::string& name) const {
-        const auto it = seconds_.find(name);
-        if (it == seconds_.end() || it->second.empty()) return std::nullopt;
+        const auto it = seconds_->find(name);
+        if (it == seconds_->end() || it->second.empty()) return std::nullopt;
         std::vector<double> v = it->second;
         std::sort(v.begin(), v.end());
         const std::size_t n = v.size();
@@ -452,7 +532,14 @@ private:
                         sa->min * 1e3, sa->max * 1e3, sa->n);
         }
     }
-    std::map<std::string, std::vector<double>> seconds_;
+    void per_split_face(const char* what, const std::string& a, double faces) const {
+        if (const auto sa = spread(a)) {
+            std::printf("  %-48s %10.3f us  (%.3f-%.3f, n=%zu)\n", what, sa->median * 1e6 / faces,
+                        sa->min * 1e6 / faces, sa->max * 1e6 / faces, sa->n);
+        }
+    }
+    std::map<std::string, std::vector<double>> real_, cpu_;
+    const std::map<std::string, std::vector<double>>* seconds_ = &real_;
 };
 
 }  // namespace

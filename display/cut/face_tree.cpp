@@ -1,0 +1,182 @@
+#include "display/cut/face_tree.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace kerf::cut::detail {
+
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// A float not above x / not below x (float rounding must never shrink a box).
+float round_down(double x) {
+    const auto f = static_cast<float>(x);
+    return static_cast<double>(f) > x ? std::nextafter(f, -kInf) : f;
+}
+float round_up(double x) {
+    const auto f = static_cast<float>(x);
+    return static_cast<double>(f) < x ? std::nextafter(f, kInf) : f;
+}
+
+// Spreads the low 21 bits of x to every third bit.
+std::uint64_t spread_bits(std::uint64_t x) {
+    x &= 0x1fffff;
+    x = (x | x << 32) & 0x1f00000000ffffULL;
+    x = (x | x << 16) & 0x1f0000ff0000ffULL;
+    x = (x | x << 8) & 0x100f00f00f00f00fULL;
+    x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+    x = (x | x << 2) & 0x1249249249249249ULL;
+    return x;
+}
+
+struct Keyed {
+    std::uint64_t code;
+    std::uint32_t index;
+};
+
+// Stable LSD radix sort by code (63 bits used), 16 bits per pass: O(n).
+void radix_sort(std::vector<Keyed>& v) {
+    std::vector<Keyed> tmp(v.size());
+    std::vector<std::uint32_t> count(1u << 16);
+    for (int pass = 0; pass < 4; ++pass) {
+        const int shift = 16 * pass;
+        std::fill(count.begin(), count.end(), 0u);
+        for (const Keyed& k : v) ++count[(k.code >> shift) & 0xffff];
+        if (count[v.empty() ? 0 : (v.front().code >> shift) & 0xffff] == v.size()) continue;
+        std::uint32_t sum = 0;
+        for (auto& c : count) {
+            const std::uint32_t here = c;
+            c = sum;
+            sum += here;
+        }
+        for (const Keyed& k : v) tmp[count[(k.code >> shift) & 0xffff]++] = k;
+        v.swap(tmp);
+    }
+}
+
+FaceTree::Box empty_box() {
+    FaceTree::Box b;
+    for (int a = 0; a < 3; ++a) b.lo[a] = kInf, b.hi[a] = -kInf;
+    return b;
+}
+
+}  // namespace
+
+FaceTree::Item FaceTree::item_of(const mesh::TriMesh& mesh, mesh::FaceHandle f) {
+    Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
+    for (auto v : mesh.fv_range(f)) {
+        lo.minimize(mesh.point(v));
+        hi.maximize(mesh.point(v));
+    }
+    Item e;
+    e.face = f.idx();
+    for (int a = 0; a < 3; ++a) e.box.lo[a] = round_down(lo[a]), e.box.hi[a] = round_up(hi[a]);
+    return e;
+}
+
+std::uint64_t FaceTree::code_of(const float* point) const noexcept {
+    std::uint64_t code = 0;
+    for (int a = 0; a < 3; ++a) {
+        const double q = std::clamp((point[a] - code_lo_[a]) * code_scale_, 0.0, 2097151.0);
+        code |= spread_bits(static_cast<std::uint64_t>(q)) << a;
+    }
+    return code;
+}
+
+namespace {
+
+// The centre of an item's box.
+std::array<float, 3> centre_of(const FaceTree::Box& b) {
+    return {0.5f * (b.lo[0] + b.hi[0]), 0.5f * (b.lo[1] + b.hi[1]), 0.5f * (b.lo[2] + b.hi[2])};
+}
+
+}  // namespace
+
+bool FaceTree::enlarge(Box& b, const Box& by) noexcept {
+    bool grew = false;
+    for (int a = 0; a < 3; ++a) {
+        grew |= by.lo[a] < b.lo[a] || by.hi[a] > b.hi[a];
+        b.lo[a] = std::min(b.lo[a], by.lo[a]);
+        b.hi[a] = std::max(b.hi[a], by.hi[a]);
+    }
+    return grew;
+}
+
+void FaceTree::build(const mesh::TriMesh& mesh) {
+    margin_m_ = 0.0;
+    items_.clear();
+    nodes_.clear();
+    leaf_codes_.clear();
+    extra_head_.clear();
+    extra_.clear();
+    leaves_ = padded_leaves_ = 0;
+    // Items, the box of their centres, and each item's Morton code in that box.
+    std::vector<Item> unsorted;
+    unsorted.reserve(mesh.n_faces());
+    Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
+    for (auto f : mesh.faces()) {
+        unsorted.push_back(item_of(mesh, f));
+        const auto c = centre_of(unsorted.back().box);
+        lo.minimize(Vec3(c[0], c[1], c[2]));
+        hi.maximize(Vec3(c[0], c[1], c[2]));
+    }
+    if (unsorted.empty()) return;
+    const Vec3 ext = hi - lo;
+    for (int a = 0; a < 3; ++a) code_lo_[a] = lo[a];
+    code_scale_ = 2097151.0 / std::max({ext[0], ext[1], ext[2], 1e-300});
+    std::vector<Keyed> keyed(unsorted.size());
+    for (std::size_t i = 0; i < unsorted.size(); ++i)
+        keyed[i] = Keyed{code_of(centre_of(unsorted[i].box).data()), static_cast<std::uint32_t>(i)};
+    radix_sort(keyed);
+    items_.resize(unsorted.size());
+    for (std::size_t i = 0; i < keyed.size(); ++i) items_[i] = unsorted[keyed[i].index];
+    std::vector<Item>().swap(unsorted);
+
+    leaves_ = static_cast<std::uint32_t>((items_.size() + kLeafItems - 1) / kLeafItems);
+    leaf_codes_.resize(leaves_);
+    for (std::uint32_t j = 0; j < leaves_; ++j) leaf_codes_[j] = keyed[j * kLeafItems].code;
+    padded_leaves_ = 1;
+    while (padded_leaves_ < leaves_) padded_leaves_ *= 2;
+    nodes_.assign(2 * std::size_t{padded_leaves_} - 1, empty_box());
+    const std::uint32_t first = first_leaf_node();
+    for (std::size_t k = 0; k < items_.size(); ++k)
+        enlarge(nodes_[first + k / kLeafItems], items_[k].box);
+    for (std::uint32_t i = first; i-- > 0;) {
+        nodes_[i] = nodes_[2 * i + 1];
+        enlarge(nodes_[i], nodes_[2 * i + 2]);
+    }
+    extra_head_.assign(leaves_, -1);
+}
+
+void FaceTree::reserve_resident(std::size_t faces) {
+    const std::size_t n = extra_.size();
+    if (extra_.capacity() < n + faces) extra_.reserve(n + faces);
+    extra_.resize(extra_.capacity());  // value-initialised: every page written
+    extra_.resize(n);
+}
+
+void FaceTree::insert(const mesh::TriMesh& mesh, mesh::FaceHandle f) {
+    if (leaves_ == 0) return;
+    const Item item = item_of(mesh, f);
+    // The leaf whose Morton range holds the face's centre: near it, so its boxes grow little.
+    const std::uint64_t code = code_of(centre_of(item.box).data());
+    const auto it = std::upper_bound(leaf_codes_.begin(), leaf_codes_.end(), code);
+    const auto leaf =
+        static_cast<std::uint32_t>(it == leaf_codes_.begin() ? 0 : it - leaf_codes_.begin() - 1);
+    extra_.push_back(Extra{item, extra_head_[leaf]});
+    extra_head_[leaf] = static_cast<std::int32_t>(extra_.size() - 1);
+    // Up the path while the box grows (a parent holds its child's box).
+    for (std::uint32_t i = first_leaf_node() + leaf; enlarge(nodes_[i], item.box) && i > 0;)
+        i = (i - 1) / 2;
+}
+
+std::size_t FaceTree::memory_bytes() const noexcept {
+    return items_.capacity() * sizeof(Item) + nodes_.capacity() * sizeof(Box) +
+           leaf_codes_.capacity() * sizeof(std::uint64_t) +
+           extra_head_.capacity() * sizeof(std::int32_t) + extra_.capacity() * sizeof(Extra);
+}
+
+}  // namespace kerf::cut::detail
