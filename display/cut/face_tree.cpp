@@ -80,7 +80,8 @@ FaceTree::Item FaceTree::item_of(const mesh::TriMesh& mesh, mesh::FaceHandle f) 
 std::uint64_t FaceTree::code_of(const float* point) const noexcept {
     std::uint64_t code = 0;
     for (int a = 0; a < 3; ++a) {
-        const double q = std::clamp((point[a] - code_lo_[a]) * code_scale_, 0.0, 2097151.0);
+        const double x = (point[a] - code_lo_[a]) * code_scale_;
+        const double q = x >= 0.0 ? std::min(x, 2097151.0) : 0.0;  // NaN -> 0
         code |= spread_bits(static_cast<std::uint64_t>(q)) << a;
     }
     return code;
@@ -110,6 +111,7 @@ void FaceTree::build(const mesh::TriMesh& mesh) {
     items_.clear();
     nodes_.clear();
     leaf_codes_.clear();
+    coarse_codes_.clear();
     extra_head_.clear();
     extra_.clear();
     leaves_ = padded_leaves_ = 0;
@@ -138,6 +140,8 @@ void FaceTree::build(const mesh::TriMesh& mesh) {
     leaves_ = static_cast<std::uint32_t>((items_.size() + kLeafItems - 1) / kLeafItems);
     leaf_codes_.resize(leaves_);
     for (std::uint32_t j = 0; j < leaves_; ++j) leaf_codes_[j] = keyed[j * kLeafItems].code;
+    for (std::uint32_t j = 0; j < leaves_; j += kCoarseStride)
+        coarse_codes_.push_back(leaf_codes_[j]);
     padded_leaves_ = 1;
     while (padded_leaves_ < leaves_) padded_leaves_ *= 2;
     nodes_.assign(2 * std::size_t{padded_leaves_} - 1, empty_box());
@@ -163,7 +167,13 @@ void FaceTree::insert(const mesh::TriMesh& mesh, mesh::FaceHandle f) {
     const Item item = item_of(mesh, f);
     // The leaf whose Morton range holds the face's centre: near it, so its boxes grow little.
     const std::uint64_t code = code_of(centre_of(item.box).data());
-    const auto it = std::upper_bound(leaf_codes_.begin(), leaf_codes_.end(), code);
+    // Two steps: the coarse table (small enough to stay in cache), then one stride of leaves.
+    const auto c = std::upper_bound(coarse_codes_.begin(), coarse_codes_.end(), code);
+    const std::size_t block = c == coarse_codes_.begin() ? 0 : c - coarse_codes_.begin() - 1;
+    const auto lo = leaf_codes_.begin() + static_cast<std::ptrdiff_t>(block * kCoarseStride);
+    const auto hi = leaf_codes_.begin() + static_cast<std::ptrdiff_t>(std::min<std::size_t>(
+                                              leaf_codes_.size(), (block + 1) * kCoarseStride));
+    const auto it = std::upper_bound(lo, hi, code);
     const auto leaf =
         static_cast<std::uint32_t>(it == leaf_codes_.begin() ? 0 : it - leaf_codes_.begin() - 1);
     extra_.push_back(Extra{item, extra_head_[leaf]});
@@ -175,7 +185,7 @@ void FaceTree::insert(const mesh::TriMesh& mesh, mesh::FaceHandle f) {
 
 std::size_t FaceTree::memory_bytes() const noexcept {
     return items_.capacity() * sizeof(Item) + nodes_.capacity() * sizeof(Box) +
-           leaf_codes_.capacity() * sizeof(std::uint64_t) +
+           (leaf_codes_.capacity() + coarse_codes_.capacity()) * sizeof(std::uint64_t) +
            extra_head_.capacity() * sizeof(std::int32_t) + extra_.capacity() * sizeof(Extra);
 }
 

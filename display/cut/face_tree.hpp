@@ -63,6 +63,7 @@ public:
 
 private:
     static constexpr std::uint32_t kLeafItems = 8;
+    static constexpr std::uint32_t kCoarseStride = 64;
     struct Item {
         std::int32_t face;
         Box box;
@@ -88,12 +89,14 @@ private:
     double margin_m_ = 0.0;
     double code_lo_[3] = {0, 0, 0};  // quantisation of centroids for Morton codes
     double code_scale_ = 0.0;
-    std::uint32_t leaves_ = 0;               // leaves holding built items
-    std::uint32_t padded_leaves_ = 0;        // power of two >= leaves_
-    std::vector<Item> items_;                // Morton order; leaf j holds [j*kLeafItems, ...)
-    std::vector<Box> nodes_;                 // 2 * padded_leaves_ - 1, empty boxes where no faces
-    std::vector<std::uint64_t> leaf_codes_;  // Morton code of each leaf's first item
-    std::vector<std::int32_t> extra_head_;   // per leaf, -1 = none
+    std::uint32_t leaves_ = 0;                 // leaves holding built items
+    std::uint32_t padded_leaves_ = 0;          // power of two >= leaves_
+    std::vector<Item> items_;                  // Morton order; leaf j holds [j*kLeafItems, ...)
+    std::vector<Box> nodes_;                   // 2 * padded_leaves_ - 1, empty boxes where no faces
+    std::vector<std::uint64_t> leaf_codes_;    // Morton code of each leaf's first item
+    std::vector<std::uint64_t> coarse_codes_;  // every kCoarseStride-th of leaf_codes_ (cache-
+                                               // resident first step of an insert's search)
+    std::vector<std::int32_t> extra_head_;     // per leaf, -1 = none
     std::vector<Extra> extra_;
 };
 

@@ -263,7 +263,16 @@ FaceHandle find_seed_face(ContextState& s, const Seed& seed) {
         const double d = distance_to_face(m, f, seed.point_m);
         if (d <= best_d) best_d = d, best = f;
     };
-    s.tree.for_each_near_point(seed.point_m, tol, consider);
+    // Growing radii up to tol: the first radius that holds a face within it finds the nearest
+    // face (every face nearer lies within it), the one a query of radius tol finds, at the cost
+    // of the faces near the point rather than of every face within tol (thousands on a dense
+    // mesh: tol is relative to the mesh's size, not to its triangles).
+    for (double r = tol / 4096;; r = std::min(tol, 8 * r)) {
+        s.next_generation();
+        best_d = r;
+        s.tree.for_each_near_point(seed.point_m, r, consider);
+        if (best.is_valid() || r >= tol) break;
+    }
     if (!best.is_valid())
         for (FaceHandle f : s.cap_faces) consider(f.idx());
     return best;

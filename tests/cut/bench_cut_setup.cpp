@@ -4,9 +4,9 @@
 //   build/bin/bench_cut_setup                          # the 1M-triangle foot
 //   build/bin/bench_cut_setup --triangles 200000 --reps 5 --kerf build/bin/kerf [--peer PROG]
 //
-// Each repetition runs in a fresh child process (fork), so resident memory is measured from a
-// clean start: the foot is generated once and written as a binary STL (mm) in a temporary
-// folder; the child loads it (load_mesh, timed), returns freed memory to the system
+// Each repetition runs in a fresh process (fork + exec of this program), so resident memory is
+// measured from a clean start: the foot is generated once and written as a binary STL (mm) in a
+// temporary folder; the child loads it (load_mesh, timed), returns freed memory to the system
 // (malloc_trim), reads its resident size, builds a CutContext (timed) and reads it again. So:
 //   context memory / mesh memory   (target <= 0.5)
 //   context build / mesh load      (target <= 0.3)
@@ -58,8 +58,9 @@ Spread spread(std::vector<double> v) {
     return {median, v.front(), v.back()};
 }
 
-/// One child: load, context; writes {mesh bytes, context bytes, load s, build s} to `fd`.
-void measure_in_child(const std::filesystem::path& file, int fd) {
+/// One fresh process (`bench_cut_setup --measure FILE FD`, exec'd, so no page of the parent is
+/// counted): load, context; writes {mesh bytes, context bytes, load s, build s} to `fd`.
+[[noreturn]] void measure_in_child(const std::filesystem::path& file, int fd) {
     const double rss0 = resident_bytes();
     const double t0 = now_s();
     auto mesh = kerf::mesh::load_mesh(file, kerf::mesh::Units::kMillimetres);
@@ -112,6 +113,8 @@ void print_ratio(const char* what, const std::vector<double>& a, const std::vect
 }  // namespace
 
 int main(int argc, char** argv) {
+    if (argc == 4 && std::string(argv[1]) == "--measure")
+        measure_in_child(argv[2], std::atoi(argv[3]));
     std::size_t triangles = 1'000'000;
     int reps = 5;
     std::string kerf_exe, peer_exe;
@@ -171,7 +174,9 @@ int main(int argc, char** argv) {
         const pid_t pid = fork();
         if (pid == 0) {
             close(fds[0]);
-            measure_in_child(file, fds[1]);
+            const std::string fd = std::to_string(fds[1]);
+            execl("/proc/self/exe", argv[0], "--measure", file.c_str(), fd.c_str(), nullptr);
+            _exit(127);
         }
         close(fds[1]);
         double out[4];
