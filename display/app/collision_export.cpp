@@ -19,17 +19,24 @@ ipc::TriangleMaterial material_of(const mesh::TriMesh& m, mesh::FaceHandle f,
 
 }  // namespace
 
+std::string mailbox_misfit(std::size_t bodies, std::size_t vertices, std::size_t triangles) {
+    if (bodies > ipc::kMeshMaxBodies) {
+        return std::to_string(bodies) + " bodies; the mailbox holds " +
+               std::to_string(ipc::kMeshMaxBodies);
+    }
+    if (vertices > ipc::kMeshMaxVertices || triangles > ipc::kMeshMaxTriangles) {
+        return std::to_string(vertices) + " vertices, " + std::to_string(triangles) +
+               " triangles; the mailbox holds " + std::to_string(ipc::kMeshMaxVertices) + " and " +
+               std::to_string(ipc::kMeshMaxTriangles);
+    }
+    return {};
+}
+
 Status<std::string> export_collision(const cut::CutSession& session, ipc::CollisionMesh& out) {
     const mesh::TriMesh& m = session.mesh();
     const auto bodies = session.bodies();
-    if (bodies.size() > ipc::kMeshMaxBodies) {
-        return Err{std::to_string(bodies.size()) + " bodies; the mailbox holds " +
-                   std::to_string(ipc::kMeshMaxBodies)};
-    }
-    if (m.n_vertices() > ipc::kMeshMaxVertices || m.n_faces() > ipc::kMeshMaxTriangles) {
-        return Err{std::to_string(m.n_vertices()) + " vertices, " + std::to_string(m.n_faces()) +
-                   " triangles; the mailbox holds " + std::to_string(ipc::kMeshMaxVertices) +
-                   " and " + std::to_string(ipc::kMeshMaxTriangles)};
+    if (auto misfit = mailbox_misfit(bodies.size(), m.n_vertices(), m.n_faces()); !misfit.empty()) {
+        return Err{std::move(misfit)};
     }
     OpenMesh::FPropHandleT<std::uint8_t> cap;
     const bool has_cap = m.get_property_handle(cap, cut::kCapFaceProperty);

@@ -7,6 +7,7 @@
 //   if (auto ok = export_collision(session, out); ok) writer.publish(out);
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 #include "config/base/result.hpp"
@@ -14,6 +15,10 @@
 #include "rt_core/ipc/mesh_mailbox.hpp"
 
 namespace kerf::display {
+
+/// Why a mesh of `bodies` bodies, `vertices` vertices and `triangles` triangles (deleted
+/// elements included, as OpenMesh counts them) does not fit the mailbox; empty when it fits.
+std::string mailbox_misfit(std::size_t bodies, std::size_t vertices, std::size_t triangles);
 
 /// Fills `out` (counts, bodies, vertices, indices, materials; generation left to the writer).
 /// Fails, naming the count, when the scene has more bodies, vertices or triangles than the

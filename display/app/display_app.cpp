@@ -14,6 +14,7 @@
 
 #include "config/data_dir.hpp"
 #include "config/load_config.hpp"
+#include "display/app/hud_feed.hpp"
 #include "display/app/render_sync.hpp"
 #include "display/app/scene_mesh.hpp"
 #include "display/app/session_follower.hpp"
@@ -36,7 +37,8 @@ std::uint64_t monotonic_ns() {
 struct Handover {
     std::mutex mutex;
     RenderSync sync;
-    std::uint64_t edits = 0;            ///< batches handed over
+    /// Batches handed over (written under `mutex`; read without it by a frame issuing draws).
+    std::atomic<std::uint64_t> edits{0};
     std::uint64_t newest_event_ns = 0;  ///< newest event in an edit not yet drawn (0: none)
     std::uint64_t cuts_completed = 0;
 };
@@ -48,8 +50,10 @@ struct Measures {
     std::vector<double> upload_bytes;      ///< bytes uploaded by the frame of each latency sample
     std::uint64_t whole_buffer_bytes = 0;  ///< vertex + index buffers at capacity
     std::vector<double> frame_ms;          ///< every frame time (bounded)
+    std::vector<double> issue_ms;  ///< per frame: upload + draw calls, before glFinish (bounded)
     render::UploadStats last_upload;
     std::uint64_t uploads = 0;
+    std::uint64_t restarts = 0;  ///< frames begun again to take an edit that came mid-issue
 };
 
 double median(std::vector<double> v) {
@@ -68,6 +72,24 @@ std::string json_array(const std::vector<double>& v) {
     return out + "]";
 }
 
+/// `text` as a JSON string literal (quotes, backslashes and control characters escaped).
+std::string json_string(std::string_view text) {
+    std::string out = "\"";
+    for (const char c : text) {
+        if (c == '"' || c == '\\') {
+            out += '\\';
+            out += c;
+        } else if (static_cast<unsigned char>(c) < 0x20) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(c));
+            out += buf;
+        } else {
+            out += c;
+        }
+    }
+    return out + "\"";
+}
+
 std::string hex(std::uint64_t v) {
     char buf[17];
     std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
@@ -76,7 +98,7 @@ std::string hex(std::uint64_t v) {
 
 /// Writes the status JSON next to `path` and renames it into place.
 void write_status(const std::string& path, const FollowerStatus& s, const Measures& m,
-                  std::uint64_t frame) {
+                  std::uint64_t frame, const std::string& hud) {
     if (path.empty()) return;
     const std::string tmp = path + ".tmp";
     {
@@ -85,7 +107,8 @@ void write_status(const std::string& path, const FollowerStatus& s, const Measur
             m.latency_ms.empty() ? -1 : *std::max_element(m.latency_ms.begin(), m.latency_ms.end());
         f << "{\"frames\": " << frame << ", \"fps\": " << m.frames.fps()
           << ", \"frame_p99_ms\": " << m.frames.percentile_ms(0.99)
-          << ", \"attached\": " << (s.attached ? "true" : "false")
+          << ", \"attached\": " << (s.attached ? "true" : "false") << ", \"session_id\": \""
+          << hex(s.session_id) << "\""
           << ", \"next_sequence\": " << s.next_sequence << ", \"hash\": \"" << hex(s.hash)
           << "\", \"hash_valid\": " << (s.hash_valid ? "true" : "false")
           << ", \"hash_sequence\": " << s.hash_sequence << ", \"applied\": " << s.session.applied
@@ -105,9 +128,12 @@ void write_status(const std::string& path, const FollowerStatus& s, const Measur
           << ", \"upload_calls_last\": " << m.last_upload.calls
           << ", \"whole_buffer_bytes\": " << m.whole_buffer_bytes
           << ", \"frame_median_ms\": " << median(m.frame_ms)
+          << ", \"issue_median_ms\": " << median(m.issue_ms)
+          << ", \"frame_restarts\": " << m.restarts
           << ", \"latency_samples_ms\": " << json_array(m.latency_ms)
           << ", \"upload_bytes_samples\": " << json_array(m.upload_bytes)
-          << ", \"edit_ms\": " << json_array(s.edit_ms) << "}\n";
+          << ", \"edit_ms\": " << json_array(s.edit_ms) << ", \"hud\": " << json_string(hud)
+          << "}\n";
         if (!f) {
             spdlog::warn("kerf-display: cannot write status {}", tmp);
             return;
@@ -158,7 +184,7 @@ struct DrawnState {
 bool needs_frame(Handover& h, const FollowerStatus& s, const DrawnState& d, std::uint64_t now) {
     {
         const std::lock_guard lock(h.mutex);
-        if (h.edits != d.edits) return true;
+        if (h.edits.load(std::memory_order_relaxed) != d.edits) return true;
     }
     if (now - d.at_ns > 1'000'000'000) return true;
     if (!s.state_valid) return false;
@@ -195,30 +221,42 @@ FrameInput take_handover(Handover& h, egl::EglOutput& output, render::Renderer& 
         in.triangles = rm->triangle_count();
     }
     in.drawn_event_ns = std::exchange(h.newest_event_ns, 0);
-    in.edits = h.edits;
+    in.edits = h.edits.load(std::memory_order_relaxed);
     in.cut_ended = h.cuts_completed > cuts_seen;
     cuts_seen = h.cuts_completed;
+    return in;
+}
+
+/// Uploads the newest edit and issues the bone's draw calls. An edit handed over while they are
+/// being issued (the frame's upload point already passed) would otherwise wait for the whole
+/// frame and then one more: the frame is begun again once to take it — not twice in a row, so
+/// a stream of edits (CutProgress every few ms) cannot starve frames.
+FrameInput begin_frame_with_newest_edit(Handover& h, egl::EglOutput& output,
+                                        render::Renderer& renderer, Measures& m,
+                                        std::optional<render::Camera>& camera,
+                                        std::uint64_t& cuts_seen, bool& restarted_last) {
+    FrameInput in = take_handover(h, output, renderer, m, camera, cuts_seen);
+    const auto newer_edit = [&] { return h.edits.load(std::memory_order_acquire) != in.edits; };
+    if (restarted_last) {
+        restarted_last = false;
+        renderer.begin_frame(*camera);
+        return in;
+    }
+    if (renderer.begin_frame(*camera, newer_edit)) return in;
+    ++m.restarts;
+    restarted_last = true;
+    const FrameInput again = take_handover(h, output, renderer, m, camera, cuts_seen);
+    renderer.begin_frame(*camera);
+    in.drawn_event_ns = std::max(in.drawn_event_ns, again.drawn_event_ns);
+    in.cut_ended = in.cut_ended || again.cut_ended;
+    in.triangles = again.triangles;
+    in.edits = again.edits;
     return in;
 }
 
 bool scene_ready(Handover& h) {
     const std::lock_guard lock(h.mutex);
     return h.sync.mesh().has_value();
-}
-
-render::HudState make_hud(const FollowerStatus& s, const Measures& m, std::uint32_t triangles,
-                          std::string_view backend) {
-    render::HudState hud;
-    hud.fps = m.frames.fps();
-    hud.frame_p99_ms = m.frames.percentile_ms(0.99);
-    hud.haptic_overruns = s.state_valid ? s.state.overrun_count : 0;
-    hud.wake_latency_us = s.state_valid ? s.state.period_ns_max * 1e-3 : -1;
-    hud.device_state = s.attached ? "attached" : "waiting for kerf-rt";
-    hud.cut_state = s.cut_open ? "cutting" : s.session.cuts_completed ? "severed" : "idle";
-    hud.event_backlog = s.backlog;
-    hud.triangles = triangles;
-    hud.backend = backend;
-    return hud;
 }
 
 void record_frame(Measures& m, std::uint64_t t0, std::uint64_t t1, std::uint64_t event_ns) {
@@ -338,7 +376,7 @@ int run_display(const DisplayOptions& o) {
                     std::uint64_t newest_event_ns) {
             const std::lock_guard lock(handover.mutex);
             handover.sync.apply(session, changes);
-            ++handover.edits;
+            handover.edits.fetch_add(1, std::memory_order_release);
             if (newest_event_ns) handover.newest_event_ns = newest_event_ns;
             handover.cuts_completed = session.counters().cuts_completed;
         });
@@ -353,8 +391,10 @@ int run_display(const DisplayOptions& o) {
     DrawnState drawn;
     std::optional<render::Camera> camera;
     std::uint64_t frame = 0, cuts_seen = 0, last_status_ns = 0;
-    bool shot_taken = false, exiting = false;
+    bool shot_taken = false, exiting = false, restarted_last = false;
     std::string backend = output->description();
+    HapticRate haptic_rate;
+    std::string hud_text;  // the last frame's HUD, for --status
     while (!g_stop.load() && output->poll()) {
         if (!scene_ready(handover)) {  // frames start once the worker has built the scene
             std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -365,17 +405,23 @@ int run_display(const DisplayOptions& o) {
             continue;
         }
         const std::uint64_t t0 = monotonic_ns();
-        const FrameInput in =
-            take_handover(handover, *output, *renderer, measures, camera, cuts_seen);
-        renderer->begin_frame(*camera);
+        const FrameInput in = begin_frame_with_newest_edit(handover, *output, *renderer, measures,
+                                                           camera, cuts_seen, restarted_last);
         const FollowerStatus status = (*follower)->status();  // the latest pose, after the bone
         renderer->draw_blade(blade_of(status));
-        renderer->draw_hud(make_hud(status, measures, in.triangles, backend));
+        if (status.state_valid)
+            haptic_rate.add(status.state.tick, status.state.time_ns, monotonic_ns());
+        const render::HudState hud =
+            make_hud(status, measures.frames, haptic_rate, in.triangles, backend);
+        renderer->draw_hud(hud);
+        const std::uint64_t t_issued = monotonic_ns();
         renderer->finish_frame();
         output->present(*renderer);
         ++frame;
         const std::uint64_t t1 = monotonic_ns();
         record_frame(measures, t0, t1, in.drawn_event_ns);
+        if (measures.issue_ms.size() < 100'000)
+            measures.issue_ms.push_back(double(t_issued - t0) * 1e-6);
         drawn = DrawnState{in.edits, {}, t1};
         if (status.state_valid) {
             for (int i = 0; i < 3; ++i) drawn.pose[i] = status.state.tool_position_m[i];
@@ -391,8 +437,9 @@ int run_display(const DisplayOptions& o) {
             }
             shot_taken = true;
         }
+        hud_text = render::format_hud(hud);
         if (t1 - last_status_ns > 500'000'000) {
-            write_status(o.status_path, status, measures, frame);
+            write_status(o.status_path, status, measures, frame, hud_text);
             last_status_ns = t1;
         }
         if (last_frame) break;
@@ -403,7 +450,7 @@ int run_display(const DisplayOptions& o) {
     }
     (*follower)->stop();
     const FollowerStatus final_status = (*follower)->status();
-    write_status(o.status_path, final_status, measures, frame);
+    write_status(o.status_path, final_status, measures, frame, hud_text);
     if (o.exit_after_events) std::printf("mesh hash %s\n", hex(final_status.hash).c_str());
     std::printf(
         "kerf-display: %llu frames, %.1f fps, p99 %.2f ms, %llu events applied, "

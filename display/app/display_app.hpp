@@ -2,8 +2,10 @@
 // renderer, starts the SessionFollower (cutting on its worker) and runs the frame loop:
 //
 //   per frame: upload what the worker changed (dirty ranges, under a short lock) ── place the
-//   bodies ── draw bone, blade (latest pose from the seqlock, read last) and HUD ── finish ──
-//   present ── measure frame time and event -> pixels latency ── screenshot when asked.
+//   bodies ── draw bone (in chunks: an edit handed over while they are issued begins the frame
+//   again, once, not in two frames running) ── blade (latest pose from the seqlock, read last)
+//   and HUD ── finish ── present ── measure frame time and event -> pixels latency ──
+//   screenshot when asked.
 //
 //   kerf-display [--config kerf.toml] [--mode headless|window|kms] [--size 1280x720]
 //                [--session NAME] [--frames N] [--screenshot PATH [--at-frame N | --on-cut-end]]

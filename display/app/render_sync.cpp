@@ -59,21 +59,16 @@ void RenderSync::apply(const cut::CutSession& session, const cut::SessionChanges
             hi_ = glm::max(hi_, glm::dvec3(p[0], p[1], p[2]));
         }
     } else {
-        scratch_vertices_.clear();
-        for (const cut::IndexRange& r : changes.vertices)
-            for (std::uint32_t i = r.first; i < r.first + r.count && i < m.n_vertices(); ++i)
-                scratch_vertices_.emplace_back(static_cast<int>(i));
-        scratch_faces_.clear();
-        for (const cut::IndexRange& r : changes.faces)
-            for (std::uint32_t i = r.first; i < r.first + r.count && i < m.n_faces(); ++i)
-                scratch_faces_.emplace_back(static_cast<int>(i));
-        rebuilt = mesh_->update_after_edit(m, scratch_vertices_, scratch_faces_).rebuilt;
+        rebuilt = mesh_->apply(m, changes).rebuilt;
         // Changed vertices of bodies drawn with their own transform keep their slot.
-        for (const auto v : scratch_vertices_) {
-            const std::uint32_t b = session.body_of(v);
-            if (b < slot_of_body_.size() && slot_of_body_[b] != 0) {
-                const mesh::VertexHandle one[1] = {v};
-                mesh_->set_body(m, one, slot_of_body_[b]);
+        for (const cut::IndexRange& r : changes.vertices) {
+            for (std::uint32_t i = r.first; i < r.first + r.count && i < m.n_vertices(); ++i) {
+                const mesh::VertexHandle v(static_cast<int>(i));
+                const std::uint32_t b = session.body_of(v);
+                if (b < slot_of_body_.size() && slot_of_body_[b] != 0) {
+                    const mesh::VertexHandle one[1] = {v};
+                    mesh_->set_body(m, one, slot_of_body_[b]);
+                }
             }
         }
     }

@@ -1,8 +1,10 @@
 // Keeps the renderer's flat copy of the scene (render::RenderMesh, GL-free) in step with a
 // CutSession, from the changes the session reports — on the cutting thread, so the frame thread
-// only uploads dirty ranges. Also maps session bodies onto the renderer's few transform slots:
-// slot 0 is the identity (bodies that never moved share it); a body gets a slot of its own when
-// it is severed or first moves, while slots last (then it is drawn unmoved and counted).
+// only uploads dirty ranges. The geometry is RenderMesh::apply()'s (the one way a session's
+// changes reach a RenderMesh); what RenderSync adds is the bodies: it maps session bodies onto the
+// renderer's few transform slots: slot 0 is the identity (bodies that never moved share it); a body
+// gets a slot of its own when it is severed or first moves, while slots last (then it is drawn
+// unmoved and counted).
 #pragma once
 
 #include <array>
@@ -44,7 +46,6 @@ private:
     std::uint64_t without_slot_ = 0;
     glm::dvec3 lo_{0.0}, hi_{0.0};
     std::vector<mesh::VertexHandle> scratch_vertices_;
-    std::vector<mesh::FaceHandle> scratch_faces_;
 };
 
 }  // namespace kerf::display

@@ -30,7 +30,7 @@ struct SessionFollower::Impl {
     EditSink sink;
     std::optional<cut::CutSession> session;
     std::optional<ipc::Consumer> consumer;
-    std::unique_ptr<ipc::CollisionMesh> collision;  // ~3 MB, allocated once
+    std::unique_ptr<ipc::CollisionMesh> collision;  // ~38 MB (mailbox capacity), allocated once
     cut::SessionChanges changes;
     std::uint64_t session_id = 0;
     Clock::time_point last_hash{};
@@ -61,6 +61,7 @@ bool SessionFollower::Impl::rebuild_session() {
     }
     session.reset();
     session.emplace(std::move(*scene));
+    local.cut_depth_m = -1;
     return true;
 }
 
@@ -96,6 +97,7 @@ std::uint64_t SessionFollower::Impl::apply_batch(bool& reset) {
     while (!stop_requested.load(std::memory_order_relaxed) && Clock::now() < until &&
            consumer->try_next(record) == ipc::Poll::kEvent) {
         const RecordOutcome out = apply_record(*session, record);
+        if (out.topology) local.cut_depth_m = record.cut.feed_depth_m;  // validated, finite
         if (out.report.outcome == cut::EventOutcome::kRefused) {
             spdlog::warn("kerf-display: event {} ({}) refused: {} {}", record.header.sequence,
                          ipc::to_string(record.header.type), out.report.why,

@@ -58,6 +58,9 @@ struct FollowerStatus {
     std::string last_error;
     std::uint32_t bodies = 0;
     bool cut_open = false;
+    /// Feed depth of the open (or the last) cut as kerf-rt reported it in its newest cut
+    /// event, m; -1 before any cut of this session.
+    double cut_depth_m = -1;
     std::int64_t last_batch_ns = 0;   ///< worker time of the last batch of edits
     std::vector<double> edit_ms;      ///< worker time of each batch of edits (first 256), ms
     std::uint64_t hash = 0;           ///< CutSession::hash() at `hash_sequence`

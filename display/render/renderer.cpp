@@ -3,8 +3,10 @@
 #include <GLES3/gl3.h>
 #include <stb_easy_font.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <glm/gtc/matrix_transform.hpp>
@@ -367,7 +369,9 @@ void Renderer::set_body_transform(int body, const std::array<float, 16>& m) noex
 
 void Renderer::set_planned_cut(const std::optional<PlannedCut>& cut) noexcept { s_->planned = cut; }
 
-void Renderer::begin_frame(const Camera& camera) {
+void Renderer::begin_frame(const Camera& camera) { (void)begin_frame(camera, {}); }
+
+bool Renderer::begin_frame(const Camera& camera, const std::function<bool()>& abandon) {
     State& s = *s_;
     glBindFramebuffer(GL_FRAMEBUFFER, s.fbo);
     glViewport(0, 0, s.options.width, s.options.height);
@@ -388,8 +392,16 @@ void Renderer::begin_frame(const Camera& camera) {
         glUniform3fv(s.u_eye, 1, glm::value_ptr(s.eye));
         glUniform1f(s.u_pore_scale, 800.0f);  // ~1.25 mm trabecular cells
         glBindVertexArray(s.mesh_vao);
-        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(s.triangles * 3), GL_UNSIGNED_INT,
-                       nullptr);
+        for (std::uint32_t first = 0; first < s.triangles; first += kBoneChunkTriangles) {
+            if (first > 0 && abandon && abandon()) {
+                glBindVertexArray(0);
+                return false;
+            }
+            const std::uint32_t count = std::min(kBoneChunkTriangles, s.triangles - first);
+            glDrawElements(
+                GL_TRIANGLES, static_cast<GLsizei>(count * 3), GL_UNSIGNED_INT,
+                reinterpret_cast<const void*>(std::uintptr_t{first} * 3 * sizeof(std::uint32_t)));
+        }
     }
     if (s.planned) {
         const PlannedCut& p = *s.planned;
@@ -413,6 +425,7 @@ void Renderer::begin_frame(const Camera& camera) {
         glEnable(GL_CULL_FACE);
     }
     glBindVertexArray(0);
+    return true;
 }
 
 BladePose blade_pose_from(const ipc::LatestState& state, const BladePose& like) noexcept {

@@ -17,6 +17,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <memory>
@@ -74,6 +75,9 @@ struct UploadStats {
     bool reallocated = false;  ///< buffers were (re)created at the mesh's capacity
 };
 
+/// Triangles per draw call of the mesh when begin_frame() may be abandoned between them.
+inline constexpr std::uint32_t kBoneChunkTriangles = 1u << 15;
+
 class Renderer {
 public:
     /// Compiles the shaders and makes the FBO and buffers. Needs a current OpenGL ES 3 context.
@@ -99,6 +103,11 @@ public:
 
     /// Binds the FBO, clears it and draws the mesh (and the planned-cut guide) from `camera`.
     void begin_frame(const Camera& camera);
+    /// The same, but asks `abandon` between chunks of kBoneChunkTriangles of the mesh; when it
+    /// says true, stops there and returns false: upload the newer edit and begin again (what was
+    /// issued is overdrawn by the new clear). Lets a frame whose draw calls are still being
+    /// issued (on llvmpipe: vertex work and binning) take an edit that arrived meanwhile.
+    bool begin_frame(const Camera& camera, const std::function<bool()>& abandon);
     /// Draws the blade at `pose` (sample it as late as possible: right before this call).
     void draw_blade(const BladePose& pose);
     /// Draws the HUD text over everything.

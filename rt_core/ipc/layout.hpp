@@ -22,10 +22,10 @@
 namespace kerf::ipc {
 
 inline constexpr std::uint64_t kMagic = 0x314D48534652454Bull;  ///< "KERFSHM1" little-endian
-inline constexpr std::uint32_t kLayoutVersion = 2;         ///< 2: triangle materials + mesh hash
-inline constexpr std::uint32_t kSlotCount = 4;             ///< display, tuning, soak, spare
-inline constexpr std::uint32_t kEventCapacity = 4096;      ///< events per slot ring
-inline constexpr std::uint32_t kTelemetryCapacity = 2048;  ///< samples per slot ring (2 s)
+inline constexpr std::uint32_t kLayoutVersion = 3;              ///< 3: 2^21-triangle mailbox
+inline constexpr std::uint32_t kSlotCount = 4;                  ///< display, tuning, soak, spare
+inline constexpr std::uint32_t kEventCapacity = 4096;           ///< events per slot ring
+inline constexpr std::uint32_t kTelemetryCapacity = 2048;       ///< samples per slot ring (2 s)
 inline constexpr std::size_t kJournalPathBytes = 128;
 
 /// Segment life, in the header's state word.

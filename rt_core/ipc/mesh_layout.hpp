@@ -7,6 +7,11 @@
 //           checks content_hash and validates every count, index, coordinate and material
 //
 // Layout version 2 added a material per triangle (materials[]) and the header's content_hash.
+// Layout version 3 grew the capacity from 2^17 vertices / 2^18 triangles (a 4.8 MiB buffer) to
+// 2^20 / 2^21, so that a 1M-triangle scene (the built-in foot at 1M: 499,909 vertices, 999,666
+// triangles) is published whole — the surface kerf-rt makes the surgeon feel is the one the
+// display draws, not a decimated stand-in. One buffer is 38 MiB, the mailbox 76 MiB of the
+// segment; pages are only backed once written (kerf-rt under mlockall backs them all).
 #pragma once
 
 #include <cstdint>
@@ -16,8 +21,8 @@
 namespace kerf::ipc {
 
 inline constexpr std::uint32_t kMeshMaxBodies = 64;
-inline constexpr std::uint32_t kMeshMaxVertices = 1u << 17;        ///< over all bodies
-inline constexpr std::uint32_t kMeshMaxIndices = 3u * (1u << 18);  ///< 2^18 triangles
+inline constexpr std::uint32_t kMeshMaxVertices = 1u << 20;        ///< over all bodies
+inline constexpr std::uint32_t kMeshMaxIndices = 3u * (1u << 21);  ///< 2^21 triangles
 inline constexpr std::uint32_t kMeshMaxTriangles = kMeshMaxIndices / 3;
 inline constexpr float kMeshMaxCoordinate_m = 10.0f;  ///< |x|, |y|, |z| bound
 

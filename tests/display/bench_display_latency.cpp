@@ -196,6 +196,8 @@ int main(int argc, char** argv) {
         triangles, cuts, producer_cpu.c_str(), display_cpu.c_str(), size.c_str(),
         on_demand ? "on demand" : "continuous");
     std::printf("frame time (median over the run)      %8.2f ms\n", frame);
+    std::printf("  of which upload + draw calls        %8.2f ms (then glFinish: rasterisation)\n",
+                json_number(s, "issue_median_ms"));
     std::printf("cut on the worker (CutBegin slice)    %8.2f ms  (min %.2f, max %.2f)\n",
                 edit.median, edit.min, edit.max);
     std::printf("event -> pixels                       %8.2f ms  (min %.2f, max %.2f)\n",

@@ -35,12 +35,16 @@ TEST(CollisionExport, EveryBodyWithItsPoseAndCapsAsCutSurface) {
     EXPECT_EQ(ipc::validate_mesh(*out, where), ipc::MeshFault::kNone) << where;
 }
 
-TEST(CollisionExport, AMeshLargerThanTheMailboxIsRefusedByCount) {
-    cut::CutSession s(cut::test::tube(512, 200));  // 4 * 512 * 200 + 4 * 512 > 2^18 triangles
-    auto out = std::make_unique<ipc::CollisionMesh>();
-    const auto r = export_collision(s, *out);
-    ASSERT_FALSE(r.has_value());
-    EXPECT_NE(r.error().find("the mailbox holds"), std::string::npos) << r.error();
+TEST(CollisionExport, TheOneMillionTriangleFootFitsAndLargerCountsAreRefused) {
+    // The built-in foot at 1M triangles (499,909 vertices, 999,666 triangles, 19 bones) fits
+    // with room for cuts; a mesh past either capacity, or with too many bodies, is named.
+    EXPECT_EQ(mailbox_misfit(19, 499'909, 999'666), "");
+    EXPECT_EQ(mailbox_misfit(64, ipc::kMeshMaxVertices, ipc::kMeshMaxTriangles), "");
+    EXPECT_NE(mailbox_misfit(1, ipc::kMeshMaxVertices + 1, 4).find("the mailbox holds"),
+              std::string::npos);
+    EXPECT_NE(mailbox_misfit(1, 4, ipc::kMeshMaxTriangles + 1).find("the mailbox holds"),
+              std::string::npos);
+    EXPECT_NE(mailbox_misfit(65, 4, 4).find("65 bodies"), std::string::npos);
 }
 
 }  // namespace

@@ -209,6 +209,90 @@ TEST(DisplayProcess, AScribblerInTheSegmentChangesNothing) {
     producer.kill(SIGTERM);
 }
 
+/// The string value of `"key": "..."` in the display's status JSON, or "".
+std::string status_string(const Scratch& s, const char* file, const std::string& key) {
+    const std::string text = test::read_file(s.path(file));
+    std::smatch m;
+    return std::regex_search(text, m, std::regex("\"" + key + "\": \"([^\"]*)\"")) ? m[1].str()
+                                                                                   : "";
+}
+
+/// kerf-rt's loop rate on the HUD line of the status ("haptics  N Hz"), or -1 when not shown.
+double hud_haptic_hz(const Scratch& s, const char* file) {
+    std::smatch m;
+    const std::string text = test::read_file(s.path(file));
+    return std::regex_search(text, m, std::regex("haptics  ([0-9]+) Hz")) ? std::stod(m[1].str())
+                                                                          : -1;
+}
+
+ipc::EventRecord session_reset_record() {
+    ipc::EventRecord r{};
+    r.header.type = ipc::EventType::kSessionReset;
+    r.reset.scene_id = 1;
+    r.reset.reason = 1;  // scene loaded
+    return r;
+}
+
+// Session 1 (a producer standing in for kerf-rt): the whole script, a SessionReset, then cut 1
+// again on the reloaded scene. Then that producer dies (kill -9) and another starts the same
+// segment name with a new session id and a new journal: the whole script. The display, started
+// once, must show after each session exactly what a fresh CutSession shows for that session's
+// events after its last reset — nothing carried over.
+TEST(DisplayProcess, FollowsASessionResetAndAKerfRtRestartedWithANewSession) {
+    Scratch s;
+    const auto script = test::script();
+    const std::vector<ipc::EventRecord> cut1(script.begin(), script.begin() + 15);  // to CutEnd
+    ASSERT_EQ(cut1.back().header.type, ipc::EventType::kCutEnd);
+    std::vector<ipc::EventRecord> first = script;
+    first.push_back(session_reset_record());
+    first.insert(first.end(), cut1.begin(), cut1.end());
+    const std::string after_reset = reference_hash(s, cut1);
+    const std::string after_restart = reference_hash(s, script);
+    ASSERT_NE(after_reset, after_restart);
+
+    write_records(s.path("first.bin"), first);
+    write_records(s.path("second.bin"), script);
+    const auto producer = [&](const char* records, const char* out) {
+        return std::make_unique<Child>(
+            std::vector<std::string>{test::bin("display_test_producer"), "--segment", s.session,
+                                     "--journal-dir", s.dir.string(), "--records", s.path(records)},
+            s.path(out));
+    };
+    auto one = producer("first.bin", "first.out");
+    ASSERT_TRUE(one->wait_output("published " + std::to_string(first.size()), kTimeout_s))
+        << one->output();
+    Child display(display_args(s, "status.json", {"--hash", "--on-demand"}), s.path("display.out"));
+    const auto shows = [&](const std::string& hash, std::size_t events) {
+        return status_string(s, "status.json", "hash") == hash &&
+               status_value(s, "status.json", "hash_sequence") == double(events) &&
+               status_value(s, "status.json", "next_sequence") == double(events);
+    };
+    ASSERT_TRUE(test::wait_for([&] { return shows(after_reset, first.size()); }, kTimeout_s))
+        << display.output() << test::read_file(s.path("status.json"));
+    const std::string session_one = status_string(s, "status.json", "session_id");
+    EXPECT_EQ(status_value(s, "status.json", "refused"), 0.0);
+    // The HUD's sources: the loop rate from the producer's ticks, the depth from cut events.
+    EXPECT_TRUE(test::wait_for([&] { return hud_haptic_hz(s, "status.json") > 0; }, kTimeout_s))
+        << test::read_file(s.path("status.json"));
+    EXPECT_NE(test::read_file(s.path("status.json")).find("depth 12.0 mm"), std::string::npos)
+        << "cut 1 ended 12 mm deep";
+
+    one->kill(SIGKILL);  // kerf-rt crashed
+    ASSERT_EQ(one->wait_exit(kTimeout_s), std::optional<int>(128 + SIGKILL));
+    auto two = producer("second.bin", "second.out");
+    ASSERT_TRUE(two->wait_output("published " + std::to_string(script.size()), kTimeout_s))
+        << two->output();
+    ASSERT_TRUE(test::wait_for([&] { return shows(after_restart, script.size()); }, kTimeout_s))
+        << display.output() << test::read_file(s.path("status.json"));
+    EXPECT_NE(status_string(s, "status.json", "session_id"), session_one);
+    EXPECT_EQ(status_value(s, "status.json", "refused"), 0.0);
+    EXPECT_NE(test::read_file(s.path("status.json")).find("depth 4.8 mm"), std::string::npos)
+        << "cut 2 withdrawn 4.8 mm deep";
+    display.kill(SIGTERM);
+    EXPECT_EQ(display.wait_exit(kTimeout_s), std::optional<int>(0)) << display.output();
+    two->kill(SIGTERM);
+}
+
 }  // namespace
 }  // namespace kerf::display
 

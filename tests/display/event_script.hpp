@@ -13,7 +13,9 @@ using cut::test::kOuterRadius;
 using cut::test::kSecondX;
 
 /// The recorded stream: cut 1 through tube 0 (begin, 12 progress steps, completed), the severed
-/// end moved away, cut 2 into tube 1 (begin, 5 steps, withdrawn).
+/// end moved away, cut 2 into tube 1 (begin, 5 steps, withdrawn). Progress records carry the
+/// feed depth kerf-rt would report (the swept front's advance): 12.0 mm at the end of cut 1,
+/// 4.8 mm at the end of cut 2 (the display's HUD shows it; the session does not use it).
 inline std::vector<ipc::EventRecord> script() {
     std::vector<ipc::EventRecord> out;
     cut::CutBegin first = cut::test::begin_across(1);
@@ -23,8 +25,10 @@ inline std::vector<ipc::EventRecord> script() {
         const double front = -kOuterRadius + 2 * kOuterRadius * i / 12.0;
         out.push_back(
             make_record(cut::CutProgress{1, first.blade, {-0.02, front, -0.02, 0.02}}, first));
+        out.back().cut.feed_depth_m = float(front + kOuterRadius);  // as kerf-rt reports it
     }
     out.push_back(make_record(cut::CutEnd{1, cut::CutEndKind::kCompleted}, first));
+    out.back().cut.feed_depth_m = float(2 * kOuterRadius);
     const double a = 0.1;
     out.push_back(make_record(cut::BodyMoved{
         2, cut::RigidPose{cut::Vec3(0, 0, 0.01), {std::cos(a), 0, 0, std::sin(a)}}}));
@@ -38,8 +42,10 @@ inline std::vector<ipc::EventRecord> script() {
         const double front = -kOuterRadius + kOuterRadius * i / 5.0;
         out.push_back(
             make_record(cut::CutProgress{2, second.blade, {-0.02, front, -0.02, 0.02}}, second));
+        out.back().cut.feed_depth_m = float(front + kOuterRadius);
     }
     out.push_back(make_record(cut::CutEnd{2, cut::CutEndKind::kWithdrawn}, second));
+    out.back().cut.feed_depth_m = out[out.size() - 2].cut.feed_depth_m;
     return out;
 }
 

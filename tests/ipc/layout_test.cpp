@@ -136,7 +136,7 @@ TEST(Layout, SegmentHeaderOffsetsArePinned) {
     KERF_PIN(SegmentHeader, journal_path, 80);
     KERF_PIN(SegmentHeader, reserved, 208);
     EXPECT_EQ(kMagic, 0x314D48534652454Bull);
-    EXPECT_EQ(kLayoutVersion, 2u);
+    EXPECT_EQ(kLayoutVersion, 3u);
 }
 
 TEST(Layout, ProducerAndSlotControlLinesArePinned) {
@@ -200,9 +200,9 @@ TEST(Layout, MeshMailboxOffsetsArePinned) {
     KERF_PIN(MeshBuffer, sequence, 0);
     KERF_PIN(MeshBuffer, header, 64);
     KERF_PIN(MeshBuffer, vertices_m, 64 + 32 + 80 * 64);
-    KERF_PIN(MeshBuffer, indices, 64 + 32 + 80 * 64 + 12 * (1 << 17));
-    KERF_PIN(MeshBuffer, materials, 64 + 32 + 80 * 64 + 12 * (1 << 17) + 12 * (1 << 18));
-    EXPECT_EQ(sizeof(MeshBuffer), 4985984u);
+    KERF_PIN(MeshBuffer, indices, 64 + 32 + 80 * 64 + 12 * (1 << 20));
+    KERF_PIN(MeshBuffer, materials, 64 + 32 + 80 * 64 + 12 * (1 << 20) + 12 * (1 << 21));
+    EXPECT_EQ(sizeof(MeshBuffer), 39851136u);
     KERF_PIN(MeshMailbox, latest, 0);
     KERF_PIN(MeshMailbox, buffers, 64);
 }
