@@ -120,6 +120,7 @@ void write_status(const std::string& path, const FollowerStatus& s, const Measur
           << ", \"rejected_records\": " << s.consumer.rejected_records
           << ", \"rejected_indices\": " << s.consumer.rejected_indices
           << ", \"publishes\": " << s.publishes << ", \"publish_failures\": " << s.publish_failures
+          << ", \"publish_ms_last\": " << double(s.last_publish_ns) * 1e-6
           << ", \"last_batch_ms\": " << double(s.last_batch_ns) * 1e-6
           << ", \"latency_samples\": " << m.latency_ms.size()
           << ", \"latency_median_ms\": " << median(m.latency_ms)

@@ -125,18 +125,27 @@ void SessionFollower::Impl::hand_over(std::uint64_t newest_event_ns) {
 
 void SessionFollower::Impl::publish() {
     publish_pending = false;
+    const auto t0 = Clock::now();
     if (auto ok = export_collision(*session, *collision); !ok) {
         ++local.publish_failures;
         local.last_error = "collision mesh not published: " + ok.error();
         return;
     }
     ipc::MeshMailboxWriter writer(consumer->writable_layout());
-    if (auto published = writer.publish(*collision); !published) {
+    const auto published = writer.publish(*collision);
+    if (!published) {
         ++local.publish_failures;
         local.last_error = "collision mesh refused: " + published.error().message;
         return;
     }
     ++local.publishes;
+    local.last_publish_ns =
+        std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count();
+    spdlog::info(
+        "kerf-display: collision mesh generation {} published ({} bodies, {} vertices, {} "
+        "triangles; export + publish {:.1f} ms)",
+        *published, collision->body_count, collision->vertex_count, collision->index_count / 3,
+        double(local.last_publish_ns) * 1e-6);
 }
 
 void SessionFollower::Impl::publish_status() {

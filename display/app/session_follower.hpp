@@ -55,6 +55,7 @@ struct FollowerStatus {
     ipc::ConsumerStats consumer;         ///< delivered, from journal, gaps, lost, rejections
     std::uint64_t publishes = 0;         ///< collision meshes published
     std::uint64_t publish_failures = 0;  ///< refused by export or the mailbox (last_error says)
+    std::int64_t last_publish_ns = 0;    ///< worker time of the last export + publish
     std::string last_error;
     std::uint32_t bodies = 0;
     bool cut_open = false;

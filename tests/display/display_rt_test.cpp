@@ -90,6 +90,10 @@ TEST(DisplayWithKerfRt, TheOneMillionTriangleCollisionMeshIsPublishedAndSwappedI
     EXPECT_GE(std::stoll(swap[1].str()), 1) << "a generation the display published";
     std::printf("[ info ] kerf-rt: %s; %s\n", swap[0].str().c_str(),
                 out.substr(out.find("worlds swapped")).c_str());
+    std::smatch published;  // the display's line, with its export + publish time
+    const std::string shown = display.output();
+    if (std::regex_search(shown, published, std::regex("[^\n]*published \\([^\n]*")))
+        std::printf("[ info ] %s\n", published[0].str().c_str());
     display.kill(SIGTERM);
     EXPECT_EQ(display.wait_exit(60), std::optional<int>(0)) << display.output();
     std::error_code ec;

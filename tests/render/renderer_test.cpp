@@ -71,6 +71,25 @@ TEST_F(RendererTest, DrawsTheBoneInTheMiddleAndTheHudTopLeft) {
     EXPECT_GT(hud_ink, 50);
 }
 
+TEST_F(RendererTest, AnAbandonedFrameBegunAgainDrawsWhatAnUninterruptedOneDraws) {
+    auto s = testing::make_scene(SceneKind::kUncut, 100000);  // several chunks of draw calls
+    ASSERT_GT(s.render.triangle_count(), 2 * kBoneChunkTriangles);
+    s.planned.reset();
+    testing::draw_scene(*renderer_, s, false);
+    const auto uninterrupted = renderer_->read_pixels();
+    // Abandoned after the first chunk (kerf-display: an edit arrived), then begun again.
+    int asked = 0;
+    EXPECT_FALSE(renderer_->begin_frame(s.camera, [&] { return ++asked == 1; }));
+    EXPECT_EQ(asked, 1) << "asked between chunks, stopped at the first yes";
+    asked = 0;
+    EXPECT_TRUE(renderer_->begin_frame(s.camera, [&] { return ++asked < 0; }));
+    EXPECT_EQ(asked, int((s.render.triangle_count() - 1) / kBoneChunkTriangles))
+        << "asked once between every two chunks";
+    renderer_->draw_blade(s.blade);
+    renderer_->finish_frame();
+    EXPECT_EQ(renderer_->read_pixels(), uninterrupted);
+}
+
 TEST_F(RendererTest, UploadsOnlyDirtyRangesAfterACut) {
     auto s = testing::make_scene(SceneKind::kUncut, 20000);
     const UploadStats first = renderer_->upload(s.render);
