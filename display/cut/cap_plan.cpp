@@ -16,6 +16,9 @@ namespace {
 
 constexpr double kMinCapRelativeArea = kMinTriangleRelativeArea;
 
+// Smallest cosine between a kept cap triangle's normal and the cap's (see plan_caps).
+constexpr double kMinCapCosine = 0.05;
+
 double area2(const std::vector<Point2>& uv, const Triangle& t) {
     const Point2& a = uv[t.a];
     const Point2& b = uv[t.b];
@@ -336,44 +339,70 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
     plan.cap_points.resize(plan.points.size());
     for (std::uint32_t i = 0; i < plan.cap_points.size(); ++i) plan.cap_points[i] = i;
     // Every cap triangle must have a real area and face the way its 2-D orientation says (rim
-    // vertices may sit up to tol off the plane, so a long thin triangle can tilt over). A bad one
-    // is flipped with its neighbour across its longest edge when both new triangles are good;
-    // one that stays bad is refused.
+    // vertices may sit off the plane: up to tol, or kSnapTolerances tol when snapped, so a long
+    // thin triangle can tilt over). A `good` triangle is tilted less than 60 degrees; a bad one is
+    // flipped with a neighbour when both new triangles are good. Where no flip helps, a triangle
+    // still facing the right way with a margin (`acceptable`: its projection at least
+    // kMinCapCosine of its area, so no rounding turns it over) is kept: a rim edge between a
+    // snapped vertex and a cut point near it in the plane is steep, and every triangle on it
+    // tilts with it. Anything else is refused.
     const double min_area = kMinCapRelativeArea * s.scale_m * s.scale_m;
-    auto good = [&](const Triangle& t) {
+    auto facing = [&](const Triangle& t, double cosine) {
         const Vec3& a = plan.points[t.a].position;
         const Vec3& b = plan.points[t.b].position;
         const Vec3& c = plan.points[t.c].position;
         const Vec3 n = OpenMesh::cross(b - a, c - a);
-        return 0.5 * n.norm() > min_area && OpenMesh::dot(n, normal) > 0.5 * n.norm();
+        return 0.5 * n.norm() > min_area && OpenMesh::dot(n, normal) > cosine * n.norm();
     };
+    auto good = [&](const Triangle& t) { return facing(t, 0.5); };
+    auto acceptable = [&](const Triangle& t) { return facing(t, kMinCapCosine); };
     auto len2 = [&](std::uint32_t a, std::uint32_t b) {
         return (plan.points[a].position - plan.points[b].position).sqrnorm();
     };
     std::vector<Triangle>& tris = plan.cap_triangles;
     delaunay_flips(plan, tris, good);
-    // Tries the flip across the longest edge first, then the other two.
+    // Tries the flip across the longest edge first, then the other two; good triangles first,
+    // then acceptable ones.
+    bool failed = false;
     for (std::size_t i = 0; i < tris.size(); ++i) {
         if (good(tris[i])) continue;
-        Triangle t = tris[i];
-        for (int r = 0; r < 3 && len2(t.c, t.a) < std::max(len2(t.a, t.b), len2(t.b, t.c)); ++r)
-            t = Triangle{t.b, t.c, t.a};
         bool fixed = false;
-        for (int edge = 0; edge < 3 && !fixed; ++edge, t = Triangle{t.b, t.c, t.a}) {
-            for (std::size_t k = 0; k < tris.size() && !fixed; ++k) {
-                const std::uint32_t v[3] = {tris[k].a, tris[k].b, tris[k].c};
-                for (int e = 0; e < 3 && !fixed; ++e) {
-                    if (v[e] != t.a || v[(e + 1) % 3] != t.c) continue;
-                    const std::uint32_t d = v[(e + 2) % 3];
-                    const Triangle n1{t.a, t.b, d}, n2{t.b, t.c, d};
-                    if (good(n1) && good(n2)) tris[i] = n1, tris[k] = n2, fixed = true;
+        for (int tier = 0; tier < 2 && !fixed; ++tier) {
+            if (tier == 1 && acceptable(tris[i])) {
+                fixed = true;
+                break;
+            }
+            Triangle t = tris[i];
+            for (int r = 0; r < 3 && len2(t.c, t.a) < std::max(len2(t.a, t.b), len2(t.b, t.c)); ++r)
+                t = Triangle{t.b, t.c, t.a};
+            for (int edge = 0; edge < 3 && !fixed; ++edge, t = Triangle{t.b, t.c, t.a}) {
+                for (std::size_t k = 0; k < tris.size() && !fixed; ++k) {
+                    const std::uint32_t v[3] = {tris[k].a, tris[k].b, tris[k].c};
+                    for (int e = 0; e < 3 && !fixed; ++e) {
+                        if (v[e] != t.a || v[(e + 1) % 3] != t.c) continue;
+                        const std::uint32_t d = v[(e + 2) % 3];
+                        const Triangle n1{t.a, t.b, d}, n2{t.b, t.c, d};
+                        const bool ok =
+                            tier == 0 ? good(n1) && good(n2) : acceptable(n1) && acceptable(n2);
+                        if (ok) tris[i] = n1, tris[k] = n2, fixed = true;
+                    }
                 }
             }
         }
-        if (!fixed) return CutStatus::kCapTriangulationFailed;
+        if (fixed) continue;
+        // Cut points clustered round a vertex just beyond the tolerance: propose snapping it
+        // (plan_snapped), so that the cluster becomes that one rim vertex.
+        failed = true;
+        for (const std::uint32_t k : {tris[i].a, tris[i].b, tris[i].c}) {
+            const PlanPoint& p = plan.points[k];
+            if (!p.key.edge) continue;
+            const mesh::VertexHandle ends[2] = {mesh::VertexHandle(p.a), mesh::VertexHandle(p.b)};
+            propose_snap(s, plane, ends);
+        }
     }
+    if (failed) return CutStatus::kCapTriangulationFailed;
     for (const Triangle& t : tris)
-        if (!good(t)) return CutStatus::kCapTriangulationFailed;
+        if (!acceptable(t)) return CutStatus::kCapTriangulationFailed;
     return pinched_along_an_edge(s) ? CutStatus::kDegenerateCrossSection : CutStatus::kOk;
 }
 

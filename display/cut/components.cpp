@@ -149,7 +149,8 @@ struct Search {
 
 }  // namespace
 
-SeverReport PieceFinder::find_pieces(std::span<const mesh::FaceHandle> seeds) {
+SeverReport PieceFinder::find_pieces(std::span<const mesh::FaceHandle> seeds,
+                                     std::span<const Glue> glue) {
     grow_to_mesh();
     if (++stamp_ == 0) {  // wrapped: forget every old stamp once in 2^32 calls
         std::fill(face_stamp_.begin(), face_stamp_.end(), 0);
@@ -182,7 +183,7 @@ SeverReport PieceFinder::find_pieces(std::span<const mesh::FaceHandle> seeds) {
     auto step = [&](std::uint32_t s) {
         const auto f = search[s].faces[search[s].head++];
         ++report.faces_visited;
-        for_each_neighbour(mesh_, f, [&](mesh::FaceHandle g) {
+        auto reach = [&](mesh::FaceHandle g) {
             const auto gi = static_cast<std::size_t>(g.idx());
             if (face_stamp_[gi] != stamp_) {
                 face_stamp_[gi] = stamp_;
@@ -193,7 +194,16 @@ SeverReport PieceFinder::find_pieces(std::span<const mesh::FaceHandle> seeds) {
             const auto a = find_root(group, s);
             const auto b = find_root(group, face_owner_[gi]);
             if (a != b) group[std::max(a, b)] = std::min(a, b);
-        });
+        };
+        for_each_neighbour(mesh_, f, reach);
+        if (glue.empty()) return;
+        for (const auto v : mesh_.fv_range(f)) {
+            const Glue lo{v, mesh::VertexHandle()};
+            auto it = std::lower_bound(glue.begin(), glue.end(), lo);
+            for (; it != glue.end() && it->a == v; ++it)
+                for (const auto g : mesh_.vf_range(it->b))
+                    if (live(mesh_, g)) reach(g);
+        }
     };
     std::vector<std::uint8_t> open(n, 0);
     for (;;) {
@@ -226,7 +236,7 @@ SeverReport PieceFinder::find_pieces(std::span<const mesh::FaceHandle> seeds) {
     return report;
 }
 
-SeverReport PieceFinder::find_pieces(const CrossSection& cut) {
+SeverReport PieceFinder::find_pieces(const CrossSection& cut, std::span<const Glue> glue) {
     std::vector<mesh::FaceHandle> seeds;
     for (const CrossSectionSide* side : {&cut.positive, &cut.negative}) {
         for (const auto& loop : side->loops) {
@@ -237,7 +247,7 @@ SeverReport PieceFinder::find_pieces(const CrossSection& cut) {
             }
         }
     }
-    return find_pieces(seeds);
+    return find_pieces(seeds, glue);
 }
 
 }  // namespace kerf::cut

@@ -51,6 +51,17 @@ struct SeverReport {
     std::uint64_t faces_visited = 0;           ///< work done (the localisation claim, measured)
 };
 
+/// Two vertices whose pieces still hold together although the mesh is cut between them: the
+/// copies of a rim vertex of a partial cut where the blade never went (the material there is
+/// whole, see CutSession). A search reaching one continues from the faces of the other.
+struct Glue {
+    mesh::VertexHandle a;
+    mesh::VertexHandle b;
+    friend bool operator<(const Glue& x, const Glue& y) noexcept {
+        return x.a < y.a || (x.a == y.a && x.b < y.b);
+    }
+};
+
 /// Localised sever detection with scratch that persists between cuts.
 class PieceFinder {
 public:
@@ -58,11 +69,14 @@ public:
     explicit PieceFinder(const mesh::TriMesh& mesh);
 
     /// Pieces reached from `seeds` (live faces), searching in lockstep as described above.
-    /// Invalid or deleted seeds are skipped (reported as kRemainder).
-    SeverReport find_pieces(std::span<const mesh::FaceHandle> seeds);
+    /// Invalid or deleted seeds are skipped (reported as kRemainder). `glue` (sorted, each pair
+    /// listed both ways) joins faces the mesh does not: a piece is then a set of faces connected
+    /// through shared edges or glued vertices.
+    SeverReport find_pieces(std::span<const mesh::FaceHandle> seeds,
+                            std::span<const Glue> glue = {});
 
     /// Seeds for a cut: one face at the first rim vertex of every loop on each side.
-    SeverReport find_pieces(const CrossSection& cut);
+    SeverReport find_pieces(const CrossSection& cut, std::span<const Glue> glue = {});
 
 private:
     const mesh::TriMesh& mesh_;

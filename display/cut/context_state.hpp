@@ -57,6 +57,10 @@ struct ContextState {
     std::size_t reserved_vertices = 0, reserved_edges = 0, reserved_faces = 0;
     std::uint64_t growths_in_cuts = 0;  ///< cuts that had to grow capacity themselves
 
+    /// Vertices a little beyond the tolerance that the plan being made treats as on the plane
+    /// (sorted; see plan_snapped in section_plan.hpp); null outside plan_snapped.
+    const std::vector<std::int32_t>* snapped = nullptr;
+    std::vector<std::int32_t> snap_candidates;  ///< what the last plan's checks would snap
     SectionPlan plan;
     Triangulator triangulator;
     std::vector<std::uint32_t> heap;  ///< seed search scratch

@@ -35,6 +35,8 @@ struct CutStats {
     std::uint32_t vertices_merged = 0;    ///< cut points within the on-plane tolerance of their
                                           ///< loop neighbour, collapsed into it (each moved
                                           ///< the surface by at most tolerance_m)
+    std::uint32_t vertices_snapped = 0;   ///< vertices a little beyond the tolerance taken as on
+                                          ///< the plane (unmoved) instead of leaving a sliver
     std::uint32_t triangles_added = 0;    ///< triangles created: split parts plus caps
     std::uint32_t triangles_removed = 0;  ///< triangles deleted (biplanar slab only)
     std::uint32_t cap_triangles = 0;      ///< triangles of all caps

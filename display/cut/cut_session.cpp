@@ -63,7 +63,37 @@ struct OpenCut {
     std::uint32_t body = 0;
     CrossSection section;
     std::optional<Separator> separator;
+    std::vector<std::uint8_t> rim_swept;  ///< per rim point (loops concatenated): blade went there
 };
+
+namespace {
+
+// Marks the rim points inside the swept rectangle `quad` (plane coordinates, either orientation,
+// grown by `tol`) as swept. O(rim points).
+void mark_swept(OpenCut& cut, const Vec2 (&quad)[4], double tol) {
+    double area = 0;
+    for (int i = 0; i < 4; ++i) {
+        const Vec2 &p = quad[i], &q = quad[(i + 1) % 4];
+        area += p[0] * q[1] - p[1] * q[0];
+    }
+    if (!(std::abs(area) > 0)) return;  // empty or non-finite
+    const double sign = area > 0 ? 1.0 : -1.0;
+    std::size_t k = 0;
+    for (const auto& loop : cut.section.loops_2d)
+        for (const Vec2& x : loop) {
+            bool inside = true;
+            for (int i = 0; i < 4 && inside; ++i) {
+                const Vec2 &p = quad[i], &q = quad[(i + 1) % 4];
+                const Vec2 edge = q - p;
+                const double cross = edge[0] * (x[1] - p[1]) - edge[1] * (x[0] - p[0]);
+                inside = sign * cross >= -tol * edge.norm();
+            }
+            if (inside) cut.rim_swept[k] = 1;
+            ++k;
+        }
+}
+
+}  // namespace
 
 struct CutSession::State {
     mesh::TriMesh mesh;
@@ -74,6 +104,9 @@ struct CutSession::State {
     std::vector<SessionBody> bodies;
     std::optional<OpenCut> open;
     SessionCounters counters;
+    // Rim vertex pairs of partial cuts where the blade never went: the material there is whole,
+    // so the pieces on both sides are one (sorted, both ways; see PieceFinder).
+    std::vector<Glue> glue;
 
     // Body-local triangle numbering (what the collision mesh publishes), built when needed.
     std::vector<std::vector<mesh::FaceHandle>> body_faces;
@@ -93,6 +126,7 @@ struct CutSession::State {
     void mark_around(std::span<const mesh::VertexHandle> vertices, bool refresh_normals);
     void mark_section(const CrossSection& cs);
     std::uint32_t sever(const OpenCut& cut);
+    void glue_unswept(const OpenCut& cut);
     void relabel(const Body& piece, std::uint32_t body);
     mesh::FaceHandle hinted_face(std::uint32_t body, std::int64_t hint);
     void close_open_cut(CutEndKind kind, ApplyReport& report);
@@ -158,8 +192,20 @@ mesh::FaceHandle CutSession::State::hinted_face(std::uint32_t body, std::int64_t
                                                            : mesh::FaceHandle();
 }
 
+void CutSession::State::glue_unswept(const OpenCut& cut) {
+    const CrossSection& cs = cut.section;
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < cs.positive.loops.size(); ++i)
+        for (std::size_t j = 0; j < cs.positive.loops[i].size(); ++j, ++k) {
+            if (cut.rim_swept[k] != 0) continue;
+            glue.push_back(Glue{cs.positive.loops[i][j], cs.negative.loops[i][j]});
+            glue.push_back(Glue{cs.negative.loops[i][j], cs.positive.loops[i][j]});
+        }
+    std::sort(glue.begin(), glue.end());
+}
+
 std::uint32_t CutSession::State::sever(const OpenCut& cut) {
-    SeverReport report = finder->find_pieces(cut.section);
+    SeverReport report = finder->find_pieces(cut.section, glue);
     if (report.severed.empty()) return 0;
     std::size_t keep = report.severed.size();  // index of the piece that keeps the parent's id
     const bool remainder_open =
@@ -198,9 +244,12 @@ void CutSession::State::close_open_cut(CutEndKind kind, ApplyReport& report) {
             mark_around(moved, true);
             report.vertices_moved = static_cast<std::uint32_t>(moved.size());
         }
-        report.bodies_created = sever(cut);
         ++counters.cuts_completed;
+    } else {
+        glue_unswept(cut);  // withdrawn or aborted: where the blade never went, the bone is whole
     }
+    // Pieces bounded by this cut and earlier partial ones (a chevron's two limbs) come free too.
+    report.bodies_created = sever(cut);
     open.reset();
 }
 
@@ -234,11 +283,13 @@ ApplyReport CutSession::begin(const CutBegin& e) {
 
     const std::int64_t t0 = now_ns();
     const std::size_t old_vertices = s.mesh.n_vertices(), old_faces = s.mesh.n_faces();
-    OpenCut cut{e.cut_id, e.body_id, {}, std::nullopt};
+    OpenCut cut{e.cut_id, e.body_id, {}, std::nullopt, {}};
     const Seed seed{pose.to_body(e.seed_m), s.hinted_face(e.body_id, e.triangle_hint), -1.0};
     const CutResult r = slice_by_plane(*s.ctx, *plane, seed, cut.section);
     if (!r.ok()) return ++s.counters.refused, refused("slice refused", r.status);
 
+    for (const auto& loop : cut.section.positive.loops)
+        cut.rim_swept.resize(cut.rim_swept.size() + loop.size(), 0);
     s.mark_new_elements(old_vertices, old_faces, e.body_id);
     s.mark_section(cut.section);
     s.body_faces_stale = true;
@@ -257,7 +308,6 @@ ApplyReport CutSession::begin(const CutBegin& e) {
 ApplyReport CutSession::progress(const CutProgress& e) {
     State& s = *s_;
     if (!s.open || s.open->id != e.cut_id) return ++s.counters.ignored, ignored("no such open cut");
-    if (!s.open->separator) return ++s.counters.ignored, ignored("cut has no separation");
     const std::int64_t t0 = now_ns();
     // The swept rectangle's corners, blade frame -> body frame -> the locked Plane's (u, v).
     const RigidPose& pose = s.bodies[s.open->body].pose;
@@ -275,6 +325,8 @@ ApplyReport CutSession::progress(const CutProgress& e) {
     const double vs[4] = {r.v_min_m, r.v_min_m, r.v_max_m, r.v_max_m};
     Vec2 polygon[4];
     for (int i = 0; i < 4; ++i) polygon[i] = plane.to_2d(origin + u * us[i] + v * vs[i]);
+    mark_swept(*s.open, polygon, s.ctx->tolerance_m());
+    if (!s.open->separator) return ++s.counters.ignored, ignored("cut has no separation");
     if (!s.open->separator->sweep(polygon))
         return ++s.counters.ignored, ignored("empty or non-finite swept region");
     const auto moved = s.open->separator->moved_vertices();

@@ -21,7 +21,12 @@
 // swept to the end (gap = kerf: the biplanar result, see separate.hpp) and the pieces cut free
 // (PieceFinder) become new bodies with ids bodies().size(), ... in the order they closed; when
 // every piece closed, the largest keeps the parent's id. Withdrawn or aborted: the slice and the
-// separation so far stay, the pieces stay one body. Normals of faces the separation moved are
+// separation so far stay; where the blade never went (rim points outside every swept rectangle)
+// the bone is whole, so the session glues the two copies of those rim vertices and the sides
+// stay one body. After every CutEnd, whatever its kind, the pieces the cut bounds are searched
+// across cuts and glue alike (PieceFinder with the session's glue), so two partial cuts that
+// meet inside the bone and together sever a piece (a chevron's limbs, each withdrawn once the
+// blade reached the other) free it: one new body. Normals of faces the separation moved are
 // refreshed. Not thread-safe: one thread applies events (the display's worker).
 #pragma once
 

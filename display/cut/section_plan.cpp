@@ -6,7 +6,6 @@
 #include "display/cut/context_state.hpp"
 
 namespace kerf::cut::detail {
-
 namespace {
 
 using mesh::EdgeHandle;
@@ -24,7 +23,12 @@ public:
     Walker(ContextState& s, const Plane& plane)
         : s_(s), m_(s.mesh), plane_(plane), tol_(s.tolerance_m) {}
 
-    int side(VertexHandle v) const { return plane_.side(m_.point(v), tol_); }
+    // -1, 0 (within tol, or snapped) or +1.
+    int side(VertexHandle v) const {
+        const int sd = plane_.side(m_.point(v), tol_);
+        if (sd == 0 || s_.snapped == nullptr || s_.snapped->empty()) return sd;
+        return std::binary_search(s_.snapped->begin(), s_.snapped->end(), v.idx()) ? 0 : sd;
+    }
 
     // +1 / -1 for a face that does not cross the plane (an in-plane face by its normal).
     int label(FaceHandle f) const {
@@ -469,18 +473,51 @@ void merge_close_points(ContextState& s) {
 }
 
 CutStatus finish_plan(ContextState& s, const Plane& plane) {
-    const CutStatus st = check_split_areas(s);
+    const CutStatus st = check_split_areas(s, plane);
     if (st == CutStatus::kOk) merge_close_points(s);
     return st == CutStatus::kOk ? plan_caps(s, plane) : st;
 }
 
-CutStatus check_split_areas(const ContextState& s) {
+CutStatus plan_snapped(ContextState& s, const Plane& plane, std::vector<std::int32_t>& snapped,
+                       const std::function<CutStatus()>& plan) {
+    s.snapped = &snapped;
+    CutStatus st = CutStatus::kOk;
+    for (int round = 0;; ++round) {
+        s.snap_candidates.clear();
+        st = plan();
+        if (st == CutStatus::kOk) st = finish_plan(s, plane);
+        const bool sliver =
+            st == CutStatus::kSliverSplit || st == CutStatus::kCapTriangulationFailed;
+        if (!sliver || round == kMaxSnapRounds || s.snap_candidates.empty()) break;
+        const std::size_t before = snapped.size();
+        for (const std::int32_t v : s.snap_candidates)
+            if (!std::binary_search(snapped.begin(), snapped.end(), v))
+                snapped.insert(std::lower_bound(snapped.begin(), snapped.end(), v), v);
+        if (snapped.size() == before) break;  // nothing new to try
+    }
+    s.snapped = nullptr;
+    return st;
+}
+
+void propose_snap(ContextState& s, const Plane& plane, std::span<const VertexHandle> vertices) {
+    const double limit = kSnapTolerances * s.tolerance_m;
+    VertexHandle best;
+    double best_d = limit;
+    for (const VertexHandle v : vertices) {
+        const double d = std::abs(plane.signed_distance(s.mesh.point(v)));
+        if (d > s.tolerance_m && d <= best_d) best_d = d, best = v;
+    }
+    if (best.is_valid()) s.snap_candidates.push_back(best.idx());
+}
+
+CutStatus check_split_areas(ContextState& s, const Plane& plane) {
     const SectionPlan& plan = s.plan;
     const TriMesh& m = s.mesh;
     const double min_area = kMinTriangleRelativeArea * s.scale_m * s.scale_m;
     auto small = [&](const Vec3& a, const Vec3& b, const Vec3& c) {
         return !(0.5 * OpenMesh::cross(b - a, c - a).norm() > min_area);
     };
+    CutStatus status = CutStatus::kOk;
     for (const PlanLoop& l : plan.loops) {
         if (!l.selected) continue;
         for (std::uint32_t i = 0; i < l.count; ++i) {
@@ -495,14 +532,16 @@ CutStatus check_split_areas(const ContextState& s) {
                 const FaceHandle f = m.face_handle(h);
                 if (!f.is_valid()) continue;
                 const HalfedgeHandle hn = m.next_halfedge_handle(h);
-                const Vec3& x = m.point(m.from_vertex_handle(h));
-                const Vec3& y = m.point(m.to_vertex_handle(h));
-                const Vec3& z = m.point(m.to_vertex_handle(hn));
+                const VertexHandle corners[3] = {m.from_vertex_handle(h), m.to_vertex_handle(h),
+                                                 m.to_vertex_handle(hn)};
+                const Vec3& x = m.point(corners[0]);
+                const Vec3& y = m.point(corners[1]);
+                const Vec3& z = m.point(corners[2]);
                 const Vec3& pp = e.position;
                 const Vec3& qq = o.position;
                 bool bad = false;
                 if (!o.key.edge) {
-                    if (o.key.id != m.to_vertex_handle(hn).idx()) continue;
+                    if (o.key.id != corners[2].idx()) continue;
                     bad = small(x, pp, z) || small(pp, y, z);  // split through on-plane z
                 } else if (o.key.id == m.edge_handle(hn).idx()) {
                     // Q on y-z: lone vertex y; the quad x, P, Q, z takes either diagonal.
@@ -515,11 +554,15 @@ CutStatus check_split_areas(const ContextState& s) {
                 } else {
                     continue;
                 }
-                if (bad) return CutStatus::kSliverSplit;
+                if (!bad) continue;
+                // The corner nearest the plane, when a little beyond the tolerance, can be
+                // snapped onto it instead (plan_snapped): the split then runs through it.
+                propose_snap(s, plane, corners);
+                status = CutStatus::kSliverSplit;
             }
         }
     }
-    return CutStatus::kOk;
+    return status;
 }
 
 double distance_to_face(const TriMesh& m, FaceHandle f, const Vec3& p) {

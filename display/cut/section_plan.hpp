@@ -7,7 +7,10 @@
 // counter-clockwise in the plane frame (positive area) and holes clockwise.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <functional>
+#include <span>
 #include <vector>
 
 #include "display/cut/cut_result.hpp"
@@ -88,10 +91,16 @@ inline constexpr double kMinTriangleRelativeArea = mesh::kDegenerateTwiceAreaRel
 
 /// Checks that splitting every face the selected loops cross leaves no triangle smaller than
 /// kMinTriangleRelativeArea (either diagonal OpenMesh may choose for the quad part): a plane a
-/// little beyond the tolerance from a vertex of an already thin triangle (e.g. the band an earlier
-/// cut left just above a vertex ring) would otherwise leave a sliver. kSliverSplit if not.
-/// O(points in the selected loops).
-CutStatus check_split_areas(const ContextState& s);
+/// little beyond the tolerance from a vertex (the tiny corner its two crossing edges cut off) or
+/// from a vertex of an already thin triangle (the band an earlier cut left just above a vertex
+/// ring) would otherwise leave a sliver. kSliverSplit if not, with the corner nearest the plane of
+/// every such face proposed for snapping (s.snap_candidates). O(points in the selected loops).
+CutStatus check_split_areas(ContextState& s, const Plane& plane);
+
+/// Proposes the vertex of `vertices` nearest the plane for snapping (s.snap_candidates) when it
+/// lies beyond the tolerance and within kSnapTolerances tolerances.
+void propose_snap(ContextState& s, const Plane& plane,
+                  std::span<const mesh::VertexHandle> vertices);
 
 /// Drops from the selected loops every edge cut point within tol of the point before it (or, for
 /// an on-plane vertex after an edge point, the edge point: the existing vertex is reused), when
@@ -104,6 +113,18 @@ void merge_close_points(ContextState& s);
 /// plan_caps(). Each status of
 /// either is returned as is.
 CutStatus finish_plan(ContextState& s, const Plane& plane);
+
+/// Makes a plan with `plan()` (plan_full, plan_localised, plan_wall: it fills s.plan) and finishes
+/// it (finish_plan), treating the vertices in `snapped` (sorted) as on the plane. When the plan is
+/// refused for a sliver (a split part, or a cap triangle among cut points clustered round a
+/// vertex just beyond the tolerance) and the checks proposed vertices within kSnapTolerances
+/// tolerances of the plane, those join `snapped` and the plan is made again, at most
+/// kMaxSnapRounds times. A snapped vertex is not moved: it becomes a rim vertex where it is, as
+/// on-plane vertices do, so rims lie within kSnapTolerances tolerances of the plane (within one
+/// tolerance when nothing was snapped) and every volume is conserved exactly.
+inline constexpr int kMaxSnapRounds = 8;
+CutStatus plan_snapped(ContextState& s, const Plane& plane, std::vector<std::int32_t>& snapped,
+                       const std::function<CutStatus()>& plan);
 
 /// Triangulates the selected loops into plan.cap_triangles, counter-clockwise about the normal
 /// (kCapTriangulationFailed if a loop cannot be capped without slivers or tilted triangles).

@@ -16,12 +16,14 @@ std::int64_t now_ns() {
         .count();
 }
 
-CutResult finish(detail::ContextState& s, const Plane& plane, CutStatus planned, CrossSection& out,
-                 std::int64_t t0) {
+// Plans with `plan` (snapping vertices next to slivers, see plan_snapped), then edits.
+CutResult finish(detail::ContextState& s, const Plane& plane,
+                 const std::function<CutStatus()>& plan, CrossSection& out, std::int64_t t0) {
     CutResult r;
-    r.status = planned;
-    if (r.ok()) r.status = detail::finish_plan(s, plane);
+    std::vector<std::int32_t> snapped;
+    r.status = detail::plan_snapped(s, plane, snapped, plan);
     if (r.ok()) r.status = detail::apply_plan(s, plane, out, r.stats);
+    r.stats.vertices_snapped = static_cast<std::uint32_t>(snapped.size());
     r.stats.time_ns = now_ns() - t0;
     return r;
 }
@@ -31,13 +33,15 @@ CutResult finish(detail::ContextState& s, const Plane& plane, CutStatus planned,
 CutResult slice_by_plane(CutContext& ctx, const Plane& plane, CrossSection& out) {
     const std::int64_t t0 = now_ns();
     detail::ContextState& s = ctx.state();
-    return finish(s, plane, detail::plan_full(s, plane), out, t0);
+    return finish(
+        s, plane, [&] { return detail::plan_full(s, plane); }, out, t0);
 }
 
 CutResult slice_by_plane(CutContext& ctx, const Plane& plane, const Seed& seed, CrossSection& out) {
     const std::int64_t t0 = now_ns();
     detail::ContextState& s = ctx.state();
-    return finish(s, plane, detail::plan_localised(s, plane, seed), out, t0);
+    return finish(
+        s, plane, [&] { return detail::plan_localised(s, plane, seed); }, out, t0);
 }
 
 }  // namespace kerf::cut

@@ -25,10 +25,15 @@
 //    on-plane edge (the surface touches the plane along an edge joining two non-neighbouring rim
 //    vertices: the cap would need that edge a third time) is refused with
 //    kDegenerateCrossSection;
-//  - A plane a little beyond tol from a vertex of an already thin triangle (the band an earlier
-//    cut left just beside a vertex ring) would split off a triangle of near-zero area: checked
-//    before any edit (either diagonal of the split quad), refused with kSliverSplit. an open edge
-//    where the cut passes gives kNonManifoldInput.
+//  - A plane a little beyond tol from a vertex (its crossing edges would cut off a tiny corner)
+//    or from a vertex of an already thin triangle (the band an earlier cut left just beside a
+//    vertex ring) would split off a triangle of near-zero area, or leave cut points clustered a
+//    few tol round the vertex that no cap triangle can join: checked before any edit (either
+//    diagonal of the split quad, every cap triangle). That vertex, if within kSnapTolerances tol,
+//    is then SNAPPED: taken as on the plane where it is (not moved) and the plan made again
+//    (CutStats::vertices_snapped), so a rim vertex lies within tol of the plane, or within
+//    kSnapTolerances tol if snapped. Only if no snap helps: kSliverSplit. An open edge where the
+//    cut passes gives kNonManifoldInput.
 //  - Cuts through earlier caps are ordinary: a cap is surface like any other.
 //  - Caps never contain a sliver: rim points straight up to rounding are fanned, bad triangles
 //    are flipped away, and a cap that would still need a near-zero-area or tilted triangle is
@@ -46,6 +51,10 @@
 #include "display/cut/plane.hpp"
 
 namespace kerf::cut {
+
+/// How far from the plane a vertex may be snapped onto it instead of leaving a sliver, in
+/// tolerances (CutContext::tolerance_m()).
+inline constexpr double kSnapTolerances = 16.0;
 
 /// Where the blade first touched: a point on the surface and, optionally, its triangle.
 struct Seed {

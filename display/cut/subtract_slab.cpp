@@ -137,6 +137,7 @@ void add(CutStats& into, const CutStats& a) {
     into.faces_split += a.faces_split;
     into.vertices_added += a.vertices_added;
     into.vertices_merged += a.vertices_merged;
+    into.vertices_snapped += a.vertices_snapped;
     into.triangles_added += a.triangles_added;
     into.loops += a.loops;
 }
@@ -160,13 +161,15 @@ CutResult subtract_slab(CutContext& ctx, const Plane& plane, double kerf_width_m
     // Dry run on the unedited mesh: every loop of both walls is found, planned and capped.
     WallFaces walls;
     CutStatus st = find_walls(s, lower, upper, seed, walls);
-    if (st == CutStatus::kOk && !walls.upper.empty()) {
-        st = detail::plan_wall(s, upper, walls.upper);
-        if (st == CutStatus::kOk) st = detail::finish_plan(s, upper);
-    }
-    if (st == CutStatus::kOk) st = detail::plan_wall(s, lower, walls.lower);
-    if (st == CutStatus::kOk) st = detail::finish_plan(s, lower);
+    std::vector<std::int32_t> lower_snapped, upper_snapped;  // see plan_snapped
+    if (st == CutStatus::kOk && !walls.upper.empty())
+        st = detail::plan_snapped(s, upper, upper_snapped,
+                                  [&] { return detail::plan_wall(s, upper, walls.upper); });
+    if (st == CutStatus::kOk)
+        st = detail::plan_snapped(s, lower, lower_snapped,
+                                  [&] { return detail::plan_wall(s, lower, walls.lower); });
     if (st != CutStatus::kOk) return done(st);
+    r.stats.vertices_snapped = static_cast<std::uint32_t>(lower_snapped.size());
     // Lower wall (planned last, so the plan is current).
     st = detail::apply_plan(s, lower, out.lower, r.stats);
     if (st != CutStatus::kOk) return done(CutStatus::kInternalError);
@@ -183,8 +186,9 @@ CutResult subtract_slab(CutContext& ctx, const Plane& plane, double kerf_width_m
     out.upper.plane = upper;
     if (!after.upper.empty()) {
         CutStats upper_stats;
-        st = detail::plan_wall(s, upper, after.upper);
-        if (st == CutStatus::kOk) st = detail::finish_plan(s, upper);
+        st = detail::plan_snapped(s, upper, upper_snapped,
+                                  [&] { return detail::plan_wall(s, upper, after.upper); });
+        upper_stats.vertices_snapped = static_cast<std::uint32_t>(upper_snapped.size());
         if (st == CutStatus::kOk) st = detail::apply_plan(s, upper, out.upper, upper_stats);
         if (st != CutStatus::kOk && st != CutStatus::kPlaneMissesMesh)
             return done(CutStatus::kInternalError);
@@ -196,10 +200,11 @@ CutResult subtract_slab(CutContext& ctx, const Plane& plane, double kerf_width_m
     inner.insert(inner.end(), out.upper.negative.cap_faces.begin(),
                  out.upper.negative.cap_faces.end());
     const std::vector<FaceHandle> slab = slab_faces(s, inner);
+    const double reach = kSnapTolerances * s.tolerance_m;  // a snapped rim vertex
     for (FaceHandle f : slab)
         for (auto v : s.mesh.fv_range(f))
-            if (upper.signed_distance(s.mesh.point(v)) > s.tolerance_m ||
-                lower.signed_distance(s.mesh.point(v)) < -s.tolerance_m)
+            if (upper.signed_distance(s.mesh.point(v)) > reach ||
+                lower.signed_distance(s.mesh.point(v)) < -reach)
                 return done(CutStatus::kInternalError);
     for (FaceHandle f : slab) s.mesh.delete_face(f, true);
     r.stats.triangles_removed = static_cast<std::uint32_t>(slab.size());

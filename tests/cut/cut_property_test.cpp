@@ -5,18 +5,22 @@
 // (mesh::kDegenerateTwiceAreaRelative); volumes to 1e-9 (a slab's removed volume against two
 // full-plane slices and the piece between them); every piece written as float32 STL and read
 // back is a closed 2-manifold with no degenerate triangle (every 8th cut: OBJ, PLY and OFF too).
-// Refusals are counted by status (a plane that misses the bone is no refusal); on these clean
-// bones the target is none, not yet reached (see the bound at the end of the test).
+// Refusals are counted by status (a plane that misses the bone is no refusal) and printed with
+// their planes and seeds; on these clean bones there must be none. New vertices within the
+// tolerance of another vertex are counted too (bounded: issue 10 item 2's open rest).
 //
 // KERF_PROPERTY_CUTS cuts per (mesh, kind): 42 in kerf_cut_stress_tests (6 meshes x 4 kinds =
 // 1,008 cuts, label stress), 3 in kerf_cut_property_tests (72 cuts, the always-run slice).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <map>
 #include <random>
 #include <string>
 #include <tuple>
+#include <utility>
+#include <vector>
 
 #include "display/cut/components.hpp"
 #include "display/cut/slice_by_plane.hpp"
@@ -80,6 +84,28 @@ void expect_pieces_round_trip(const TriMesh& m, mesh::Format format, const std::
     }
 }
 
+/// How many vertices made by the cuts (index >= `first_new`) lie within `tol` of another vertex,
+/// except at exactly the same position (the two copies of a rim vertex, one per side): a cut
+/// should reuse the existing vertex instead (issue 10, item 2), and `nearest` gets the smallest
+/// such distance. O(V log V).
+int close_new_vertices(const TriMesh& m, int first_new, double tol, double& nearest) {
+    std::vector<std::pair<double, int>> by_x;
+    for (auto v : m.vertices()) by_x.emplace_back(m.point(v)[0], v.idx());
+    std::sort(by_x.begin(), by_x.end());
+    int close = 0;
+    for (auto v : m.vertices()) {
+        if (v.idx() < first_new) continue;
+        const auto& p = m.point(v);
+        auto it = std::lower_bound(by_x.begin(), by_x.end(), std::make_pair(p[0] - tol, -1));
+        for (; it != by_x.end() && it->first <= p[0] + tol; ++it) {
+            if (it->second == v.idx()) continue;
+            const double d = (m.point(mesh::VertexHandle(it->second)) - p).norm();
+            if (d > 0 && d <= tol) ++close, nearest = std::min(nearest, d);
+        }
+    }
+    return close;
+}
+
 /// A seed on the line where `a` and `b` meet, on the surface (a face crossing both near it).
 Seed seed_on_both(const TriMesh& m, const Plane& a, const Plane& b) {
     FaceHandle best;
@@ -99,9 +125,11 @@ Seed seed_on_both(const TriMesh& m, const Plane& a, const Plane& b) {
 }
 
 /// Volume of the piece of `ref` (already sliced on both slab planes) between the planes that
-/// holds the face nearest to `p`, m^3 (0 when none lies between them).
+/// holds the face nearest to `p`, m^3 (0 when none lies between them). A rim vertex may lie
+/// kSnapTolerances tolerances outside its plane (snapped).
 double between_piece_volume(const TriMesh& ref, const Plane& lower, const Plane& upper,
-                            const Vec3& p, double tol) {
+                            const Vec3& p, double tolerance_m) {
+    const double tol = kSnapTolerances * tolerance_m;
     double best_d = 1e300, volume = 0;
     for (const Body& b : find_components(ref)) {
         bool between = true;
@@ -119,6 +147,7 @@ double between_piece_volume(const TriMesh& ref, const Plane& lower, const Plane&
 
 struct Tally {
     int cuts = 0;
+    int close_vertices = 0;  ///< cuts that left a new vertex within tol of another
     std::map<std::string, int> refusals;
 };
 
@@ -140,21 +169,26 @@ TEST_P(CutProperty, EveryCutIsClosedOrientedNonDegenerateConservesVolumeAndRound
             std::string(name) + " " + kind_name(kind) + " #" + std::to_string(i);
         SCOPED_TRACE(what);
         TriMesh m = shape;
+        const auto first_new = static_cast<int>(m.n_vertices());
         CutContext ctx(m);
         const Plane plane = random_plane(m, rng);
         CutStatus st = CutStatus::kOk;
         double expected_volume = v0;
+        Seed used_seed{Vec3(0, 0, 0), FaceHandle(), 0.0};
+        double used_angle = 0.0;
         if (kind == Kind::kFull) {
             CrossSection cs;
             st = slice_by_plane(ctx, plane, cs).status;
         } else if (kind == Kind::kLocalised) {
             const Seed seed = random_seed(m, plane, rng);
             if (seed.tolerance_m == 0.0) continue;
+            used_seed = seed;
             CrossSection cs;
             st = slice_by_plane(ctx, plane, seed, cs).status;
         } else if (kind == Kind::kChevron) {
             const Seed seed = random_seed(m, plane, rng);
             if (seed.tolerance_m == 0.0) continue;
+            used_seed = seed;
             CrossSection cs;
             st = slice_by_plane(ctx, plane, seed, cs).status;
             if (st == CutStatus::kOk) {
@@ -162,6 +196,7 @@ TEST_P(CutProperty, EveryCutIsClosedOrientedNonDegenerateConservesVolumeAndRound
                 // degrees from it, seeded where the two planes meet on the surface.
                 std::uniform_real_distribution<double> angle(20.0, 70.0);
                 const double a = angle(rng) * M_PI / 180.0;
+                used_angle = a;
                 const Vec3 n2 = plane.normal() * std::cos(a) + plane.u() * std::sin(a);
                 const Plane second = *Plane::make(seed.point_m, n2);
                 const Seed seed2 = seed_on_both(m, second, plane);
@@ -171,6 +206,7 @@ TEST_P(CutProperty, EveryCutIsClosedOrientedNonDegenerateConservesVolumeAndRound
         } else {
             const Seed seed = random_seed(m, plane.offset(-0.5 * kKerfM), rng);
             if (seed.tolerance_m == 0.0) continue;
+            used_seed = seed;
             SlabCut slab;
             st = subtract_slab(ctx, plane, kKerfM, seed, slab).status;
             if (st == CutStatus::kOk) {
@@ -188,9 +224,21 @@ TEST_P(CutProperty, EveryCutIsClosedOrientedNonDegenerateConservesVolumeAndRound
         if (st == CutStatus::kPlaneMissesMesh) continue;  // the random plane missed the bone
         if (st != CutStatus::kOk) {
             ++tally.refusals[std::string(to_string(st))];
+            const Vec3 &p = plane.point(), &n = plane.normal(), &q = used_seed.point_m;
+            std::printf(
+                "refused: %s %s: plane {%a, %a, %a} {%a, %a, %a} seed {%a, %a, %a} face %d "
+                "angle %a\n",
+                what.c_str(), std::string(to_string(st)).c_str(), p[0], p[1], p[2], n[0], n[1],
+                n[2], q[0], q[1], q[2], used_seed.face_hint.idx(), used_angle);
             continue;
         }
         ++tally.cuts;
+        double nearest = 1e300;
+        if (close_new_vertices(m, first_new, ctx.tolerance_m(), nearest) > 0) {
+            ++tally.close_vertices;
+            std::printf("close vertices: %s: nearest %.3g m, tolerance %.3g m\n", what.c_str(),
+                        nearest, ctx.tolerance_m());
+        }
         const MeshReport rep = expect_closed_2_manifold(m);
         EXPECT_NEAR(rep.total_volume_m3, expected_volume, 1e-9 * v0);
         expect_face_normals_agree(m);
@@ -207,11 +255,13 @@ TEST_P(CutProperty, EveryCutIsClosedOrientedNonDegenerateConservesVolumeAndRound
     RecordProperty("refusals", total_refused);
     std::printf("%s %s: %d cuts, %d refused%s\n", name, kind_name(kind).c_str(), tally.cuts,
                 total_refused, refused.c_str());
-    // The target is none. Measured on the 1,008-cut long form: 22 refusals (13 sliver_split, 9
-    // cap_triangulation_failed), at most 4 of 42 for one (mesh, kind): this bound keeps what is
-    // reached while the rest is worked on (display/cut/README.md).
-    EXPECT_LE(10 * total_refused, std::max(10, tally.cuts + total_refused))
-        << "refusals on a clean bone:" << refused;
+    // No refusal on these clean bones: 0 of 1,008 in the long form (22 before vertices next to a
+    // sliver were snapped onto the plane, see slice_by_plane.hpp).
+    EXPECT_EQ(total_refused, 0) << "refusals on a clean bone:" << refused;
+    // Item 2's open rest: a chevron's second limb can still make a vertex within tol of one that
+    // is not its loop neighbour (2 of the 1,008 cuts, both chevrons, 0.36 and 0.63 tol apart: far
+    // enough for float32 files, whose round trip above passes). Bounded until merged.
+    EXPECT_LE(tally.close_vertices, 1) << "cuts leaving vertices within the tolerance";
 }
 
 INSTANTIATE_TEST_SUITE_P(

@@ -17,6 +17,7 @@ struct SweepCounts {
     int refused = 0;       ///< plane misses / seed far: mesh verified unchanged
     int failed = 0;        ///< anything else (or a check failed)
     int cap_refusals = 0;  ///< kCapTriangulationFailed: a cap would need a sliver; mesh unchanged
+    int sliver_refusals = 0;  ///< kSliverSplit: a split would leave a sliver no snap removes
 };
 
 /// Refusals the library may give on valid input (mesh verified unchanged). A cap refusal is
@@ -83,6 +84,7 @@ inline void checked_cut(const kerf::mesh::TriMesh& shape, const Plane& plane, co
     if (is_refusal(r.status)) {
         ++c.refused;
         c.cap_refusals += r.status == CutStatus::kCapTriangulationFailed;
+        c.sliver_refusals += r.status == CutStatus::kSliverSplit;
         if (!(snapshot(m) == before)) ++c.failed, ADD_FAILURE() << "refusal changed the mesh";
         return;
     }
@@ -96,7 +98,7 @@ inline void checked_cut(const kerf::mesh::TriMesh& shape, const Plane& plane, co
     const auto rep = expect_closed_2_manifold(m);
     EXPECT_NEAR(rep.total_volume_m3, v0, 1e-9 * std::abs(v0));
     expect_face_normals_agree(m);
-    expect_cross_section_consistent(m, cs, ctx.tolerance_m());
+    expect_cross_section_consistent(m, cs, ctx.tolerance_m(), r.stats.vertices_snapped);
     const int failures_after =
         ::testing::UnitTest::GetInstance()->current_test_info()->result()->total_part_count();
     (failures_after == failures_before ? c.cut : c.failed) += 1;
@@ -137,6 +139,7 @@ inline SweepCounts sweep_sequence(const kerf::mesh::TriMesh& shape, std::mt19937
         if (!r.ok()) {
             const bool refusal = is_refusal(r.status);
             c.cap_refusals += r.status == CutStatus::kCapTriangulationFailed;
+            c.sliver_refusals += r.status == CutStatus::kSliverSplit;
             if (!refusal) ADD_FAILURE() << "cut " << i << " failed: " << to_string(r.status);
             if (!(snapshot(m) == before)) ADD_FAILURE() << "refusal changed the mesh";
             (refusal ? c.refused : c.failed) += 1;
@@ -146,7 +149,7 @@ inline SweepCounts sweep_sequence(const kerf::mesh::TriMesh& shape, std::mt19937
         const auto rep = expect_closed_2_manifold(m);
         EXPECT_NEAR(rep.total_volume_m3, v0, 1e-9 * std::abs(v0)) << "after cut " << i;
         expect_face_normals_agree(m);
-        expect_cross_section_consistent(m, cs, ctx.tolerance_m());
+        expect_cross_section_consistent(m, cs, ctx.tolerance_m(), r.stats.vertices_snapped);
         if (!rep.ok) ++c.failed;
     }
     return c;
