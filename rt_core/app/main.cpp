@@ -23,6 +23,12 @@ int main(int argc, char** argv) {
     app.add_option("--duration", o.duration_s, "seconds to run (0: until SIGINT/SIGTERM)")
         ->check(CLI::Range(0.0, 1e7));
     app.add_flag("--lockstep", o.lockstep, "paced by the emulator: deterministic, not real time");
+    app.add_option("--record", o.record_path,
+                   "record the device input stream (each tick's read) into this file");
+    app.add_option("--replay", o.replay_path,
+                   "replay a --record file instead of a device: lockstep, as many ticks as "
+                   "recorded, collision worlds swapped at the recorded ticks")
+        ->check(CLI::ExistingFile);
     app.add_option("--trace", o.trace_path, "write a per-tick force trace (CSV) at exit");
     app.add_option("--histogram", o.histogram_path,
                    "write the wake-latency and tick-work histograms (CSV: bin upper edge us, "

@@ -19,6 +19,8 @@
 #include "rt_core/ipc/producer.hpp"
 #include "rt_core/loop/collision_mesh_builder.hpp"
 #include "rt_core/loop/haptic_loop.hpp"
+#include "rt_core/loop/input_recording.hpp"
+#include "rt_core/loop/lockstep_world_sync.hpp"
 #include "rt_core/loop/loop_runner.hpp"
 #include "rt_core/loop/profile_reloader.hpp"
 #include "rt_core/loop/realtime_setup.hpp"
@@ -37,7 +39,7 @@ int fail(const std::string& what) {
 
 /// The device profile the command line asks for (or kerf.toml's).
 Result<config::DeviceProfile, std::string> pick_device(const config::Config& cfg,
-                                                       const RtOptions& o) {
+                                                       const RtOptions& o, bool replay) {
     config::DeviceProfile profile = cfg.device;
     if (!o.device.empty()) {
         const std::string stem = o.device == "simulated" ? "simulated"
@@ -48,7 +50,7 @@ Result<config::DeviceProfile, std::string> pick_device(const config::Config& cfg
         profile = std::move(*loaded);
         if (o.device.rfind("hid:", 0) == 0) profile.ids.serial = o.device.substr(4);
     }
-    if (o.lockstep) {
+    if (o.lockstep && !replay) {
         if (profile.kind != config::DeviceKind::kSimulated) {
             return Err{std::string("--lockstep needs the simulated device (kerf-hapsim)")};
         }
@@ -152,7 +154,8 @@ int run_rt_process(const RtOptions& o) {
 
     auto cfg = config::load_config(o.config.empty() ? config::data_file("kerf.toml") : o.config);
     if (!cfg) return fail(cfg.error().message());
-    auto device_profile = pick_device(*cfg, o);
+    const bool replay = !o.replay_path.empty();
+    auto device_profile = pick_device(*cfg, o, replay);
     if (!device_profile) return fail(device_profile.error());
     const config::RealtimeSettings& rts = cfg->main.realtime;
     const double period_s = double(rts.period_ns) * 1e-9;
@@ -161,9 +164,31 @@ int run_rt_process(const RtOptions& o) {
     auto mesh = scene_mesh(*cfg);
     if (!mesh) return fail(mesh.error());
 
+    // The device: the real one (or the emulator), replayed input, or either wrapped in a recorder.
     firmware_host::OpenOverrides overrides{o.firmware_path, o.socket_path, {}};
-    auto device = firmware_host::open_device(*device_profile, overrides);
-    if (!device) return fail(device.error().message());
+    Recording recording;
+    std::atomic<std::uint64_t> world_release{0};
+    std::unique_ptr<firmware_host::Device> device;
+    std::unique_ptr<ReplayDevice> replay_device;
+    if (replay) {
+        auto loaded = load_recording(o.replay_path);
+        if (!loaded) return fail(loaded.error());
+        recording = std::move(*loaded);
+        if (recording.period_ns != std::uint64_t(rts.period_ns))
+            return fail("--replay: recorded at a period of " + std::to_string(recording.period_ns) +
+                        " ns, [realtime] period_ns is " + std::to_string(rts.period_ns));
+    } else {
+        auto opened = firmware_host::open_device(*device_profile, overrides);
+        if (!opened) return fail(opened.error().message());
+        device = std::move(*opened);
+    }
+    std::unique_ptr<InputRecorder> recorder;
+    std::unique_ptr<RecordingDevice> recording_device;
+    if (!o.record_path.empty()) {
+        auto started = InputRecorder::start(o.record_path, std::uint64_t(rts.period_ns));
+        if (!started) return fail(started.error());
+        recorder = std::move(*started);
+    }
 
     std::error_code ec;
     std::filesystem::create_directories(cfg->journal_dir, ec);
@@ -180,24 +205,46 @@ int run_rt_process(const RtOptions& o) {
     settings.period_ns = rts.period_ns;
     settings.misses_to_safe_state = rts.consecutive_misses_to_safe_state;
     settings.read_timeout_us = o.lockstep ? 200'000 : 0;
-    settings.lockstep = o.lockstep;
+    settings.lockstep = o.lockstep || replay;
     apply_scene_mapping(cfg->scene, **mesh, settings);  // [device_mapping], [planned_cut]
     const physics::PhysicsParams physics = physics::physics_params_from_profile(cfg->force);
     const auto safety = firmware_host::safety_limits_from(*device_profile, &cfg->force, period_s);
 
     RtLog log;
     RtLogDrain drain(log);
-    auto loop = std::make_unique<HapticLoop>(**device, *producer, log, settings, physics, safety);
+    if (replay) replay_device = std::make_unique<ReplayDevice>(recording, ReplayWorldGate{});
+    firmware_host::Device* loop_device = replay ? replay_device.get() : device.get();
+    std::unique_ptr<LockstepWorldSync> world_sync;  // lockstep: cut meshes at fixed ticks
+    if (o.lockstep && !replay) {
+        world_sync = std::make_unique<LockstepWorldSync>(*loop_device);
+        loop_device = world_sync.get();
+    }
+    if (recorder) {
+        recording_device = std::make_unique<RecordingDevice>(*loop_device, *recorder);
+        loop_device = recording_device.get();
+    }
+    auto loop =
+        std::make_unique<HapticLoop>(*loop_device, *producer, log, settings, physics, safety);
+    if (recording_device) recording_device->attach(*loop);
     // A lost device is opened again by this thread (normal priority), as at start.
     DeviceReconnector reconnector(
         loop->device_link(), loop->device_handoff(),
-        [profile = *device_profile,
-         overrides]() -> Result<std::unique_ptr<firmware_host::Device>, std::string> {
+        [profile = *device_profile, overrides,
+         replay]() -> Result<std::unique_ptr<firmware_host::Device>, std::string> {
+            if (replay) return Err{std::string("a replay has no device to re-open")};
             auto opened = firmware_host::open_device(profile, overrides);
             if (!opened) return Err{opened.error().message()};
             return std::move(*opened);
         });
     WorldBuilder builder(loop->world_handoff(), producer->layout());
+    if (replay) {  // worlds swap at the recorded ticks (input_recording.hpp)
+        builder.gate(&world_release);
+        replay_device->set_gate({&world_release, &builder.offered_generation()});
+    }
+    if (world_sync) {
+        builder.gate(&world_release);
+        world_sync->attach(*loop, world_release, builder.offered_generation());
+    }
     if (auto built = builder.build(**mesh); !built) return fail("scene mesh: " + built.error());
     std::printf("kerf-rt: session %s, device %s, scene %s (%u bodies, %u triangles), %s\n",
                 session.c_str(), device_profile->name.c_str(), cfg->scene.name.c_str(),
@@ -216,7 +263,8 @@ int run_rt_process(const RtOptions& o) {
 
     std::vector<TraceRow> trace;
     std::uint64_t trace_rows = 0;
-    const auto max_ticks = std::uint64_t(std::llround(o.duration_s / period_s));
+    const auto max_ticks = replay ? std::uint64_t(recording.inputs.size())
+                                  : std::uint64_t(std::llround(o.duration_s / period_s));
     if (!o.trace_path.empty()) trace.resize(max_ticks ? max_ticks : 600'000);
 
     std::atomic<bool> stop{false}, finished{false};
@@ -230,7 +278,8 @@ int run_rt_process(const RtOptions& o) {
             status = 3;
         } else {
             loop->set_degraded_realtime(report.degraded());
-            RunOptions run{rts.period_ns, o.lockstep, max_ticks, &stop, trace, &trace_rows};
+            RunOptions run{rts.period_ns, o.lockstep || replay, max_ticks, &stop,
+                           trace,         &trace_rows};
             run_loop(*loop, run);
         }
         finished.store(true, std::memory_order_release);
@@ -246,7 +295,11 @@ int run_rt_process(const RtOptions& o) {
     reconnector.stop();
     reloader.stop();
     builder.stop();
-    if (auto* hid = dynamic_cast<firmware_host::KerfHidDevice*>(&loop->device())) {
+    // The loop's device, or the one a recorder / lockstep sync wraps.
+    auto* hid = dynamic_cast<firmware_host::KerfHidDevice*>(&loop->device());
+    if (!hid && &loop->device() == loop_device)
+        hid = dynamic_cast<firmware_host::KerfHidDevice*>(device.get());
+    if (hid) {
         if (!loop->waiting_for_device()) hid->shutdown(200);
     }
     producer->stop();
@@ -263,6 +316,25 @@ int run_rt_process(const RtOptions& o) {
     }
     if (!o.histogram_path.empty() && !write_histograms(o.histogram_path, loop->stats()))
         return fail("could not write the histograms " + o.histogram_path);
+    if (world_sync) {
+        std::printf(
+            "kerf-rt: lockstep: %llu cut meshes swapped in two ticks after their cut "
+            "ended, %llu not published within 10 s\n",
+            (unsigned long long)world_sync->synced(), (unsigned long long)world_sync->timed_out());
+    }
+    if (replay) {
+        std::printf(
+            "kerf-rt: replayed %llu of %zu recorded ticks from %s; worlds not ready in "
+            "time %llu\n",
+            (unsigned long long)replay_device->ticks(), recording.inputs.size(),
+            o.replay_path.c_str(), (unsigned long long)replay_device->late_worlds());
+    }
+    if (recorder) {
+        auto recorded = recorder->stop();
+        if (!recorded) return fail(recorded.error());
+        std::printf("kerf-rt: recorded %llu ticks of device input into %s\n",
+                    (unsigned long long)*recorded, o.record_path.c_str());
+    }
     return status.load();
 }
 

@@ -67,7 +67,7 @@ Result<std::uint64_t, std::string> WorldBuilder::build(const ipc::CollisionMesh&
     }
     auto copy = std::make_shared<WorldSnapshot>(*world);  // shares the bodies, for reuse
     previous_ = std::move(copy);
-    handoff_.offer(std::move(world));
+    offer_or_hold(std::move(world));
     last_build_ns_.store(now_ns() - t0, std::memory_order_relaxed);
     built_.fetch_add(1, std::memory_order_relaxed);
     return mesh.generation;
@@ -89,8 +89,19 @@ void WorldBuilder::stop() {
     if (thread_.joinable()) thread_.join();
 }
 
+void WorldBuilder::offer_or_hold(std::unique_ptr<WorldSnapshot> world) {
+    if (release_ && world->generation > release_->load(std::memory_order_acquire)) {
+        held_ = std::move(world);
+        return;
+    }
+    const std::uint64_t generation = world->generation;
+    handoff_.offer(std::move(world));
+    offered_.store(generation, std::memory_order_release);
+}
+
 void WorldBuilder::poll_once() {
     handoff_.collect();
+    if (held_) offer_or_hold(std::move(held_));
     const ipc::MailboxRead read = reader_.try_take_newest(*scratch_);
     if (read == ipc::MailboxRead::kRejected) {
         rejected_.fetch_add(1, std::memory_order_relaxed);

@@ -56,17 +56,27 @@ public:
     /// Stops and joins the thread (idempotent).
     void stop();
     WorldBuilderStats stats() const noexcept;
+    /// Replay (input_recording.hpp): a built world is offered only once `*release` reaches its
+    /// generation, held until then (a newer one replaces it). nullptr (default): offered at once.
+    /// Call before start().
+    void gate(const std::atomic<std::uint64_t>* release) noexcept { release_ = release; }
+    /// The generation most recently offered to the loop (0: the scene's mesh).
+    const std::atomic<std::uint64_t>& offered_generation() const noexcept { return offered_; }
     /// The mailbox reader's last refusal (empty if none). Call from the thread that owns stop().
     std::string last_rejection() const;
 
 private:
     void poll_once();
+    void offer_or_hold(std::unique_ptr<WorldSnapshot> world);
     Handoff<WorldSnapshot>& handoff_;
     ipc::MeshMailboxReader reader_;
     std::unique_ptr<ipc::CollisionMesh> scratch_;
     std::shared_ptr<const WorldSnapshot> previous_;  ///< last world built (for chunk reuse)
     std::atomic<std::uint64_t> built_{0}, rejected_{0}, last_build_ns_{0};
     std::atomic<bool> stop_{false};
+    const std::atomic<std::uint64_t>* release_ = nullptr;
+    std::unique_ptr<WorldSnapshot> held_;  ///< built, waiting for release_ (replay only)
+    std::atomic<std::uint64_t> offered_{0};
     std::thread thread_;
     std::string last_rejection_;
 };

@@ -32,6 +32,8 @@
 #include "tools/kerf/commands.hpp"
 #include "tools/kerf/demo_replay.hpp"
 #include "tools/kerf/demo_script.hpp"
+#include "tools/kerf/recording_dir.hpp"
+#include "tools/kerf/session_files.hpp"
 #include "tools/supervise/supervisor.hpp"
 
 namespace kerf::cli {
@@ -57,62 +59,8 @@ struct DemoOptions {
     throw CLI::RuntimeError(kExitFailure);
 }
 
-std::string slurp(const fs::path& p) {
-    std::ifstream f(p);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
-
-bool write_file(const fs::path& p, const std::string& text) {
-    const fs::path tmp = p.string() + ".tmp";
-    {
-        std::ofstream f(tmp, std::ios::trunc);
-        f << text;
-        if (!f.flush()) return false;
-    }
-    std::error_code ec;
-    fs::rename(tmp, p, ec);
-    return !ec;
-}
-
 /// The shipped kerf.toml: $KERF_DATA_DIR, installed share/kerf or the source tree's config/.
 fs::path default_config() { return config::data_file("kerf.toml"); }
-
-/// Replaces the value of every `key = ...` line (keeping the comment) in `text`.
-std::string set_key(const std::string& text, const std::string& key, const std::string& value) {
-    std::istringstream in(text);
-    std::string line, out;
-    while (std::getline(in, line)) {
-        const auto first = line.find_first_not_of(' ');
-        if (first != std::string::npos && line.compare(first, key.size() + 1, key + " ") == 0) {
-            const auto hash = line.find('#');
-            line =
-                key + " = " + value + (hash == std::string::npos ? "" : "   " + line.substr(hash));
-        }
-        out += line + "\n";
-    }
-    return out;
-}
-
-/// The temporary work folder (/tmp/kerf-demo-PID-XXXXXX): removed (with everything in it) on
-/// destruction.
-struct WorkDir {
-    fs::path path;
-    WorkDir() {
-        std::string templ =
-            (fs::temp_directory_path() / ("kerf-demo-" + std::to_string(getpid()) + "-XXXXXX"))
-                .string();
-        if (!mkdtemp(templ.data())) fail("cannot create a temporary folder in /tmp");
-        path = templ;
-    }
-    ~WorkDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    WorkDir(const WorkDir&) = delete;
-    WorkDir& operator=(const WorkDir&) = delete;
-};
 
 /// Copies the configuration into `work`/config with this run's session, journal and scene.
 fs::path prepare_config(const DemoOptions& o, const fs::path& work, const std::string& session) {
@@ -145,21 +93,6 @@ mesh::Point device_origin(const mesh::TriMesh& scene) {
         hi.maximize(scene.point(v));
     }
     return {(lo[0] + hi[0]) / 2, hi[1] + 0.02, (lo[2] + hi[2]) / 2};
-}
-
-/// A number after `key` in `text` ("ticks 3000," -> 3000), or -1.
-double number_after(const std::string& text, const std::string& key) {
-    const auto at = text.find(key);
-    if (at == std::string::npos) return -1;
-    return std::strtod(text.c_str() + at + key.size(), nullptr);
-}
-
-/// A string value of `"key": "..."` in a flat JSON line, or "".
-std::string json_string(const std::string& text, const std::string& key) {
-    const auto at = text.find("\"" + key + "\": \"");
-    if (at == std::string::npos) return {};
-    const auto start = at + key.size() + 5;
-    return text.substr(start, text.find('"', start) - start);
 }
 
 /// Forces from kerf-rt's trace: peak and mean magnitude over the ticks that commanded one.
@@ -196,13 +129,6 @@ std::string rt_summary(const std::string& log) {
     return at == std::string::npos ? std::string() : log.substr(at);
 }
 
-fs::path find_journal(const fs::path& dir) {
-    std::error_code ec;
-    for (const auto& e : fs::directory_iterator(dir, ec))
-        if (e.is_regular_file()) return e.path();
-    return {};
-}
-
 /// Sequence number just after the middle of the first cut's progress events (0: none).
 std::uint64_t mid_first_cut(const fs::path& journal) {
     auto reader = ipc::JournalReader::open(journal.string(), 0);
@@ -235,9 +161,11 @@ void run_demo(const DemoOptions& o) {
     if (ec) fail("output folder " + out.string() + ": " + ec.message());
 
     Supervisor sup;  // from here on Ctrl-C is a stop request, never an abrupt end
-    WorkDir work;
+    auto work_dir = WorkDir::create("kerf-demo");
+    if (!work_dir) fail(work_dir.error());
+    const WorkDir& work = *work_dir;
     const std::string session = "kerf-demo-" + std::to_string(getpid());
-    const fs::path toml = prepare_config(o, work.path, session);
+    const fs::path toml = prepare_config(o, work.path(), session);
     auto cfg = config::load_config(toml);
     if (!cfg) fail(cfg.error().message());
     auto foot = mesh::generate_foot({o.triangles, o.seed});
@@ -249,7 +177,7 @@ void run_demo(const DemoOptions& o) {
                                    device_origin(*scene));
     if (!script) fail("hand script: " + script.error());
     scene = Err{std::string()};
-    const fs::path hand = work.path / "hand.csv";
+    const fs::path hand = work.path() / "hand.csv";
     if (!write_file(hand, script->csv)) fail("cannot write " + hand.string());
     const double duration_s = std::ceil(script->duration_s + 1.0);
     if (!o.json)
@@ -257,12 +185,12 @@ void run_demo(const DemoOptions& o) {
                   << " limbs at +-" << script->tilt_deg.front() << " degrees, feed "
                   << script->feed_speed_m_s * 1e3 << " mm/s), " << duration_s << " s of surgery, "
                   << (o.lockstep ? "lockstep" : "real time") << ", work folder "
-                  << work.path.string() << std::endl;
+                  << work.path().string() << std::endl;
 
-    const fs::path sock = work.path / "hapsim.sock";
-    const fs::path status = work.path / "display.json";
-    const fs::path trace = work.path / "trace.csv";
-    const fs::path logs = work.path;
+    const fs::path sock = work.path() / "hapsim.sock";
+    const fs::path status = work.path() / "display.json";
+    const fs::path trace = work.path() / "trace.csv";
+    const fs::path logs = work.path();
     if (Supervisor::stop_requested()) fail("stopped before the processes started");
     std::vector<std::string> hapsim_args = {
         (bin / "kerf-hapsim").string(),
@@ -307,7 +235,9 @@ void run_demo(const DemoOptions& o) {
                                         "--duration",
                                         std::to_string(duration_s),
                                         "--trace",
-                                        trace.string()};
+                                        trace.string(),
+                                        "--record",
+                                        (work.path() / "input.rec").string()};
     if (o.lockstep) rt_args.push_back("--lockstep");
     const fs::path rt_log = logs / "kerf-rt.log";
     auto rt = sup.add({{"kerf-rt", rt_args, rt_log, {}}, Policy::kMayFinish},
@@ -345,7 +275,7 @@ void run_demo(const DemoOptions& o) {
                       kExitFailure);
 
     // The display catches up with the whole journal, then is stopped (its last frame is saved).
-    const fs::path journal = find_journal(work.path / "journal");
+    const fs::path journal = first_file(work.path() / "journal");
     if (journal.empty()) stop_and_exit("kerf-rt left no journal", kExitFailure);
     std::uint64_t events = 0;
     if (auto reader = ipc::JournalReader::open(journal.string(), 0); reader)
@@ -387,6 +317,18 @@ void run_demo(const DemoOptions& o) {
     fs::copy_file(display_log, out / "kerf-display.log", fs::copy_options::overwrite_existing, ec);
 
     const std::string rt_text = rt_summary(slurp(rt_log));
+    // The recording `kerf replay OUT/recording` re-runs (recording_dir.hpp).
+    const nlohmann::json recording_meta = {
+        {"source", "kerf demo"},
+        {"device", "simulated"},
+        {"lockstep", o.lockstep},
+        {"ticks", std::uint64_t(std::max(0.0, number_after(rt_text, "ticks ")))},
+        {"events", replay->events},
+        {"hash", hash_hex(replay->hash)}};
+    if (auto saved = save_recording(out / "recording", work.path() / "config",
+                                    work.path() / "input.rec", journal, trace, recording_meta);
+        !saved)
+        fail(saved.error());
     const ForceFigures forces = read_forces(trace);
     const bool hashes_equal = display_hash == hash_hex(replay->hash);
     nlohmann::json pieces_mm3 = nlohmann::json::array();
@@ -445,7 +387,7 @@ void run_demo(const DemoOptions& o) {
                     hashes_equal ? "equal" : "DIFFERENT");
         std::printf(
             "  output:  %s (1-before.png 2-mid-cut.png 3-after.png, report.json, "
-            "session.journal, hand.csv)\n",
+            "session.journal, hand.csv, recording/ for kerf replay)\n",
             out.string().c_str());
     }
     if (!hashes_equal) throw CLI::RuntimeError(kExitFailure);

@@ -1,0 +1,175 @@
+// Record and replay of the device input stream — what kerf-rt's loop read from the device each
+// tick — so a session can be re-run bit for bit (`kerf run --record`, `kerf demo`, `kerf replay`).
+//
+//   record:  RecordingDevice wraps the real Device. On the real-time thread its try_read pushes
+//            one fixed-size RecordedInput per tick into an in-process SPSC ring (wait-free, no
+//            allocation; a full ring drops and counts); InputRecorder's thread drains the ring to
+//            FILE.tmp every few milliseconds and renames it to FILE at stop() (a recording
+//            that dropped ticks is not kept: it could not be replayed).
+//   replay:  ReplayDevice hands the loop the recorded reads tick by tick (status and sample), so
+//            kerf-rt --replay FILE --lockstep runs the same ticks on the same input. The
+//            collision world the recorded loop used at each tick is part of the record: the
+//            replay device holds the loop (bounded) until the world builder has offered that
+//            generation, and the builder offers none before it is due (WorldBuilder's gate), so
+//            worlds swap at the recorded ticks.
+//
+// File (little-endian x86-64/aarch64, units in the field names): RecordingHeader, then
+// RecordedInput records, one per tick from tick 0. A file with dropped records is refused.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "config/base/result.hpp"
+#include "firmware_host/device/device.hpp"
+#include "rt_core/ipc/spsc_ring.hpp"
+
+namespace kerf::rt {
+
+class HapticLoop;
+
+inline constexpr char kRecordingMagic[8] = {'K', 'E', 'R', 'F', 'R', 'E', 'C', '1'};
+inline constexpr std::uint32_t kRecordingVersion = 1;
+
+/// What the loop read from the device in one tick, and the collision world it used.
+struct RecordedInput {
+    std::uint64_t tick;              ///< 0-based tick of the recorded run
+    std::uint64_t world_generation;  ///< collision world in use this tick (0: the scene)
+    std::uint64_t sample_count;      ///< DeviceSample::count
+    std::uint32_t device_sequence;   ///< DeviceSample::device_sequence
+    std::uint32_t buttons;           ///< DeviceSample::buttons
+    double position_m[3];            ///< device frame, m
+    double velocity_m_per_s[3];      ///< device frame, m/s
+    double orientation_wxyz[4];      ///< device frame, unit quaternion
+    std::uint32_t command_lag;       ///< DeviceSample::command_lag
+    std::uint8_t status;             ///< firmware_host::DeviceStatus of the read
+    std::uint8_t flags;              ///< DeviceFlags bits: homed 1, amps 2, estop 4, watchdog 8,
+                                     ///< encoder 16, over-temperature 32
+    std::uint8_t has_orientation;    ///< 0 or 1
+    std::uint8_t reserved0;          ///< 0
+    std::uint64_t reserved1;         ///< 0
+};
+static_assert(sizeof(RecordedInput) == 128);
+
+/// First bytes of a recording file.
+struct RecordingHeader {
+    char magic[8];              ///< kRecordingMagic
+    std::uint32_t version;      ///< kRecordingVersion
+    std::uint32_t record_size;  ///< sizeof(RecordedInput)
+    std::uint64_t period_ns;    ///< the recorded loop's period
+    std::uint64_t records;      ///< records that follow
+    std::uint64_t dropped;      ///< records the ring dropped (a complete recording has 0)
+    std::uint64_t reserved[3];  ///< 0
+};
+static_assert(sizeof(RecordingHeader) == 64);
+
+/// Drains the ring of a RecordingDevice into a file (a thread of its own).
+class InputRecorder {
+public:
+    static constexpr std::uint32_t kCapacity = 1u << 15;  ///< ticks the ring holds (32 s at 1 kHz)
+    /// Creates FILE.tmp (fails naming it) and starts the drain thread.
+    static Result<std::unique_ptr<InputRecorder>, std::string> start(const std::string& path,
+                                                                     std::uint64_t period_ns);
+    ~InputRecorder();  ///< stop() if not yet stopped
+    InputRecorder(const InputRecorder&) = delete;
+    InputRecorder& operator=(const InputRecorder&) = delete;
+
+    /// RT: queues one tick's input; false (and counted) when the ring is full. noexcept.
+    bool try_push(const RecordedInput& input) noexcept { return producer_.try_push(input); }
+    /// Drains what is left, writes the header and renames FILE.tmp to FILE. Idempotent.
+    Result<std::uint64_t, std::string> stop();
+    std::uint64_t dropped() const noexcept { return producer_.dropped(); }
+
+private:
+    InputRecorder() = default;
+    void drain() noexcept;
+    struct Ring {
+        ipc::RingControl control{};
+        RecordedInput slots[kCapacity];
+    };
+    std::unique_ptr<Ring> ring_;
+    ipc::SpscProducerEnd<RecordedInput, kCapacity> producer_;
+    ipc::SpscConsumerEnd<RecordedInput, kCapacity> consumer_;
+    std::string path_;
+    std::FILE* file_ = nullptr;
+    RecordingHeader header_{};
+    bool write_failed_ = false;
+    std::atomic<bool> stop_{false};
+    std::thread thread_;
+    bool stopped_ = false;
+};
+
+/// A Device that records every read of the device it wraps.
+class RecordingDevice final : public firmware_host::Device {
+public:
+    /// @pre `inner` and `recorder` outlive this device
+    RecordingDevice(firmware_host::Device& inner, InputRecorder& recorder) noexcept
+        : inner_(inner), recorder_(recorder) {}
+    /// The loop whose collision world generation each record names (set before it runs).
+    void attach(const HapticLoop& loop) noexcept { loop_ = &loop; }
+
+    firmware_host::DeviceStatus try_read(firmware_host::DeviceSample& out,
+                                         std::uint32_t timeout_us) noexcept override;
+    firmware_host::DeviceStatus try_write(
+        const firmware_host::DeviceCommand& command) noexcept override {
+        return inner_.try_write(command);
+    }
+    const firmware_host::DeviceCounters& counters() const noexcept override {
+        return inner_.counters();
+    }
+
+private:
+    firmware_host::Device& inner_;
+    InputRecorder& recorder_;
+    const HapticLoop* loop_ = nullptr;
+    std::uint64_t tick_ = 0;
+};
+
+/// A whole recording, read and validated (untrusted file: size, header, statuses, finiteness).
+struct Recording {
+    std::uint64_t period_ns = 0;
+    std::vector<RecordedInput> inputs;
+};
+Result<Recording, std::string> load_recording(const std::string& path);
+
+/// How the replay waits for the recorded collision worlds (see WorldBuilder::gate).
+struct ReplayWorldGate {
+    std::atomic<std::uint64_t>* release = nullptr;        ///< the builder may offer up to this
+    const std::atomic<std::uint64_t>* offered = nullptr;  ///< the newest generation offered
+    std::uint32_t wait_limit_ms = 30'000;                 ///< then go on and count a late world
+};
+
+/// A Device replaying a recording: try_read returns tick N's recorded status and sample.
+class ReplayDevice final : public firmware_host::Device {
+public:
+    /// @pre `recording` outlives the device
+    ReplayDevice(const Recording& recording, ReplayWorldGate gate) noexcept;
+    /// Sets the world gate (before the loop runs).
+    void set_gate(ReplayWorldGate gate) noexcept { gate_ = gate; }
+
+    firmware_host::DeviceStatus try_read(firmware_host::DeviceSample& out,
+                                         std::uint32_t timeout_us) noexcept override;
+    /// Commands go nowhere (the recorded device is not here).
+    firmware_host::DeviceStatus try_write(const firmware_host::DeviceCommand&) noexcept override {
+        return firmware_host::DeviceStatus::kOk;
+    }
+    const firmware_host::DeviceCounters& counters() const noexcept override { return counters_; }
+
+    /// Ticks replayed so far.
+    std::uint64_t ticks() const noexcept { return next_; }
+    /// Worlds that were not offered within the wait limit (the replay may diverge from there).
+    std::uint64_t late_worlds() const noexcept { return late_worlds_; }
+
+private:
+    const Recording& recording_;
+    ReplayWorldGate gate_;
+    firmware_host::DeviceCounters counters_;
+    std::uint64_t next_ = 0;
+    std::uint64_t late_worlds_ = 0;
+};
+
+}  // namespace kerf::rt

@@ -1,0 +1,55 @@
+// kerf::rt::LockstepWorldSync — makes a lockstep run deterministic across the display: after a
+// tick whose physics ended a cut, the next device read waits (bounded) until the world builder
+// has offered the next collision world — the one kerf-display publishes once it has applied that
+// cut — and the builder offers no world before it is asked for (WorldBuilder::gate). So the cut
+// mesh is swapped in exactly two ticks after every cut end, however loaded the machine: without
+// this, the loop ran on in the pre-cut world for as many ticks as the display took, and under
+// load the blade met the old surface again (spurious cut begins, a different mesh hash).
+// Lockstep only: the real-time loop never waits for another process.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+
+#include "firmware_host/device/device.hpp"
+
+namespace kerf::rt {
+
+class HapticLoop;
+
+class LockstepWorldSync final : public firmware_host::Device {
+public:
+    /// @pre `inner` outlives this device
+    explicit LockstepWorldSync(firmware_host::Device& inner,
+                               std::uint32_t wait_limit_ms = 10'000) noexcept
+        : inner_(inner), wait_limit_ms_(wait_limit_ms) {}
+    /// Before the loop runs: the loop followed, the builder's gate (`release`, which this
+    /// advances) and its offered generation. All outlive this device.
+    void attach(const HapticLoop& loop, std::atomic<std::uint64_t>& release,
+                const std::atomic<std::uint64_t>& offered) noexcept {
+        loop_ = &loop, release_ = &release, offered_ = &offered;
+    }
+
+    firmware_host::DeviceStatus try_read(firmware_host::DeviceSample& out,
+                                         std::uint32_t timeout_us) noexcept override;
+    firmware_host::DeviceStatus try_write(
+        const firmware_host::DeviceCommand& command) noexcept override {
+        return inner_.try_write(command);
+    }
+    const firmware_host::DeviceCounters& counters() const noexcept override {
+        return inner_.counters();
+    }
+    /// Cut ends after which the world came within the limit / did not.
+    std::uint64_t synced() const noexcept { return synced_; }
+    std::uint64_t timed_out() const noexcept { return timed_out_; }
+
+private:
+    firmware_host::Device& inner_;
+    std::uint32_t wait_limit_ms_;
+    std::atomic<std::uint64_t>* release_ = nullptr;
+    const std::atomic<std::uint64_t>* offered_ = nullptr;
+    const HapticLoop* loop_ = nullptr;
+    std::uint64_t synced_ = 0, timed_out_ = 0;
+};
+
+}  // namespace kerf::rt

@@ -1,0 +1,186 @@
+// Record and replay of the device input stream (rt_core/loop/input_recording.hpp): the recorder
+// round-trips every tick, pushes without allocating, refuses what it dropped; the loader names
+// what is wrong with a bad file; the replay device hands back the recorded reads and holds the
+// loop until the recorded collision world is offered.
+#include "rt_core/loop/input_recording.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "tests/allocation_counter.hpp"
+
+namespace kerf::rt {
+namespace {
+
+namespace fs = std::filesystem;
+using firmware_host::DeviceCommand;
+using firmware_host::DeviceCounters;
+using firmware_host::DeviceSample;
+using firmware_host::DeviceStatus;
+
+/// A device whose n-th read gives a sample made from n (every 7th read: no data).
+class CountingDevice final : public firmware_host::Device {
+public:
+    DeviceStatus try_read(DeviceSample& out, std::uint32_t) noexcept override {
+        const std::uint64_t n = reads_++;
+        if (n % 7 == 3) return DeviceStatus::kNoData;
+        out.count = n + 1;
+        out.device_sequence = std::uint32_t(n * 3);
+        out.position_m = {0.001 * double(n), -0.5e-3 * double(n), 1.0 / double(n + 1)};
+        out.velocity_m_per_s = {std::sin(double(n)), 0.25, -1.0};
+        out.buttons = std::uint32_t(n & 3);
+        out.flags.homed = n > 2;
+        out.flags.estop = n == 5;
+        out.has_orientation = n % 2 == 0;
+        out.orientation_wxyz = {0.5, 0.5, 0.5, 0.5};
+        return DeviceStatus::kOk;
+    }
+    DeviceStatus try_write(const DeviceCommand&) noexcept override { return DeviceStatus::kOk; }
+    const DeviceCounters& counters() const noexcept override { return counters_; }
+
+private:
+    std::uint64_t reads_ = 0;
+    DeviceCounters counters_;
+};
+
+fs::path temp(const std::string& name) {
+    return fs::temp_directory_path() / ("kerf-rec-test-" + std::to_string(getpid()) + "-" + name);
+}
+
+TEST(InputRecording, RecordsEveryTickWithoutAllocatingAndReplaysThemBitForBit) {
+    const fs::path file = temp("roundtrip.rec");
+    auto recorder = InputRecorder::start(file.string(), 1'000'000);
+    ASSERT_TRUE(recorder) << recorder.error();
+    CountingDevice inner, reference;
+    RecordingDevice rec(inner, **recorder);
+    constexpr int kTicks = 5000;
+    DeviceSample sample;
+    kerf::test::arm_allocation_counter();
+    for (int t = 0; t < kTicks; ++t) {
+        (void)rec.try_read(sample, 0);
+        if (t % 500 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    EXPECT_EQ(kerf::test::disarm_allocation_counter(), 0u) << "the recording read allocated";
+    auto stopped = (*recorder)->stop();
+    ASSERT_TRUE(stopped) << stopped.error();
+    EXPECT_EQ(*stopped, std::uint64_t(kTicks));
+    EXPECT_FALSE(fs::exists(file.string() + ".tmp"));
+
+    auto loaded = load_recording(file.string());
+    ASSERT_TRUE(loaded) << loaded.error();
+    ASSERT_EQ(loaded->inputs.size(), std::size_t(kTicks));
+    EXPECT_EQ(loaded->period_ns, 1'000'000u);
+    ReplayDevice replay(*loaded, {});
+    DeviceSample want, got;
+    for (int t = 0; t < kTicks; ++t) {
+        const DeviceStatus ws = reference.try_read(want, 0);
+        const DeviceStatus gs = replay.try_read(got, 0);
+        ASSERT_EQ(ws, gs) << "tick " << t;
+        if (ws != DeviceStatus::kOk) continue;
+        ASSERT_EQ(got.count, want.count);
+        ASSERT_EQ(got.device_sequence, want.device_sequence);
+        ASSERT_EQ(got.position_m, want.position_m) << "tick " << t;
+        ASSERT_EQ(got.velocity_m_per_s, want.velocity_m_per_s);
+        ASSERT_EQ(got.orientation_wxyz, want.orientation_wxyz);
+        ASSERT_EQ(got.buttons, want.buttons);
+        ASSERT_EQ(got.flags.homed, want.flags.homed);
+        ASSERT_EQ(got.flags.estop, want.flags.estop);
+        ASSERT_EQ(got.has_orientation, want.has_orientation);
+    }
+    EXPECT_EQ(replay.try_read(got, 0), DeviceStatus::kDisconnected) << "past the recording";
+    fs::remove(file);
+}
+
+TEST(InputRecording, ARecordingThatDroppedTicksIsRefused) {
+    const fs::path file = temp("dropped.rec");
+    auto recorder = InputRecorder::start(file.string(), 1'000'000);
+    ASSERT_TRUE(recorder) << recorder.error();
+    // More than the ring holds before the drain thread (5 ms period) can run: some must drop.
+    // Pushed directly so the test does not depend on the scheduler being slow.
+    RecordedInput r{};
+    std::uint64_t dropped = 0;
+    for (std::uint32_t i = 0; i < InputRecorder::kCapacity * 4u; ++i)
+        if (!(*recorder)->try_push(r)) ++dropped;
+    if (dropped == 0) GTEST_SKIP() << "the drain thread kept up with 4 rings' worth of pushes";
+    auto stopped = (*recorder)->stop();
+    ASSERT_FALSE(stopped);
+    EXPECT_NE(stopped.error().find("dropped"), std::string::npos) << stopped.error();
+    EXPECT_FALSE(fs::exists(file));
+}
+
+TEST(InputRecording, BadFilesAreRefusedNamingTheFileAndTheFault) {
+    const fs::path file = temp("bad.rec");
+    const auto expect_refused = [&](const std::string& bytes, const std::string& what) {
+        std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes;
+        auto loaded = load_recording(file.string());
+        ASSERT_FALSE(loaded) << what;
+        EXPECT_NE(loaded.error().find(file.string()), std::string::npos) << loaded.error();
+        EXPECT_NE(loaded.error().find(what), std::string::npos) << loaded.error();
+    };
+    expect_refused("short", "shorter than its header");
+    expect_refused(std::string(64, 'x'), "bad magic");
+    // A valid recording, then damaged: truncated, a non-finite sample, a bad status.
+    auto recorder = InputRecorder::start(file.string(), 1'000'000);
+    ASSERT_TRUE(recorder);
+    CountingDevice inner;
+    RecordingDevice rec(inner, **recorder);
+    DeviceSample s;
+    for (int t = 0; t < 10; ++t) (void)rec.try_read(s, 0);
+    ASSERT_TRUE((*recorder)->stop());
+    std::string good;
+    {
+        std::ifstream in(file, std::ios::binary);
+        good.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    ASSERT_EQ(good.size(), sizeof(RecordingHeader) + 10 * sizeof(RecordedInput));
+    expect_refused(good.substr(0, good.size() - 5), "records");
+    std::string nan = good;
+    const double bad = std::nan("");
+    std::memcpy(nan.data() + sizeof(RecordingHeader) + 2 * sizeof(RecordedInput) +
+                    offsetof(RecordedInput, position_m),
+                &bad, sizeof bad);
+    expect_refused(nan, "record 2: non-finite sample");
+    std::string status = good;
+    status[sizeof(RecordingHeader) + 4 * sizeof(RecordedInput) + offsetof(RecordedInput, status)] =
+        char(99);
+    expect_refused(status, "record 4: bad status 99");
+    EXPECT_FALSE(load_recording("/dev/zero"));
+    fs::remove(file);
+}
+
+TEST(InputRecording, ReplayHoldsTheLoopUntilTheRecordedWorldIsOffered) {
+    Recording recording;
+    recording.period_ns = 1'000'000;
+    for (std::uint64_t t = 0; t < 4; ++t) {
+        RecordedInput r{};
+        r.tick = t;
+        r.world_generation = t >= 2 ? 3 : 0;  // world 3 swapped in at tick 2
+        r.status = std::uint8_t(DeviceStatus::kOk);
+        r.orientation_wxyz[0] = 1;
+        recording.inputs.push_back(r);
+    }
+    std::atomic<std::uint64_t> release{0}, offered{0};
+    ReplayDevice replay(recording, {&release, &offered, 10'000});
+    DeviceSample s;
+    ASSERT_EQ(replay.try_read(s, 0), DeviceStatus::kOk);  // tick 0: next tick still world 0
+    EXPECT_EQ(release.load(), 0u);
+    // Tick 1: tick 2 needs world 3; the read returns only once the builder offered it.
+    std::thread builder([&] {
+        while (release.load() < 3) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        offered.store(3);
+    });
+    ASSERT_EQ(replay.try_read(s, 0), DeviceStatus::kOk);
+    EXPECT_EQ(offered.load(), 3u) << "the read returned before the world was offered";
+    builder.join();
+    EXPECT_EQ(replay.late_worlds(), 0u);
+}
+
+}  // namespace
+}  // namespace kerf::rt

@@ -1,0 +1,91 @@
+#include "tools/kerf/recording_dir.hpp"
+
+#include <cstring>
+
+#include "rt_core/ipc/journal_reader.hpp"
+#include "tools/kerf/session_files.hpp"
+
+namespace kerf::cli {
+namespace fs = std::filesystem;
+
+namespace {
+
+Result<bool, std::string> copy_file_atomic(const fs::path& from, const fs::path& to) {
+    std::error_code ec;
+    const fs::path tmp = to.string() + ".tmp";
+    fs::copy_file(from, tmp, fs::copy_options::overwrite_existing, ec);
+    if (!ec) fs::rename(tmp, to, ec);
+    if (ec) {
+        fs::remove(tmp, ec);
+        return Err{"copy of " + from.string() + " to " + to.string() + ": " + ec.message()};
+    }
+    return true;
+}
+
+}  // namespace
+
+Result<bool, std::string> save_recording(const fs::path& dir, const fs::path& config_dir,
+                                         const fs::path& input, const fs::path& journal,
+                                         const fs::path& trace, const nlohmann::json& meta) {
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) return Err{"recording folder " + dir.string() + ": " + ec.message()};
+    fs::remove_all(dir / "config", ec);
+    fs::copy(config_dir, dir / "config", fs::copy_options::recursive, ec);
+    if (ec) return Err{"copy of " + config_dir.string() + ": " + ec.message()};
+    for (const auto& [from, name] :
+         {std::pair{input, "input.rec"}, std::pair{journal, "session.journal"},
+          std::pair{trace, "force-trace.csv"}}) {
+        if (from.empty() || !fs::exists(from)) continue;
+        if (auto copied = copy_file_atomic(from, dir / name); !copied) return Err{copied.error()};
+    }
+    if (!write_file(dir / "recording.json", meta.dump(2) + "\n"))
+        return Err{"cannot write " + (dir / "recording.json").string()};
+    return true;
+}
+
+Result<nlohmann::json, std::string> load_recording_meta(const fs::path& dir) {
+    const fs::path file = dir / "recording.json";
+    if (!fs::is_regular_file(file))
+        return Err{file.string() + ": not found (record with kerf run --record DIR or kerf demo)"};
+    auto meta = nlohmann::json::parse(slurp(file), nullptr, false);
+    if (meta.is_discarded() || !meta.is_object()) return Err{file.string() + ": not valid JSON"};
+    for (const char* key : {"device", "ticks", "events", "hash"})
+        if (!meta.contains(key)) return Err{file.string() + ": no \"" + key + "\""};
+    if (!meta["device"].is_string() || !meta["hash"].is_string() ||
+        !meta["ticks"].is_number_unsigned() || !meta["events"].is_number_unsigned())
+        return Err{file.string() + ": device/hash must be strings, ticks/events counts"};
+    for (const char* f : {"input.rec", "session.journal", "config/kerf.toml"})
+        if (!fs::is_regular_file(dir / f)) return Err{(dir / f).string() + ": missing"};
+    return meta;
+}
+
+Result<JournalComparison, std::string> compare_journals(const fs::path& a, const fs::path& b) {
+    auto ra = ipc::JournalReader::open(a.string(), 0);
+    if (!ra) return Err{a.string() + ": " + ra.error().message};
+    auto rb = ipc::JournalReader::open(b.string(), 0);
+    if (!rb) return Err{b.string() + ": " + rb.error().message};
+    JournalComparison out;
+    out.records_a = ra->record_count();
+    out.records_b = rb->record_count();
+    const std::uint64_t n = std::min(out.records_a, out.records_b);
+    for (std::uint64_t s = 0; s < n; ++s) {
+        ipc::EventRecord x{}, y{};
+        const bool ok = ra->try_read(s, x) == ipc::JournalRead::kOk &&
+                        rb->try_read(s, y) == ipc::JournalRead::kOk;
+        const bool same = ok && x.header.sequence == y.header.sequence &&
+                          x.header.type == y.header.type &&
+                          std::memcmp(reinterpret_cast<const char*>(&x) + sizeof x.header,
+                                      reinterpret_cast<const char*>(&y) + sizeof y.header,
+                                      sizeof x - sizeof x.header) == 0;
+        if (!same) {
+            out.first_difference = s;
+            return out;
+        }
+    }
+    out.first_difference = n;
+    out.equal = out.records_a == out.records_b;
+    return out;
+}
+
+}  // namespace kerf::cli

@@ -1,0 +1,42 @@
+// A recorded session on disk — what `kerf demo` and `kerf run --record DIR` keep and `kerf replay
+// DIR` re-runs:
+//
+//   DIR/recording.json   what was recorded: device, lockstep, ticks, events, the mesh hash
+//   DIR/config/          the kerf.toml and profiles the session ran with
+//   DIR/input.rec        the device input stream (rt_core/loop/input_recording.hpp)
+//   DIR/session.journal  the event journal kerf-rt wrote
+//   DIR/force-trace.csv  kerf-rt's per-tick tool position and commanded force (when kept)
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "config/base/result.hpp"
+
+namespace kerf::cli {
+
+/// Copies a session's files into `dir` (created) and writes recording.json from `meta`; every
+/// file is written beside its target and renamed. Returns what failed.
+Result<bool, std::string> save_recording(const std::filesystem::path& dir,
+                                         const std::filesystem::path& config_dir,
+                                         const std::filesystem::path& input,
+                                         const std::filesystem::path& journal,
+                                         const std::filesystem::path& trace,
+                                         const nlohmann::json& meta);
+
+/// recording.json of `dir`, checked for the files and keys replay needs.
+Result<nlohmann::json, std::string> load_recording_meta(const std::filesystem::path& dir);
+
+/// Two event journals compared record by record: sequence, type and payload (not the time
+/// stamps, the checksum or the session id, which differ between runs by design).
+struct JournalComparison {
+    std::uint64_t records_a = 0, records_b = 0;
+    std::uint64_t first_difference = 0;  ///< sequence of the first differing record
+    bool equal = false;
+};
+Result<JournalComparison, std::string> compare_journals(const std::filesystem::path& a,
+                                                        const std::filesystem::path& b);
+
+}  // namespace kerf::cli

@@ -1,0 +1,81 @@
+#include "tools/kerf/session_files.hpp"
+
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+namespace kerf::cli {
+namespace fs = std::filesystem;
+
+std::string slurp(const fs::path& p) {
+    std::ifstream f(p);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+bool write_file(const fs::path& p, const std::string& text) {
+    const fs::path tmp = p.string() + ".tmp";
+    {
+        std::ofstream f(tmp, std::ios::trunc);
+        f << text;
+        if (!f.flush()) return false;
+    }
+    std::error_code ec;
+    fs::rename(tmp, p, ec);
+    return !ec;
+}
+
+std::string set_key(const std::string& text, const std::string& key, const std::string& value) {
+    std::istringstream in(text);
+    std::string line, out;
+    while (std::getline(in, line)) {
+        const auto first = line.find_first_not_of(' ');
+        if (first != std::string::npos && line.compare(first, key.size() + 1, key + " ") == 0) {
+            const auto hash = line.find('#');
+            line =
+                key + " = " + value + (hash == std::string::npos ? "" : "   " + line.substr(hash));
+        }
+        out += line + "\n";
+    }
+    return out;
+}
+
+double number_after(const std::string& text, const std::string& key) {
+    const auto at = text.find(key);
+    if (at == std::string::npos) return -1;
+    return std::strtod(text.c_str() + at + key.size(), nullptr);
+}
+
+std::string json_string(const std::string& text, const std::string& key) {
+    const auto at = text.find("\"" + key + "\": \"");
+    if (at == std::string::npos) return {};
+    const auto start = at + key.size() + 5;
+    return text.substr(start, text.find('"', start) - start);
+}
+
+fs::path first_file(const fs::path& dir) {
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir, ec))
+        if (e.is_regular_file()) return e.path();
+    return {};
+}
+
+Result<WorkDir, std::string> WorkDir::create(const std::string& stem) {
+    std::string templ =
+        (fs::temp_directory_path() / (stem + "-" + std::to_string(getpid()) + "-XXXXXX")).string();
+    if (!mkdtemp(templ.data()))
+        return Err{"cannot create a temporary folder in " + fs::temp_directory_path().string()};
+    return WorkDir(fs::path(templ));
+}
+
+WorkDir::~WorkDir() {
+    if (path_.empty()) return;
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+}
+
+}  // namespace kerf::cli

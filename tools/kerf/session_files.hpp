@@ -1,0 +1,44 @@
+// Small file helpers shared by the `kerf` commands that run the simulator's processes (demo,
+// replay, run): reading and atomically writing text files, editing a copied kerf.toml, a
+// temporary work folder, and reading kerf-display's status file.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include "config/base/result.hpp"
+
+namespace kerf::cli {
+
+/// The whole file ("" when it cannot be read).
+std::string slurp(const std::filesystem::path& path);
+/// Writes `text` to PATH.tmp and renames it to `path`; false on any failure.
+bool write_file(const std::filesystem::path& path, const std::string& text);
+/// Replaces the value of every `key = ...` line of a TOML text (keeping the line's comment).
+std::string set_key(const std::string& text, const std::string& key, const std::string& value);
+/// A number after `key` in `text` ("ticks 3000," -> 3000), or -1.
+double number_after(const std::string& text, const std::string& key);
+/// A string value of `"key": "..."` in a flat JSON line, or "".
+std::string json_string(const std::string& text, const std::string& key);
+/// The first regular file in `dir` (a session's journal), or an empty path.
+std::filesystem::path first_file(const std::filesystem::path& dir);
+
+/// A temporary folder /tmp/STEM-PID-XXXXXX, removed with everything in it on destruction.
+class WorkDir {
+public:
+    /// Creates it; fails naming /tmp.
+    static Result<WorkDir, std::string> create(const std::string& stem);
+    WorkDir(WorkDir&& other) noexcept : path_(std::move(other.path_)) { other.path_.clear(); }
+    WorkDir& operator=(WorkDir&&) = delete;
+    WorkDir(const WorkDir&) = delete;
+    WorkDir& operator=(const WorkDir&) = delete;
+    ~WorkDir();
+    const std::filesystem::path& path() const noexcept { return path_; }
+
+private:
+    explicit WorkDir(std::filesystem::path path) : path_(std::move(path)) {}
+    std::filesystem::path path_;
+};
+
+}  // namespace kerf::cli
