@@ -109,6 +109,10 @@ KerfConfig read_kerf_config(TableReader& root) {
     auto journal = root.table("journal", false);
     c.journal.dir = path_template(journal, "dir", "${tmp}/kerf-journal");
     c.journal.flush_ms = static_cast<std::uint32_t>(journal.integer_or("flush_ms", 100, 1, 10'000));
+    c.journal.max_files =
+        static_cast<std::uint32_t>(journal.integer_or("max_files", 50, 1, 1'000'000));
+    c.journal.max_total_mb =
+        static_cast<std::uint32_t>(journal.integer_or("max_total_mb", 1024, 1, 10'000'000));
     auto log = root.table("log", false);
     c.log_level = static_cast<LogLevel>(log.choice_or("level", 2, kLevelNames));
     return c;

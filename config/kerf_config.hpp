@@ -71,8 +71,10 @@ struct ShmSettings {
 
 /// The session event journal.
 struct JournalSettings {
-    std::string dir;               ///< as written; `${config}`/`${shared}`/`${tmp}` expand
-    std::uint32_t flush_ms = 100;  ///< flush period
+    std::string dir;                    ///< as written; `${config}`/`${shared}`/`${tmp}` expand
+    std::uint32_t flush_ms = 100;       ///< flush period
+    std::uint32_t max_files = 50;       ///< `kerf run` keeps at most this many journals
+    std::uint32_t max_total_mb = 1024;  ///< ... taking at most this many MiB (oldest go first)
 };
 
 /// Everything in kerf.toml.

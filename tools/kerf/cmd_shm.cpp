@@ -5,6 +5,7 @@
 //          sessions are reported and removed
 //   tail   attach as a consumer and print events as they come (journal first with --from)
 //   stats  per-slot lag, drops and rejections, producer and journal counters
+//   rm     removes the sockets of dead sessions (named, or all); refuses a live one
 // Read-only except `tail`, which claims a consumer slot like any other consumer. --json output is
 // one JSON document (ls, stats) or one per line (tail) on stdout; logs go to stderr.
 #include <chrono>
@@ -24,6 +25,7 @@
 #include "rt_core/ipc/shm_segment.hpp"
 #include "tools/kerf/commands.hpp"
 #include "tools/kerf/safe_text.hpp"
+#include "tools/kerf/session_files.hpp"
 
 namespace kerf::cli {
 namespace {
@@ -283,6 +285,32 @@ void run_tail(const std::string& name, std::optional<std::uint64_t> from, std::u
     }
 }
 
+/// `kerf shm rm [NAME...]`: the named sessions' sockets if their producer is gone (every dead
+/// session's when none is named). A live session, or one that is not there, is an error.
+void run_rm(const std::vector<std::string>& names) {
+    if (names.empty()) {
+        const auto removed = remove_stale_sessions();
+        for (const auto& n : removed)
+            std::printf("removed %s (its producer died)\n", safe_text(n).c_str());
+        if (removed.empty()) std::printf("no dead sessions\n");
+        return;
+    }
+    const std::string runtime = default_runtime_dir();
+    bool failed = false;
+    for (const std::string& name : names) {
+        if (remove_stale_socket(runtime, name)) {
+            std::printf("removed %s (its producer died)\n", safe_text(name).c_str());
+            continue;
+        }
+        auto seg = SegmentBuilder().name(name).open();
+        std::fprintf(stderr, "kerf shm rm: %s: %s\n", safe_text(name).c_str(),
+                     seg ? "live (its kerf-rt is running: stop it instead)"
+                         : safe_text(seg.error().message).c_str());
+        failed = true;
+    }
+    if (failed) throw CLI::RuntimeError(kExitFailure);
+}
+
 }  // namespace
 
 void add_shm_commands(CLI::App& app) {
@@ -306,6 +334,12 @@ void add_shm_commands(CLI::App& app) {
     tail->add_option("--count", o->count, "stop after this many events (0: until stopped)");
     tail->add_flag("--json", o->json, "one JSON object per event, one per line");
     tail->callback([o] { run_tail(o->name, o->from, o->count, o->json); });
+
+    CLI::App* rm = shm->add_subcommand(
+        "rm", "remove what dead sessions left (their sockets); a live session is refused");
+    auto rm_names = std::make_shared<std::vector<std::string>>();
+    rm->add_option("names", *rm_names, "session names (default: every dead session)");
+    rm->callback([rm_names] { run_rm(*rm_names); });
 
     CLI::App* stats = shm->add_subcommand("stats", "per-consumer lag, drops and rejections");
     stats->add_option("name", o->name, "session name, e.g. kerf.demo")->required();

@@ -13,6 +13,7 @@ void add_devices_command(CLI::App& app);  ///< `kerf devices` (cmd_devices.cpp)
 void add_demo_command(CLI::App& app);     ///< `kerf demo`: the README's main job    (cmd_demo.cpp)
 void add_soak_command(CLI::App& app);     ///< `kerf soak`: faults, checks, plots   (cmd_soak.cpp)
 void add_replay_command(CLI::App& app);  ///< `kerf replay DIR`                     (cmd_replay.cpp)
+void add_run_command(CLI::App& app);     ///< `kerf run`: the kiosk form            (cmd_run.cpp)
 
 /// Process exit codes shared by every subcommand.
 enum ExitCode : int {

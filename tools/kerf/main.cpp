@@ -26,13 +26,15 @@ int main(int argc, char** argv) {
         kerf::cli::add_demo_command(app);
         kerf::cli::add_soak_command(app);
         kerf::cli::add_replay_command(app);
+        kerf::cli::add_run_command(app);
         // CLI11 answers an unknown command with "A subcommand is required": name it instead.
         bool known = argc < 2 || argv[1][0] == '-';
         for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
             known = known || sub->check_name(argv[1]);
         if (!known) {
-            std::cerr << "kerf: unknown command '" << argv[1]
-                      << "' (commands: mesh, gen, cut, shm, devices, demo, replay; try --help)\n";
+            std::cerr
+                << "kerf: unknown command '" << argv[1]
+                << "' (commands: mesh, gen, cut, shm, devices, demo, run, replay; try --help)\n";
             return kerf::cli::kExitUsage;
         }
         try {

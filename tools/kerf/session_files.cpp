@@ -3,9 +3,12 @@
 #include <stdlib.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+
+#include "rt_core/ipc/session_socket.hpp"
 
 namespace kerf::cli {
 namespace fs = std::filesystem;
@@ -62,6 +65,43 @@ fs::path first_file(const fs::path& dir) {
     for (const auto& e : fs::directory_iterator(dir, ec))
         if (e.is_regular_file()) return e.path();
     return {};
+}
+
+std::vector<std::string> remove_stale_sessions() {
+    std::vector<std::string> removed;
+    const std::string runtime = ipc::default_runtime_dir();
+    for (const ipc::SessionEntry& e : ipc::list_session_dirs(runtime))
+        if (e.has_socket && ipc::remove_stale_socket(runtime, e.name)) removed.push_back(e.name);
+    return removed;
+}
+
+JournalPrune prune_journals(const fs::path& dir, const JournalBound& bound,
+                            fs::file_time_type keep_since) {
+    struct Entry {
+        fs::path path;
+        fs::file_time_type time;
+        std::uint64_t bytes;
+    };
+    std::vector<Entry> files;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir, ec)) {
+        if (!e.is_regular_file(ec) || e.path().extension() != ".kjournal") continue;
+        files.push_back({e.path(), e.last_write_time(ec), e.file_size(ec)});
+    }
+    std::sort(files.begin(), files.end(),
+              [](const Entry& a, const Entry& b) { return a.time > b.time; });  // newest first
+    JournalPrune out;
+    for (const Entry& f : files) {
+        const bool current = f.time >= keep_since;
+        if (current ||
+            (out.kept < bound.max_files && out.kept_bytes + f.bytes <= bound.max_bytes)) {
+            ++out.kept;
+            out.kept_bytes += f.bytes;
+        } else if (fs::remove(f.path, ec)) {
+            ++out.removed;
+        }
+    }
+    return out;
 }
 
 Result<WorkDir, std::string> WorkDir::create(const std::string& stem) {

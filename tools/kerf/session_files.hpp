@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "config/base/result.hpp"
 
@@ -23,6 +24,24 @@ double number_after(const std::string& text, const std::string& key);
 std::string json_string(const std::string& text, const std::string& key);
 /// The first regular file in `dir` (a session's journal), or an empty path.
 std::filesystem::path first_file(const std::filesystem::path& dir);
+
+/// Removes the sockets (and empty folders) of sessions whose kerf-rt died, under the default
+/// runtime folder; returns their names. Live sessions and other users' are left alone.
+std::vector<std::string> remove_stale_sessions();
+
+/// How many session journals (*.kjournal) a folder may keep, and how many bytes in all.
+struct JournalBound {
+    std::uint32_t max_files = 50;
+    std::uint64_t max_bytes = 1ull << 30;
+};
+struct JournalPrune {
+    std::uint32_t kept = 0, removed = 0;
+    std::uint64_t kept_bytes = 0;
+};
+/// Removes the oldest journals of `dir` until `bound` holds; never one written since `keep_since`
+/// (the running session's).
+JournalPrune prune_journals(const std::filesystem::path& dir, const JournalBound& bound,
+                            std::filesystem::file_time_type keep_since);
 
 /// A temporary folder /tmp/STEM-PID-XXXXXX, removed with everything in it on destruction.
 class WorkDir {
