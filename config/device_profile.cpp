@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <system_error>
 
+#include "config/expand_path.hpp"
 #include "config/toml_reader.hpp"
 
 namespace kerf::config {
@@ -45,15 +46,24 @@ void read_falcon_delta(TableReader& k, FalconDeltaGeometry& g) {
     g.theta_offset_deg = k.number("theta_offset_deg", closed(-180, 180, "deg"));
 }
 
-void read_kinematics(TableReader k, DeviceProfile& p) {
+/// Which top-level keys the file states: rules that tie two keys together are checked only when
+/// both are there (an empty profile reports its missing keys, not a mismatch of fallbacks).
+struct Stated {
+    bool dof = false;
+    bool reporting_space = false;
+};
+
+void read_kinematics(TableReader k, DeviceProfile& p, Stated stated) {
+    const bool has_model = k.has("model");
     p.kinematic_model = static_cast<KinematicModel>(k.choice("model", kModelNames));
-    if (p.kinematic_model == KinematicModel::kFalconDelta) {
+    if (p.kinematic_model == KinematicModel::kFalconDelta && has_model) {
         read_falcon_delta(k, p.falcon_delta);
-        if (p.dof != 3)
+        if (p.dof != 3 && stated.dof)
             k.fail("model", ConfigErrorKind::kBadValue, "", "falcon_delta needs dof = 3");
     }
     bool joint_model = p.kinematic_model != KinematicModel::kCartesian;
-    if (joint_model != (p.reporting_space == ReportingSpace::kJoint)) {
+    if (has_model && stated.reporting_space &&
+        joint_model != (p.reporting_space == ReportingSpace::kJoint)) {
         k.fail("model", ConfigErrorKind::kBadValue, "",
                "reporting_space = \"" + std::string(to_string(p.reporting_space)) +
                    "\" needs model = \"" + (joint_model ? "cartesian" : "falcon_delta") + "\"");
@@ -102,8 +112,14 @@ void read_workspace(TableReader w, Workspace& out) {
 void read_emulator(TableReader e, EmulatorSpec& out) {
     out.protocol = static_cast<DeviceKind>(e.choice("protocol", kProtocolNames));
     out.socket_path = e.string("socket_path");
-    if (out.socket_path.empty() && e.has("socket_path"))
+    std::string bad;
+    if (out.socket_path.empty() && e.has("socket_path")) {
         e.fail("socket_path", ConfigErrorKind::kBadValue, "a non-empty path");
+    } else if (!check_path_template(out.socket_path, &bad)) {
+        e.fail("socket_path", ConfigErrorKind::kBadReference,
+               "a path; variables ${config}, ${shared}, ${tmp}, ${runtime}",
+               "cannot expand " + bad);
+    }
     out.lockstep = e.boolean_or("lockstep", false);
 }
 
@@ -111,10 +127,11 @@ DeviceProfile read_device_profile(TableReader& root) {
     DeviceProfile p;
     p.name = root.string("name");
     p.kind = static_cast<DeviceKind>(root.choice("kind", kKindNames));
+    const Stated stated{root.has("dof"), root.has("reporting_space")};
     p.dof = static_cast<std::uint32_t>(root.integer("dof", 1, 6));
     p.reporting_space = static_cast<ReportingSpace>(root.choice("reporting_space", kSpaceNames));
     read_ids(root.table("ids"), p.ids);
-    read_kinematics(root.table("kinematics"), p);
+    read_kinematics(root.table("kinematics"), p, stated);
     read_encoder(root.table("encoder"), p);
     if (p.reporting_space == ReportingSpace::kJoint) {
         auto m = root.table("motor");

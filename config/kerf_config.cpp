@@ -1,6 +1,10 @@
 #include "config/kerf_config.hpp"
 
+#include <grp.h>
+
 #include <algorithm>
+#include <climits>
+#include <vector>
 
 #include "config/expand_path.hpp"
 #include "config/toml_reader.hpp"
@@ -9,6 +13,15 @@ namespace kerf::config {
 namespace {
 
 using detail::TableReader;
+
+/// True when the system knows a group of that name (getgrnam_r; a lookup error counts as no).
+bool group_exists(const std::string& name) {
+    std::vector<char> buffer(16384);
+    ::group entry{};
+    ::group* found = nullptr;
+    return getgrnam_r(name.c_str(), &entry, buffer.data(), buffer.size(), &found) == 0 &&
+           found != nullptr;
+}
 
 const std::vector<std::string_view> kModeNames = {"headless", "window", "kms"};
 const std::vector<std::string_view> kPolicyNames = {"fifo", "rr", "other"};
@@ -85,12 +98,28 @@ void read_shm(TableReader t, ShmSettings& s) {
     if (!detail::is_plain_name(s.session_name))
         t.fail("session_name", ConfigErrorKind::kBadValue, "1-64 letters, digits, '_' or '-'");
     s.group = t.string_or("group", s.group);
-    if (!s.group.empty() && (!detail::is_plain_name(s.group) || s.group.size() > 32))
+    if (!s.group.empty() && (!detail::is_plain_name(s.group) || s.group.size() > 32)) {
         t.fail("group", ConfigErrorKind::kBadValue, "empty (owner-only) or a group name");
+    } else if (!s.group.empty() && !group_exists(s.group)) {
+        t.fail("group", ConfigErrorKind::kBadValue, "empty (owner-only) or an existing group",
+               "no group '" + s.group + "' on this system (see getent group)");
+    }
     s.event_ring_capacity = ring_capacity(t, "event_ring_capacity", s.event_ring_capacity);
     s.telemetry_ring_capacity =
         ring_capacity(t, "telemetry_ring_capacity", s.telemetry_ring_capacity);
-    s.consumer_slots = static_cast<std::uint32_t>(t.integer_or("consumer_slots", 4, 1, 16));
+    // Slots 0 and 1 are the display's and the soak monitor's; a value that leaves no slot for
+    // tools (or asks for more than the segment has) is refused, not clamped.
+    const auto slots = t.integer_or("consumer_slots", s.consumer_slots, INT32_MIN, INT32_MAX);
+    if (slots <= kReservedConsumerSlots || slots > kSegmentConsumerSlots) {
+        t.fail("consumer_slots", ConfigErrorKind::kOutOfRange,
+               std::to_string(kReservedConsumerSlots + 1) + ".." +
+                   std::to_string(kSegmentConsumerSlots),
+               "slot 0 is kerf-display's and slot 1 the soak monitor's, at least one must be "
+               "left for tools (kerf shm tail), and a segment has " +
+                   std::to_string(kSegmentConsumerSlots));
+    } else {
+        s.consumer_slots = static_cast<std::uint32_t>(slots);
+    }
     s.heartbeat_timeout_ms = static_cast<std::uint32_t>(
         t.integer_or("heartbeat_timeout_ms", s.heartbeat_timeout_ms, 10, 10'000));
 }

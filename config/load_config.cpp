@@ -45,7 +45,9 @@ Result<fs::path, ConfigError> profile_path(const fs::path& kerf_toml, std::strin
     fs::path dir = kerf_toml.parent_path() / folder;
     fs::path file = dir / (name + ".toml");
     std::error_code ec;
-    if (fs::is_regular_file(file, ec)) return file;
+    // Whatever is there is returned, so that reading it says what it is (a FIFO, a directory,
+    // a device) instead of "no file".
+    if (fs::exists(file, ec)) return file;
     ConfigError e;
     e.kind = ConfigErrorKind::kBadReference;
     e.key = std::string(key);

@@ -1,20 +1,19 @@
 #include "config/toml_reader.hpp"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <sstream>
 #include <system_error>
+
+#include "config/file_io/file_io.hpp"
 
 namespace kerf::config::detail {
 namespace {
 
 constexpr std::size_t kMaxValueChars = 60;
-constexpr std::uintmax_t kMaxFileBytes = 4u << 20;  // a config file is a few kilobytes
+constexpr std::uint64_t kMaxFileBytes = 4u << 20;  // a config file is a few kilobytes
 
 std::string truncate(std::string s) {
     if (s.size() > kMaxValueChars) {
@@ -250,25 +249,17 @@ std::string describe_value(const toml::node& node) {
 }
 
 Result<std::string, ConfigError> read_text_file(const std::string& path) {
-    auto io_error = [&](std::string why) {
+    // The one reading rule of every Kerf program (kerf_file_io): a regular file only (never a
+    // FIFO, a directory or /dev/zero behind a link; opening never blocks), at most the cap.
+    auto bytes = files::read_regular_file(path, kMaxFileBytes);
+    if (!bytes) {
         ConfigError e;
         e.kind = ConfigErrorKind::kIo;
         e.source = path;
-        e.note = std::move(why);
+        e.note = bytes.error().message;
         return Err{e};
-    };
-    std::error_code ec;
-    auto status = std::filesystem::status(path, ec);
-    if (ec || !std::filesystem::exists(status)) return io_error("no such file");
-    if (!std::filesystem::is_regular_file(status)) return io_error("not a regular file");
-    auto size = std::filesystem::file_size(path, ec);
-    if (ec) return io_error(ec.message());
-    if (size > kMaxFileBytes) return io_error("file larger than 4 MiB; not a config file");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return io_error(std::strerror(errno));
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) return io_error("read error");
-    return text;
+    }
+    return std::string(reinterpret_cast<const char*>(bytes->data()), bytes->size());
 }
 
 bool is_plain_name(std::string_view name) noexcept {

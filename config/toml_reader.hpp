@@ -150,7 +150,12 @@ Result<T, ConfigError> parse_document(std::string_view text, std::string_view so
     TableReader root(*doc, "", problems);
     T value = read(root);
     problems.report_unknown_keys(*doc);
-    if (!problems.empty()) return Err{problems.first()};
+    if (!problems.empty()) {
+        ConfigError first = problems.first();
+        if (doc->empty())  // say why everything is missing
+            first.note = "the file holds no settings (empty, or only comments)";
+        return Err{first};
+    }
     return value;
 }
 

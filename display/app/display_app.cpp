@@ -335,7 +335,7 @@ ParsedArgs parse_display_args(int argc, char** argv) {
             o.height = h;
         }
     } catch (const CLI::ParseError& e) {
-        out.exit_code = app.exit(e);
+        out.exit_code = app.exit(e) == 0 ? 0 : 2;  // --help: 0; every usage error: 2
     }
     return out;
 }

@@ -4,8 +4,8 @@
 #include <array>
 #include <chrono>
 #include <cstring>
-#include <fstream>
 
+#include "config/file_io/file_io.hpp"
 #include "firmware_host/falcon/ftdi.hpp"
 
 namespace kerf::firmware_host::falcon {
@@ -56,6 +56,7 @@ std::string FirmwareError::message() const {
     std::string m = "falcon firmware: ";
     m += to_string(code);
     if (!path.empty()) m += ": " + path;
+    if (!detail.empty()) m += ": " + detail;
     if (code == FirmwareErrorCode::kEchoMismatch || code == FirmwareErrorCode::kEchoTimeout ||
         code == FirmwareErrorCode::kWriteFailed) {
         m += ": at image offset " + std::to_string(offset);
@@ -72,17 +73,17 @@ Result<std::vector<std::byte>, FirmwareError> read_firmware_image(const std::fil
         e.path = p.string();
         return Err{e};
     };
-    std::error_code ec;
-    if (std::filesystem::is_directory(p, ec)) return error(FirmwareErrorCode::kImageUnreadable);
-    std::ifstream f(p, std::ios::binary);
-    if (!f) return error(FirmwareErrorCode::kImageUnreadable);
-    std::vector<char> raw((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-    if (f.bad()) return error(FirmwareErrorCode::kImageUnreadable);
-    if (raw.empty()) return error(FirmwareErrorCode::kImageEmpty);
-    if (raw.size() > kMaxFirmwareImageBytes) return error(FirmwareErrorCode::kImageTooLarge);
-    std::vector<std::byte> image(raw.size());
-    std::memcpy(image.data(), raw.data(), raw.size());
-    return image;
+    // A regular file only (never a FIFO, a directory or /dev/zero behind a link), read up to one
+    // byte past the cap so that "too large" is told apart from "unreadable".
+    auto bytes = files::read_regular_file(p, kMaxFirmwareImageBytes + 1);
+    if (!bytes) {
+        auto e = error(FirmwareErrorCode::kImageUnreadable);
+        e.value.detail = bytes.error().message;
+        return e;
+    }
+    if (bytes->empty()) return error(FirmwareErrorCode::kImageEmpty);
+    if (bytes->size() > kMaxFirmwareImageBytes) return error(FirmwareErrorCode::kImageTooLarge);
+    return std::move(*bytes);
 }
 
 std::size_t read_payload(UsbLink& link, std::span<std::byte> out, std::size_t want,

@@ -41,6 +41,7 @@ struct FirmwareError {
     LinkStatus link = LinkStatus::kOk;  ///< the transfer status behind it, if any
     int attempts = 0;                   ///< whole-load attempts made
     std::string path;                   ///< image path, when the file was the problem
+    std::string detail;                 ///< why the file was refused (e.g. "is a FIFO ...")
     std::string message() const;        ///< one sentence: what, where, why
 };
 

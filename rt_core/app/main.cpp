@@ -3,9 +3,10 @@
 // shared memory. See rt_core/README.md.
 #include <CLI/CLI.hpp>
 
+#include "config/base/main_guard.hpp"
 #include "rt_core/app/rt_process.hpp"
 
-int main(int argc, char** argv) {
+static int program_main(int argc, char** argv) {
     kerf::rt::RtOptions o;
     CLI::App app{"kerf-rt: the 1 kHz haptic loop (device, collision, force, cut events)"};
     app.add_option("--config", o.config,
@@ -33,6 +34,15 @@ int main(int argc, char** argv) {
     app.add_option("--histogram", o.histogram_path,
                    "write the wake-latency and tick-work histograms (CSV: bin upper edge us, "
                    "counts) at exit");
-    CLI11_PARSE(app, argc, argv);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e) == 0 ? 0 : 2;  // --help: 0; every usage error: 2
+    }
     return kerf::rt::run_rt_process(o);
+}
+
+// Nothing escapes: an unexpected exception is a message and exit 1, never an abort.
+int main(int argc, char** argv) {
+    return kerf::guarded_main("kerf-rt", [&] { return program_main(argc, argv); });
 }

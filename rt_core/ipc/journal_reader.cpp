@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <utility>
 
 #include "rt_core/ipc/layout.hpp"
@@ -24,6 +25,24 @@ Result<JournalReader, IpcError> JournalReader::open(const std::string& path,
                 make_error(IpcErrc::kJournal, "journal " + path + ": is a symbolic link; refused")};
         }
         return Err{os_error("journal " + path + ": open", e)};
+    }
+    // A journal found by path is trusted only if this user (or root) wrote it: a file another
+    // user planted, or one anyone may rewrite, is refused before a byte is read.
+    struct stat st {};
+    if (fstat(fd, &st) == 0 && S_ISREG(st.st_mode)) {
+        std::string why;
+        if (st.st_uid != geteuid() && st.st_uid != 0) {
+            why = "owned by uid " + std::to_string(st.st_uid) + ", not by this user (uid " +
+                  std::to_string(geteuid()) + ") or root; refused";
+        } else if ((st.st_mode & S_IWOTH) != 0) {
+            char mode[8];
+            std::snprintf(mode, sizeof mode, "%03o", unsigned(st.st_mode & 0777));
+            why = std::string("writable by every user (mode ") + mode + "); refused";
+        }
+        if (!why.empty()) {
+            ::close(fd);
+            return Err{make_error(IpcErrc::kJournal, "journal " + path + ": " + why)};
+        }
     }
     return adopt(fd, path, expected_session_id);
 }

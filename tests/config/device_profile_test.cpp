@@ -149,6 +149,28 @@ TEST(DeviceProfileParse, SimulatedDeviceNeedsItsSocketPath) {
     EXPECT_EQ(e.line, line_of(kSimulated, "[emulator]"));
 }
 
+// Issue 9, item 13: an unknown ${var} in socket_path is an error at its line (it used to end as
+// "--socket is required" in kerf-hapsim).
+TEST(DeviceProfileParse, UnknownVariableInTheSocketPathIsABadReferenceAtItsLine) {
+    const std::string text =
+        edit(kSimulated, "${runtime}/kerf-hapsim.sock", "${home}/kerf-hapsim.sock");
+    auto e = parse_error(text);
+    EXPECT_EQ(e.kind, ConfigErrorKind::kBadReference);
+    EXPECT_EQ(e.key, "emulator.socket_path");
+    EXPECT_EQ(e.line, line_of(text, "socket_path ="));
+    EXPECT_NE(e.message().find("cannot expand ${home}"), std::string::npos) << e.message();
+}
+
+// Issue 9, item 13: an empty profile says what is missing, not "falcon_delta needs dof = 3".
+TEST(DeviceProfileParse, AnEmptyProfileReportsAMissingKeyAndThatTheFileIsEmpty) {
+    for (const char* text : {"", "# only a comment\n"}) {
+        auto e = parse_error(text);
+        EXPECT_EQ(e.kind, ConfigErrorKind::kMissingKey) << e.message();
+        EXPECT_EQ(e.message().find("falcon_delta"), std::string::npos) << e.message();
+        EXPECT_NE(e.message().find("holds no settings"), std::string::npos) << e.message();
+    }
+}
+
 TEST(DeviceProfileParse, WatchdogOfZeroIsOutOfRange) {
     auto e = parse_error(edit(kFalcon, "watchdog_ms = 20", "watchdog_ms = 0"));
     EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);

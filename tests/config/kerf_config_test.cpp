@@ -125,6 +125,41 @@ TEST(KerfConfigParse, BadGroupNameIsRejected) {
     EXPECT_EQ(e.key, "shm.group");
 }
 
+// Issue 9, item 6: a group the system does not know is a config error at its line (it was found
+// only when kerf-rt created the segment).
+TEST(KerfConfigParse, AGroupThatDoesNotExistIsRejectedAtItsLine) {
+    const std::string text = edit(kMain, "group = \"\"", "group = \"no_such_kerf_group\"");
+    auto e = parse_error(text);
+    EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue);
+    EXPECT_EQ(e.key, "shm.group");
+    EXPECT_EQ(e.line, line_of(text, "group ="));
+    EXPECT_NE(e.message().find("no group 'no_such_kerf_group'"), std::string::npos) << e.message();
+    auto root = parse_kerf_config(edit(kMain, "group = \"\"", "group = \"root\""), "kerf.toml");
+    ASSERT_TRUE(root) << root.error().message();
+    EXPECT_EQ(root->shm.group, "root");
+}
+
+// Issue 9, item 6/8: consumer_slots may not leave the tools without a slot (0 and 1 are the
+// display's and the soak monitor's) nor ask for more than the segment has.
+TEST(KerfConfigParse, ConsumerSlotsMustLeaveAToolSlotAndFitTheSegment) {
+    for (const char* bad : {"0", "1", "2", "5", "16", "-1"}) {
+        const std::string text =
+            edit(kMain, "consumer_slots = 4", std::string("consumer_slots = ") + bad);
+        auto e = parse_error(text);
+        EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange) << bad << ": " << e.message();
+        EXPECT_EQ(e.key, "shm.consumer_slots");
+        EXPECT_EQ(e.line, line_of(text, "consumer_slots ="));
+        EXPECT_NE(e.message().find("left for tools"), std::string::npos) << e.message();
+    }
+    for (std::uint32_t good : {3u, 4u}) {
+        auto c = parse_kerf_config(
+            edit(kMain, "consumer_slots = 4", "consumer_slots = " + std::to_string(good)),
+            "kerf.toml");
+        ASSERT_TRUE(c) << c.error().message();
+        EXPECT_EQ(c->shm.consumer_slots, good);
+    }
+}
+
 TEST(LoadConfig, DanglingDeviceReferenceListsTheProfilesThatExist) {
     auto dir = test::scratch_config_copy("dangling_device");
     auto text = edit(kMain, "device = \"simulated\"", "device = \"falconn\"");

@@ -25,6 +25,7 @@
 #include <string_view>
 #include <vector>
 
+#include "config/base/main_guard.hpp"
 #include "display/cut/cut_context.hpp"
 #include "display/cut/separate.hpp"
 #include "display/cut/slice_by_plane.hpp"
@@ -544,7 +545,7 @@ private:
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int program_main(int argc, char** argv) {
     // Five repetitions unless the command line says otherwise (the ctest smoke run says 1).
     std::vector<char*> args(argv, argv + argc);
     std::string reps = "--benchmark_repetitions=5";
@@ -562,4 +563,9 @@ int main(int argc, char** argv) {
     reporter.print_ratios();
     benchmark::Shutdown();
     return 0;
+}
+
+// Nothing escapes: an unexpected exception is a message and exit 1, never an abort.
+int main(int argc, char** argv) {
+    return kerf::guarded_main("bench_cut", [&] { return program_main(argc, argv); });
 }

@@ -163,6 +163,16 @@ TEST_F(KerfCut, BadModeKerfSeedsUnitsAndOutputAreUsageErrors) {
                         "0,0,2,0,0,1", "--seed", "10,0,0", "--seed", "0,10,0", "-o", out},
                        "arguments");
     expect_usage_error({in, "--plane", "0,0,0,0,0,1", "--seed", "1,2", "-o", out}, "--seed #1");
+    // Issue 9, item 16: uniplanar has no use for --kerf (it was ignored), and a seed off its plane
+    // is refused in every mode (uniplanar accepted one 26 mm away).
+    expect_usage_error({in, "--plane", "0,0,0,0,0,1", "--kerf", "1", "-o", out}, "--kerf");
+    for (const char* mode : {"uniplanar", "separated", "biplanar"}) {
+        expect_usage_error({in, "--plane", "0,0,0,0,0,1", "--seed", "10,0,26", "--kerf", "1",
+                            "--mode", mode, "-o", out},
+                           mode == std::string("uniplanar") ? "--kerf" : "--seed #1");
+    }
+    expect_usage_error({in, "--plane", "0,0,0,0,0,1", "--seed", "10,0,26", "-o", out},
+                       "--seed #1: 10,0,26: 26 mm from plane #1");
     expect_usage_error({in, "--plane", "0,0,0,0,0,1", "--units", "furlong", "-o", out}, "--units");
     expect_usage_error({in, "--plane", "0,0,0,0,0,1", "-o", (dir_ / "out.xyz").string()}, "-o");
 }
@@ -174,12 +184,16 @@ TEST_F(KerfCut, AMissingFileOrARefusedCutFailsWithExitOne) {
     EXPECT_EQ(r.err.rfind("kerf cut: cannot load mesh: /no/such/bone.stl", 0), 0u) << r.err;
     r = kerf({sphere().string(), "--plane", "0,0,50,0,0,1", "-o", out});
     EXPECT_EQ(r.exit_code, 1);
-    EXPECT_NE(r.err.find("--plane #1: 0,0,50,0,0,1: cut refused: plane_misses_mesh"),
+    // Refusals in words with what to try, the status name last (issue 9, item 16).
+    EXPECT_NE(r.err.find("--plane #1: 0,0,50,0,0,1: cut refused: the plane crosses no triangle"),
               std::string::npos)
         << r.err;
-    r = kerf({sphere().string(), "--plane", "0,0,0,0,0,1", "--seed", "50,50,50", "-o", out});
+    EXPECT_NE(r.err.find("[plane_misses_mesh]"), std::string::npos) << r.err;
+    r = kerf({sphere().string(), "--plane", "0,0,0,0,0,1", "--seed", "50,50,0", "-o", out});
     EXPECT_EQ(r.exit_code, 1);
-    EXPECT_NE(r.err.find("cut refused: seed_not_on_surface"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("cut refused: the seed is not on the mesh's surface"), std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("[seed_not_on_surface]"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(dir_ / "out_1.stl"));
 }
 

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "config/base/main_guard.hpp"
 #include "display/app/session_events_ipc.hpp"
 #include "display/cut/cut_session.hpp"
 #include "display/mesh/foot_generator.hpp"
@@ -68,7 +69,7 @@ std::string arg(int argc, char** argv, const char* key, const char* fallback) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int program_main(int argc, char** argv) {
     const std::size_t triangles = std::stoul(arg(argc, argv, "--triangles", "1000000"));
     const int cuts = std::stoi(arg(argc, argv, "--cuts", "5"));
     const std::string period = arg(argc, argv, "--period-ms", "2500");
@@ -211,4 +212,9 @@ int main(int argc, char** argv) {
     std::error_code ec;
     fs::remove_all(dir, ec);
     return 0;
+}
+
+// Nothing escapes: an unexpected exception is a message and exit 1, never an abort.
+int main(int argc, char** argv) {
+    return kerf::guarded_main("bench_display_latency", [&] { return program_main(argc, argv); });
 }

@@ -21,6 +21,7 @@
 #include <thread>
 #include <vector>
 
+#include "config/base/main_guard.hpp"
 #include "rt_core/ipc/producer.hpp"
 
 namespace {
@@ -36,7 +37,7 @@ std::uint64_t now_ns() {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int program_main(int argc, char** argv) {
     std::string segment, journal_dir = "/dev/shm", records_path, go_path;
     std::size_t hold_after = ~std::size_t{0};
     double period_ms = 2.0;
@@ -114,4 +115,9 @@ int main(int argc, char** argv) {
     while (!g_stop.load()) beat();
     producer->stop();
     return 0;
+}
+
+// Nothing escapes: an unexpected exception is a message and exit 1, never an abort.
+int main(int argc, char** argv) {
+    return kerf::guarded_main("display_test_producer", [&] { return program_main(argc, argv); });
 }

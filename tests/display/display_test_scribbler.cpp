@@ -11,9 +11,10 @@
 #include <string>
 #include <thread>
 
+#include "config/base/main_guard.hpp"
 #include "rt_core/ipc/shm_segment.hpp"
 
-int main(int argc, char** argv) {
+static int program_main(int argc, char** argv) {
     std::string segment;
     double seconds = 2.0;
     std::uint64_t seed = 1;
@@ -69,4 +70,9 @@ int main(int argc, char** argv) {
     }
     std::printf("scribbles %llu\n", static_cast<unsigned long long>(scribbles));
     return 0;
+}
+
+// Nothing escapes: an unexpected exception is a message and exit 1, never an abort.
+int main(int argc, char** argv) {
+    return kerf::guarded_main("display_test_scribbler", [&] { return program_main(argc, argv); });
 }

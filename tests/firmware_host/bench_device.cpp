@@ -12,6 +12,7 @@
 #include <cstring>
 #include <vector>
 
+#include "config/base/main_guard.hpp"
 #include "firmware_host/device/falcon_device.hpp"
 #include "firmware_host/device/kerf_hid_device.hpp"
 #include "firmware_host/falcon/delta_kinematics.hpp"
@@ -197,4 +198,13 @@ BENCHMARK(BM_HapsimRoundTripFalcon)->UseRealTime();
 
 }  // namespace
 
-BENCHMARK_MAIN();
+// Google Benchmark's main, with nothing escaping: an exception is a message and exit 1.
+int main(int argc, char** argv) {
+    return kerf::guarded_main("bench_device", [&] {
+        benchmark::Initialize(&argc, argv);
+        if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+        benchmark::RunSpecifiedBenchmarks();
+        benchmark::Shutdown();
+        return 0;
+    });
+}

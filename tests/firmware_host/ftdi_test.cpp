@@ -1,8 +1,11 @@
 #include "firmware_host/falcon/ftdi.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <array>
+#include <cstdlib>
+#include <filesystem>
 #include <vector>
 
 #include "firmware_host/falcon/firmware_loader.hpp"
@@ -86,6 +89,24 @@ TEST(FirmwareLoader, AnEmptyOrMissingImageIsRefusedBeforeTouchingTheDevice) {
     auto dir = read_firmware_image("/tmp");
     ASSERT_FALSE(dir);
     EXPECT_EQ(dir.error().code, FirmwareErrorCode::kImageUnreadable);
+}
+
+// Issue 9, item 4: the image is read like every input — a link to /dev/zero is refused at once
+// (it used to read until memory ran out), a FIFO is refused without waiting for a writer.
+TEST(FirmwareLoader, ALinkToADeviceOrAFifoIsRefusedWithoutReading) {
+    char tmpl[] = "/tmp/kerf-fw-XXXXXX";
+    const std::filesystem::path dir = mkdtemp(tmpl);
+    std::filesystem::create_symlink("/dev/zero", dir / "zero.bin");
+    ASSERT_EQ(mkfifo((dir / "fifo.bin").c_str(), 0600), 0);
+    auto zero = read_firmware_image(dir / "zero.bin");
+    ASSERT_FALSE(zero);
+    EXPECT_EQ(zero.error().code, FirmwareErrorCode::kImageUnreadable);
+    EXPECT_NE(zero.error().message().find("zero.bin: is a character device"), std::string::npos)
+        << zero.error().message();
+    auto fifo = read_firmware_image(dir / "fifo.bin");
+    ASSERT_FALSE(fifo);
+    EXPECT_NE(fifo.error().message().find("FIFO"), std::string::npos) << fifo.error().message();
+    std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -27,6 +27,7 @@
 #include <string_view>
 #include <vector>
 
+#include "config/base/main_guard.hpp"
 #include "rt_core/ipc/consumer.hpp"
 #include "rt_core/ipc/producer.hpp"
 #include "rt_core/ipc/spsc_ring.hpp"
@@ -319,7 +320,7 @@ BENCHMARK(BM_BoostPush128)->Iterations(10'000)->UseRealTime();
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int program_main(int argc, char** argv) {
     std::vector<char*> args;
     bool repetitions_given = false;
     for (int i = 0; i < argc; ++i) {
@@ -388,4 +389,9 @@ int main(int argc, char** argv) {
         fig("kerf_push_median", 0).c_str(), fig("boost_push_median", 0).c_str(),
         ratio("kerf_push_median", "boost_push_median").c_str());
     return 0;
+}
+
+// Nothing escapes: an unexpected exception is a message and exit 1, never an abort.
+int main(int argc, char** argv) {
+    return kerf::guarded_main("bench_ipc", [&] { return program_main(argc, argv); });
 }

@@ -31,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "config/base/main_guard.hpp"
 #include "rt_core/ipc/consumer.hpp"
 #include "rt_core/ipc/journal_writer.hpp"
 #include "rt_core/ipc/mesh_mailbox.hpp"
@@ -434,7 +435,7 @@ int run_truncator(const Args& a) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int program_main(int argc, char** argv) {
     if (argc < 2) return std::fprintf(stderr, "usage: ipc_test_peer <role> [--key value]...\n"), 2;
     signal(SIGTERM, [](int) { g_stop = 1; });
     Args a;
@@ -456,4 +457,9 @@ int main(int argc, char** argv) {
     if (role == "mesh-writer") return run_mesh_writer(a);
     if (role == "truncator") return run_truncator(a);
     return std::fprintf(stderr, "ipc_test_peer: unknown role '%s'\n", role.c_str()), 2;
+}
+
+// Nothing escapes: an unexpected exception is a message and exit 1, never an abort.
+int main(int argc, char** argv) {
+    return kerf::guarded_main("ipc_test_peer", [&] { return program_main(argc, argv); });
 }

@@ -4,6 +4,7 @@
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <fstream>
@@ -75,6 +76,40 @@ TEST(JournalReader, BadHeadersAreRefusedNamingTheField) {
     EXPECT_EQ(missing.error().code, IpcErrc::kNotFound);
     const auto short_path = write_journal(dir.path, good_header(), {}, 10);
     EXPECT_FALSE(JournalReader::open(short_path, 0));
+}
+
+// Issue 9, item 5: a journal found by path is opened only when it is a regular file this user
+// (or root) owns and others cannot write — a FIFO does not hang the open, a link is not followed,
+// a file another user planted is refused before its header is read.
+TEST(JournalReader, OpenByPathRefusesAFifoALinkAForeignOwnerAndAWorldWritableFile) {
+    test::ScratchDir dir;
+    const std::string fifo = dir.path + "/fifo.kjournal";
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+    auto r = JournalReader::open(fifo, 0);  // would block forever without O_NONBLOCK
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("not a regular file"), std::string::npos) << r.error().message;
+
+    const std::string good = write_journal(dir.path, good_header(), records({1, 2}));
+    ASSERT_TRUE(JournalReader::open(good, 77));
+    const std::string link = dir.path + "/link.kjournal";
+    ASSERT_EQ(symlink(good.c_str(), link.c_str()), 0);
+    r = JournalReader::open(link, 77);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("symbolic link"), std::string::npos) << r.error().message;
+
+    ASSERT_EQ(chmod(good.c_str(), 0666), 0);
+    r = JournalReader::open(good, 77);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("writable by every user (mode 666)"), std::string::npos)
+        << r.error().message;
+    ASSERT_EQ(chmod(good.c_str(), 0644), 0);
+
+    if (geteuid() != 0) GTEST_SKIP() << "giving the file to another user needs root";
+    ASSERT_EQ(chown(good.c_str(), 65534, 65534), 0);  // nobody
+    r = JournalReader::open(good, 77);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("owned by uid 65534, not by this user"), std::string::npos)
+        << r.error().message;
 }
 
 TEST(JournalReader, FindsRecordsAcrossDroppedSequences) {

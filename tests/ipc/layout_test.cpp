@@ -7,6 +7,8 @@
 
 #include <cstddef>
 
+#include "config/kerf_config.hpp"  // constants only (no link)
+#include "rt_core/ipc/consumer.hpp"
 #include "rt_core/ipc/journal_format.hpp"
 
 namespace kerf::ipc {
@@ -181,6 +183,15 @@ TEST(Layout, SegmentSectionsArePinned) {
     EXPECT_EQ(kSlotCount, 4u);
     EXPECT_EQ(kEventCapacity, 4096u);
     EXPECT_EQ(kTelemetryCapacity, 2048u);
+}
+
+// kerf.toml's [shm] consumer_slots is checked against these (issue 9, item 6): the config's idea
+// of the segment's slots and of the reserved ones must be the layout's.
+TEST(Layout, TheConfigKnowsTheSegmentsSlotsAndTheReservedOnes) {
+    EXPECT_EQ(config::kSegmentConsumerSlots, kSlotCount);
+    EXPECT_EQ(config::kReservedConsumerSlots, kFirstToolSlot);
+    EXPECT_LT(kDisplaySlot, kFirstToolSlot);
+    EXPECT_LT(kMonitorSlot, kFirstToolSlot);
 }
 
 TEST(Layout, MeshMailboxOffsetsArePinned) {

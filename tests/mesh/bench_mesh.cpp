@@ -9,6 +9,7 @@
 #include <iterator>
 #include <vector>
 
+#include "config/base/main_guard.hpp"
 #include "display/mesh/foot_generator.hpp"
 #include "display/mesh/mesh_io.hpp"
 #include "display/mesh/validate.hpp"
@@ -88,4 +89,13 @@ BENCHMARK(BM_GenerateFoot)->Arg(200'000)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+// Google Benchmark's main, with nothing escaping: an exception is a message and exit 1.
+int main(int argc, char** argv) {
+    return kerf::guarded_main("bench_mesh", [&] {
+        benchmark::Initialize(&argc, argv);
+        if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+        benchmark::RunSpecifiedBenchmarks();
+        benchmark::Shutdown();
+        return 0;
+    });
+}

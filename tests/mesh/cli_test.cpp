@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -43,6 +44,12 @@ TEST_F(KerfCli, MeshInfoSaysTheOpensimFootIsOpenWithThreeBoundaryEdges) {
     EXPECT_NE(r.out.find("closed:                no (3 boundary edges)"), std::string::npos)
         << r.out;
     EXPECT_NE(r.out.find("shells:                11\n"), std::string::npos) << r.out;
+    EXPECT_TRUE(r.err.empty()) << r.err;  // in metres, read as metres: a plausible foot
+    // Read as millimetres (the default), it is a 0.19 mm foot: a warning names the unit.
+    const ProcessRun mm = kerf({"mesh", "info", file.string()});
+    EXPECT_EQ(mm.exit_code, 0) << mm.err;
+    EXPECT_NE(mm.err.find("smaller than a bone"), std::string::npos) << mm.err;
+    EXPECT_NE(mm.err.find("is the file in m?"), std::string::npos) << mm.err;
 }
 
 TEST_F(KerfCli, MeshInfoJsonReportsTheReadmeCountsForTheCalcaneus) {
@@ -93,8 +100,71 @@ TEST_F(KerfCli, GenFootWritesAClosedFootThatMeshInfoReadsBack) {
     ASSERT_EQ(info.exit_code, 0) << info.err;
     EXPECT_NE(info.out.find("\"closed\": true"), std::string::npos) << info.out;
     EXPECT_NE(info.out.find("\"oriented\": true"), std::string::npos) << info.out;
-    EXPECT_EQ(std::count(info.out.begin(), info.out.end(), '{'),
-              1 + 1 + 38);  // top, report, shells
+    const auto doc = nlohmann::json::parse(info.out);  // one valid document
+    EXPECT_EQ(doc["report"]["shells"].size(), 38u);
+    EXPECT_EQ(doc["coincidence"]["repeated_triangles"], 0);
+}
+
+// Issue 9, item 14: two triangles on the same three points made "closed: yes, genus 0". The
+// report now names the repeated triangle (and warns), and vertices that coincide without being
+// bit-identical are listed with their positions.
+TEST_F(KerfCli, MeshInfoReportsRepeatedTrianglesAndCoincidentVertices) {
+    const fs::path sheet = dir_ / "sheet.stl";
+    std::ofstream(sheet) << "solid s\n"
+                            "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 10 0 0\n"
+                            "vertex 0 10 0\nendloop\nendfacet\n"
+                            "facet normal 0 0 -1\nouter loop\nvertex 0 0 0\nvertex 0 10 0\n"
+                            "vertex 10 0 0\nendloop\nendfacet\nendsolid s\n";
+    ProcessRun r = kerf({"mesh", "info", sheet.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("repeated triangles:    1 "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("triangle 1 repeats triangle 0"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("warning: 'closed' pairs repeated triangles"), std::string::npos) << r.out;
+
+    // A tetrahedron whose apex is written twice, 1 nm apart (well under 1e-6 of its diagonal).
+    const fs::path tet = dir_ / "tet.obj";
+    std::ofstream(tet) << "v 0 0 0\nv 10 0 0\nv 0 10 0\nv 0 0 10\nv 0 0 10.000001\n"
+                          "f 1 3 2\nf 1 2 4\nf 2 3 5\nf 3 1 4\n";
+    r = kerf({"mesh", "info", tet.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("closed:                no"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("coincident vertices:   1 pairs closer than"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("vertex 3 and vertex 4, 1e-06 mm apart: (0, 0, 10) and (0, 0, 10)"),
+              std::string::npos)
+        << r.out;
+}
+
+// Issue 9, item 10: `kerf mesh info --json` is one document a parser accepts, whatever the path.
+TEST_F(KerfCli, MeshInfoJsonIsValidWhateverThePathHolds) {
+    const fs::path odd = dir_ / "q\"x\\y.stl";
+    std::ofstream(odd) << "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 10 0 0\n"
+                          "vertex 0 10 0\nendloop\nendfacet\nendsolid s\n";
+    const ProcessRun r = kerf({"mesh", "info", odd.string(), "--json"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto doc = nlohmann::json::parse(r.out);  // throws (fails the test) on invalid JSON
+    EXPECT_EQ(doc["file"].get<std::string>(), odd.string());
+    EXPECT_EQ(doc["report"]["triangles"], 1);
+    EXPECT_EQ(doc["coincidence"]["coincident_vertex_pairs"], 0);
+    EXPECT_GT(doc["coincidence"]["tolerance_m"].get<double>(), 0.0);
+}
+
+// Issue 9, item 16: a file in metres read as millimetres (the default) is a 0.2 mm "bone": warn,
+// naming the unit that fits. A plausible size says nothing.
+TEST_F(KerfCli, MeshInfoWarnsWhenTheSizeIsImplausibleForTheUnit) {
+    const fs::path tiny = dir_ / "metres.obj";
+    std::ofstream(tiny) << "v 0 0 0\nv 0.2 0 0\nv 0 0.2 0\nv 0 0 0.2\n"
+                           "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n";
+    ProcessRun r = kerf({"mesh", "info", tiny.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("warning: the mesh is 0.2 mm across (largest side), smaller than a bone"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("is the file in m? (--units m reads it as 200 mm)"), std::string::npos)
+        << r.err;
+    r = kerf({"mesh", "info", tiny.string(), "--units", "m", "--json"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(r.err.empty()) << r.err;
+    EXPECT_NO_THROW((void)nlohmann::json::parse(r.out)) << r.out;
 }
 
 TEST_F(KerfCli, GenFootRefusesAnOutOfRangeTargetAndAnUnwritablePath) {

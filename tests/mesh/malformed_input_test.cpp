@@ -125,6 +125,14 @@ const Bad kBad[] = {
      "3 coordinates"},
     {"ObjInfiniteCoordinate", Format::kObj, "v 0 inf 0\n", MeshErrorKind::kNonFinite, 1, "'inf'"},
     {"ObjBadReference", Format::kObj, "v 0 0 0\nf 1 x/2 1\n", MeshErrorKind::kSyntax, 2, "'x/2'"},
+    {"ObjBadNormalReference", Format::kObj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//x 2 3\n",
+     MeshErrorKind::kSyntax, 4, "'1//x'"},
+    {"ObjTooManySlashes", Format::kObj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1/1/1 2 3\n",
+     MeshErrorKind::kSyntax, 4, "'1/1/1/1'"},
+    {"ObjEmptyTextureWithoutNormal", Format::kObj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/ 2 3\n",
+     MeshErrorKind::kSyntax, 4, "'1/'"},
+    {"ObjVertexTrailingJunk", Format::kObj, "v 0 0 0 junk\n", MeshErrorKind::kSyntax, 1, "'junk'"},
+    {"ObjVertexFiveNumbers", Format::kObj, "v 0 0 0 1 1\n", MeshErrorKind::kSyntax, 1, "5 numbers"},
     {"ObjUnknownStatement", Format::kObj, "# ok\nv 0 0 0\nbogus 1 2\n", MeshErrorKind::kSyntax, 3,
      "'bogus'"},
     {"ObjBinaryGarbage", Format::kObj, std::string("\x7f\x45\x4c\x46\x02\x01", 6),
@@ -159,7 +167,13 @@ const Bad kBad[] = {
      "0\n",
      MeshErrorKind::kSyntax, 3, "x, y or z"},
     {"PlyIndexOutOfRange", Format::kPly, kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n",
-     MeshErrorKind::kIndexOutOfRange, 0, "vertex 3"},
+     MeshErrorKind::kIndexOutOfRange, 13, "vertex 3"},
+    // Faces before vertices: the index is checked at the end but still named by its line.
+    {"PlyIndexOutOfRangeFacesFirst", Format::kPly,
+     "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\nelement "
+     "vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n3 0 1 "
+     "9\n0 0 0\n1 0 0\n0 1 0\n",
+     MeshErrorKind::kIndexOutOfRange, 10, "vertex 9"},
     {"PlyNegativeIndex", Format::kPly, kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 -1 2\n",
      MeshErrorKind::kIndexOutOfRange, 13, "-1"},
     {"PlyFractionalIndex", Format::kPly, kPlyHead + "0 0 0\n1 0 0\n0 1 0\n3 0 1.5 2\n",
@@ -204,6 +218,35 @@ std::string bad_name(const ::testing::TestParamInfo<Bad>& param_info) {
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryKind, MalformedInput, ::testing::ValuesIn(kBad), bad_name);
+
+// Issue 9, item 16: a bad index in a binary PLY names the byte where the index is (it said
+// "byte 0"), and the OBJ forms that are legal still parse.
+TEST(MalformedInputPosition, ABinaryPlyIndexErrorNamesTheIndexByte) {
+    std::string s =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty "
+        "float y\nproperty float z\nelement face 1\nproperty list uchar int "
+        "vertex_indices\nend_header\n";
+    const std::size_t data = s.size();
+    s += std::string(36, '\0');
+    s.push_back(3);
+    const std::int32_t idx[3] = {0, 1, 7};
+    s.append(reinterpret_cast<const char*>(idx), sizeof idx);  // little-endian host (x86-64)
+    auto r = parse_mesh(as_bytes(s), Format::kPly, Units::kMillimetres, "bad.ply");
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().kind, MeshErrorKind::kIndexOutOfRange);
+    EXPECT_EQ(r.error().byte_offset, data + 36 + 1 + 8) << r.error().to_string();
+    EXPECT_NE(r.error().to_string().find("byte " + std::to_string(data + 45)), std::string::npos)
+        << r.error().to_string();
+}
+
+TEST(MalformedInputPosition, LegalObjCornerAndVertexFormsStillParse) {
+    const std::string ok =
+        "v 0 0 0 1\nv 1 0 0 0.5 0.5 0.5\nv 0 1 0 # comment\nv 0 0 1 1 0 0 0\n"
+        "f 1/1/1 2//2 3/3\nf 1 2 4\nf -4 -2 -1\nf 2 3 4\n";
+    auto r = parse_mesh(as_bytes(ok), Format::kObj, Units::kMillimetres, "ok.obj");
+    ASSERT_TRUE(r) << r.error().to_string();
+    EXPECT_EQ(r->indexed.triangles.size(), 4u);
+}
 
 TEST(MalformedInputTruncation, EveryPrefixOfEveryFormatFailsCleanlyOrParses) {
     const TriMesh box = make_box({0, 0, 0}, {1, 2, 3});

@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "config/base/main_guard.hpp"
 #include "display/egl/egl_output.hpp"
 #include "tests/render/render_scenes.hpp"
 
@@ -146,7 +147,7 @@ bool parse(int argc, char** argv, Args& a) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int program_main(int argc, char** argv) {
     Args a;
     if (!parse(argc, argv, a)) return 2;
     if (!a.ref.empty() && access(a.ref.c_str(), X_OK) != 0) {
@@ -279,4 +280,9 @@ int main(int argc, char** argv) {
     if (getloadavg(load, 3) == 3)
         std::printf("load average at end: %.2f %.2f %.2f\n", load[0], load[1], load[2]);
     return 0;
+}
+
+// Nothing escapes: an unexpected exception is a message and exit 1, never an abort.
+int main(int argc, char** argv) {
+    return kerf::guarded_main("bench_render", [&] { return program_main(argc, argv); });
 }

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "config/base/main_guard.hpp"
 #include "rt_core/loop/latency_histogram.hpp"
 #include "rt_core/loop/loop_runner.hpp"
 #include "tests/rt/rt_rig.hpp"
@@ -72,7 +73,7 @@ double us(std::uint64_t ns) { return double(ns) / 1000.0; }
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int program_main(int argc, char** argv) {
     int reps = 5, cpu = 1, hapsim_cpu = 0;
     std::uint64_t ticks = 5000;
     for (int i = 1; i + 1 < argc; i += 2) {
@@ -109,4 +110,9 @@ int main(int argc, char** argv) {
     std::printf("p99 ratio full/empty: median %.2f (min %.2f, max %.2f) over %d repetitions\n",
                 ratios[ratios.size() / 2], ratios.front(), ratios.back(), reps);
     return 0;
+}
+
+// Nothing escapes: an unexpected exception is a message and exit 1, never an abort.
+int main(int argc, char** argv) {
+    return kerf::guarded_main("bench_rt_wake", [&] { return program_main(argc, argv); });
 }

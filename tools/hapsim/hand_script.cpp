@@ -2,14 +2,17 @@
 
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <numbers>
 #include <sstream>
 
+#include "config/file_io/file_io.hpp"
 #include "tools/hapsim/faults.hpp"
 
 namespace kerf::hapsim {
 namespace {
+
+/// A hand script is text, one action a line: 64 MiB is far more than a day of actions.
+constexpr std::uint64_t kMaxScriptBytes = 64u << 20;
 
 std::string_view trim(std::string_view s) {
     while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r'))
@@ -131,14 +134,12 @@ Result<HandScript, ScriptError> parse_hand_script(std::string_view text, std::st
 }
 
 Result<HandScript, ScriptError> load_hand_script(const std::filesystem::path& path) {
-    std::ifstream f(path, std::ios::binary);
-    std::error_code ec;
-    if (!f || std::filesystem::is_directory(path, ec)) {
-        return Err{ScriptError{path.string(), 0, "cannot read the script file"}};
-    }
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return parse_hand_script(ss.str(), path.string());
+    // A regular file only (never a FIFO, a directory or a link to a device), at most the cap.
+    auto bytes = files::read_regular_file(path, kMaxScriptBytes);
+    if (!bytes) return Err{ScriptError{path.string(), 0, bytes.error().message}};
+    return parse_hand_script(
+        std::string_view(reinterpret_cast<const char*>(bytes->data()), bytes->size()),
+        path.string());
 }
 
 HandPlayer::HandPlayer(HandScript script, const Vec3& start_m)

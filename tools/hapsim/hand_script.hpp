@@ -26,7 +26,10 @@ struct ScriptError {
     std::string source;  ///< file name
     int line = 0;
     std::string why;
-    std::string message() const { return source + ":" + std::to_string(line) + ": " + why; }
+    /// "<file>:<line>: <why>", or "<file>: <why>" when the file as a whole is the problem.
+    std::string message() const {
+        return source + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + why;
+    }
 };
 
 struct ScriptAction {

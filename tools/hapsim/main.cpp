@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "config/base/main_guard.hpp"
 #include "config/device_profile.hpp"
 #include "config/expand_path.hpp"
 #include "firmware_host/open/open_device.hpp"
@@ -41,8 +42,9 @@ struct Args {
     fh::falcon::DeltaGeometry geometry;
 };
 
-// Fills what the command line did not set from a device profile (config/devices/*.toml).
-void apply_profile(const kerf::config::DeviceProfile& p, const CLI::App& app, Args& a) {
+// Fills what the command line did not set from a device profile (config/devices/*.toml); an
+// error message when the profile cannot be applied (e.g. its socket path does not expand).
+std::string apply_profile(const kerf::config::DeviceProfile& p, const CLI::App& app, Args& a) {
     namespace cfg = kerf::config;
     const auto given = [&app](const char* option) { return app.count(option) > 0; };
     const auto kind = p.kind == cfg::DeviceKind::kSimulated ? p.emulator.protocol : p.kind;
@@ -56,7 +58,8 @@ void apply_profile(const kerf::config::DeviceProfile& p, const CLI::App& app, Ar
     }
     if (!given("--socket") && p.kind == cfg::DeviceKind::kSimulated) {
         auto path = cfg::expand_path(p.emulator.socket_path, {});
-        if (path) a.socket_path = path->string();
+        if (!path) return "[emulator] socket_path: " + path.error().message();
+        a.socket_path = path->string();
     }
     a.vendor_id = p.ids.vendor_id;
     a.product_id = p.ids.product_id;
@@ -66,6 +69,7 @@ void apply_profile(const kerf::config::DeviceProfile& p, const CLI::App& app, Ar
     if (p.kinematic_model == cfg::KinematicModel::kFalconDelta) {
         a.geometry = fh::delta_geometry_from(p);
     }
+    return {};
 }
 
 KerfSideParams kerf_params(const Args& a) {
@@ -252,7 +256,11 @@ int hapsim_main(int argc, char** argv) {
             std::fprintf(stderr, "kerf-hapsim: profile: %s\n", profile.error().message().c_str());
             return 1;
         }
-        apply_profile(*profile, app, a);
+        if (const std::string why = apply_profile(*profile, app, a); !why.empty()) {
+            std::fprintf(stderr, "kerf-hapsim: profile %s: %s\n", a.profile_path.c_str(),
+                         why.c_str());
+            return 1;
+        }
     }
     if (a.socket_path.empty()) {
         std::fprintf(stderr,
@@ -265,12 +273,5 @@ int hapsim_main(int argc, char** argv) {
 
 // Nothing escapes: an unexpected exception is a message and exit 1, never an abort.
 int main(int argc, char** argv) {
-    try {
-        return hapsim_main(argc, argv);
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "kerf-hapsim: unexpected error: %s\n", e.what());
-    } catch (...) {
-        std::fprintf(stderr, "kerf-hapsim: unexpected error\n");
-    }
-    return 1;
+    return kerf::guarded_main("kerf-hapsim", [&] { return hapsim_main(argc, argv); });
 }

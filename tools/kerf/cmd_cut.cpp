@@ -9,6 +9,7 @@
 // Output is all-or-nothing: an output that is the input is refused, every piece is written to a
 // temp file beside its target and renamed only when all are written, and pieces an earlier run
 // left beyond this run's count are removed, so the folder never mixes two runs.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -21,6 +22,7 @@
 #include <vector>
 
 #include "config/file_io/file_io.hpp"
+#include "display/mesh/bone_size.hpp"
 #include "display/mesh/mesh_io.hpp"
 #include "tools/kerf/commands.hpp"
 #include "tools/kerf/cut_job.hpp"
@@ -97,6 +99,12 @@ CutJob job_from(const CutOptions& o, double metres_per_unit) {
         const auto& e = ok.error();
         if (e.status == cut::CutStatus::kInvalidPlane) {
             fail(kExitUsage, "--plane #" + std::to_string(e.plane + 1), o.planes[e.plane], e.why);
+        }
+        if (e.argument == "--kerf")
+            fail(kExitUsage, "--kerf", o.kerf + " (--mode " + o.mode + ")", e.why);
+        if (e.argument.rfind("--seed #", 0) == 0) {
+            const std::size_t k = std::stoul(e.argument.substr(8)) - 1;
+            fail(kExitUsage, e.argument, o.seeds[k], e.why);
         }
         fail(kExitUsage, "arguments", "--mode " + o.mode, e.why);
     }
@@ -196,6 +204,17 @@ void run_cut(const CutOptions& o) {
     const CutJob job = job_from(o, unit);
     auto loaded = mesh::load_mesh(o.input, *units);
     if (!loaded) fail(kExitFailure, "cannot load mesh", o.input, loaded.error().to_string());
+    if (loaded->n_vertices() > 0) {  // a metres file read as mm is a 0.2 mm "bone": say so
+        mesh::Point lo = loaded->point(*loaded->vertices_begin()), hi = lo;
+        for (const auto v : loaded->vertices()) {
+            lo.minimize(loaded->point(v));
+            hi.maximize(loaded->point(v));
+        }
+        const mesh::Point size = hi - lo;
+        const std::string w =
+            mesh::bone_size_warning(std::max({size[0], size[1], size[2]}), *units);
+        if (!w.empty()) std::cerr << "kerf cut: warning: " << o.input << ": " << w << "\n";
+    }
     auto report = run_cut_job(*loaded, job);
     if (!report) {
         const auto& e = report.error();

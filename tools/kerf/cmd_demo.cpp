@@ -25,6 +25,7 @@
 #include <thread>
 
 #include "config/data_dir.hpp"
+#include "config/file_io/file_io.hpp"
 #include "config/load_config.hpp"
 #include "display/app/scene_mesh.hpp"
 #include "display/mesh/foot_generator.hpp"
@@ -65,7 +66,9 @@ fs::path default_config() { return config::data_file("kerf.toml"); }
 /// Copies the configuration into `work`/config with this run's session, journal and scene.
 fs::path prepare_config(const DemoOptions& o, const fs::path& work, const std::string& session) {
     const fs::path src = o.config.empty() ? default_config() : fs::path(o.config);
-    if (!fs::is_regular_file(src)) fail("configuration " + src.string() + ": not found");
+    // Read like every input (regular file only, never blocks): says what a bad path is.
+    if (auto read = files::read_regular_file(src, 4u << 20); !read)
+        fail("configuration " + read.error().to_string());
     const fs::path dst = work / "config";
     std::error_code ec;
     fs::copy(src.parent_path(), dst, fs::copy_options::recursive, ec);

@@ -6,8 +6,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -37,15 +37,6 @@ std::string hex(std::uint16_t v) {
     char b[8];
     std::snprintf(b, sizeof b, "%04x", v);
     return b;
-}
-
-std::string json_escape(const std::string& s) {
-    std::string o;
-    for (char c : s) {
-        if (c == '"' || c == '\\') o += '\\';
-        if (static_cast<unsigned char>(c) >= 0x20) o += c;
-    }
-    return o;
 }
 
 std::string match_profile(const std::vector<config::NamedDeviceProfile>& profiles,
@@ -105,12 +96,18 @@ std::string find_devices_dir(const std::string& given) {
 }
 
 void print_text(const std::vector<Found>& found, const std::vector<std::string>& errors,
-                const std::string& devices_dir) {
-    for (const auto& e : errors) std::cerr << "kerf devices: " << e << "\n";
+                const std::string& devices_dir, std::size_t hid_profiles) {
+    for (const auto& e : errors) std::cerr << "kerf devices: " << safe_text(e) << "\n";
     if (found.empty()) {
-        std::cout << "no haptic devices found (looked for Novint Falcon usb 0403:cb48 and the "
-                     "Kerf HID ids of "
-                  << devices_dir << "/*.toml)\n";
+        std::cout << "no haptic devices found (looked for Novint Falcon usb 0403:cb48";
+        if (hid_profiles == 0) {
+            std::cout << "; no Kerf HID profile in " << safe_text(devices_dir)
+                      << ", so no Kerf HID ids to look for)\n";
+        } else {
+            std::cout << " and the Kerf HID ids of " << hid_profiles << " profile"
+                      << (hid_profiles == 1 ? "" : "s") << " in " << safe_text(devices_dir)
+                      << ")\n";
+        }
         return;
     }
     for (const auto& f : found) {
@@ -121,21 +118,23 @@ void print_text(const std::vector<Found>& found, const std::vector<std::string>&
     }
 }
 
-void print_json(const std::vector<Found>& found, const std::vector<std::string>& errors) {
-    std::ostringstream o;
-    o << "{\"devices\": [";
-    for (std::size_t i = 0; i < found.size(); ++i) {
-        const auto& f = found[i];
-        o << (i ? ", " : "") << "{\"kind\": \"" << f.kind << "\", \"vendor_id\": \"" << hex(f.vid)
-          << "\", \"product_id\": \"" << hex(f.pid) << "\", \"where\": \"" << json_escape(f.where)
-          << "\", \"serial\": \"" << json_escape(f.serial) << "\", \"state\": \"" << f.state
-          << "\", \"profile\": \"" << f.profile << "\"}";
+/// One JSON document on stdout (nlohmann-json escapes every string; bytes that are not UTF-8 are
+/// replaced, never passed through).
+void print_json(const std::vector<Found>& found, const std::vector<std::string>& errors,
+                const std::string& devices_dir) {
+    nlohmann::ordered_json doc = {{"devices_dir", devices_dir},
+                                  {"devices", nlohmann::ordered_json::array()},
+                                  {"errors", errors}};
+    for (const auto& f : found) {
+        doc["devices"].push_back({{"kind", f.kind},
+                                  {"vendor_id", hex(f.vid)},
+                                  {"product_id", hex(f.pid)},
+                                  {"where", f.where},
+                                  {"serial", f.serial},
+                                  {"state", f.state},
+                                  {"profile", f.profile}});
     }
-    o << "], \"errors\": [";
-    for (std::size_t i = 0; i < errors.size(); ++i)
-        o << (i ? ", " : "") << "\"" << json_escape(errors[i]) << "\"";
-    o << "]}\n";
-    std::cout << o.str();
+    std::cout << doc.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) << "\n";
 }
 
 }  // namespace
@@ -151,19 +150,28 @@ void add_devices_command(CLI::App& app) {
                     "device profiles to match ids against (default: $KERF_DATA_DIR/devices, the "
                     "installed share/kerf/devices, then the source tree's config/devices)");
     cmd->add_flag("--json", opts->json, "machine-readable output");
-    cmd->callback([opts] {
+    auto* dir_option = cmd->get_option("--devices-dir");
+    cmd->callback([opts, dir_option] {
+        if (dir_option->count() > 0 && opts->devices_dir.empty()) {
+            std::cerr << "kerf devices: --devices-dir: an empty path (give a folder of device "
+                         "profiles, or leave the option out)\n";
+            throw CLI::RuntimeError(kExitUsage);
+        }
         const std::string dir = find_devices_dir(opts->devices_dir);
         auto profiles = config::load_device_profiles(dir);
         if (!profiles) {
-            std::cerr << "kerf devices: load device profiles: " << profiles.error().message()
-                      << "\n";
+            std::cerr << "kerf devices: load device profiles: "
+                      << safe_text(profiles.error().message()) << "\n";
             throw CLI::RuntimeError(kExitFailure);
         }
         std::vector<Found> found;
         std::vector<std::string> errors;
         list_falcons(*profiles, found, errors);
         list_hid(*profiles, found, errors);
-        opts->json ? print_json(found, errors) : print_text(found, errors, dir);
+        std::size_t hid_profiles = 0;
+        for (const auto& p : *profiles)
+            hid_profiles += p.profile.kind == config::DeviceKind::kKerfHid ? 1 : 0;
+        opts->json ? print_json(found, errors, dir) : print_text(found, errors, dir, hid_profiles);
         if (errors.size() >= 2) throw CLI::RuntimeError(kExitFailure);  // neither backend worked
     });
 }

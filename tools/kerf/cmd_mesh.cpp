@@ -1,15 +1,20 @@
 // `kerf mesh info FILE` (the validation report of a mesh file) and `kerf gen foot` (write the
 // built-in synthetic forefoot to a file).
+#include <algorithm>
 #include <charconv>
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 
+#include "display/mesh/bone_size.hpp"
+#include "display/mesh/coincidence.hpp"
 #include "display/mesh/foot_generator.hpp"
 #include "display/mesh/mesh_io.hpp"
 #include "display/mesh/validate.hpp"
 #include "tools/kerf/commands.hpp"
+#include "tools/kerf/safe_text.hpp"
 
 namespace kerf::cli {
 namespace {
@@ -31,23 +36,6 @@ struct GenFootOptions {
     std::string units = "mm";
 };
 
-std::string json_string(std::string_view s) {
-    std::string out = "\"";
-    for (char c : s) {
-        if (c == '"' || c == '\\') {
-            out += '\\';
-            out += c;
-        } else if (static_cast<unsigned char>(c) < 0x20) {
-            char buf[8];
-            std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(c));
-            out += buf;
-        } else {
-            out += c;
-        }
-    }
-    return out + "\"";
-}
-
 [[noreturn]] void fail(std::string_view command, std::string_view what, std::string_view why) {
     std::cerr << "kerf " << command << ": " << what << ": " << why << "\n";
     throw CLI::RuntimeError(kExitFailure);  // CLI11's way to leave with an exit code, silently
@@ -60,22 +48,134 @@ const CLI::Validator kUnitsValidator(
     },
     "UNIT", "units");
 
+nlohmann::ordered_json point_json(const mesh::Point& p) {
+    return nlohmann::ordered_json::array({p[0], p[1], p[2]});
+}
+
+/// The validation report as JSON (SI units: keys end in _m, _m2, _m3).
+nlohmann::ordered_json report_json(const mesh::ValidationReport& r) {
+    nlohmann::ordered_json shells = nlohmann::ordered_json::array();
+    for (const auto& s : r.shells) {
+        shells.push_back({{"triangles", s.triangles},
+                          {"vertices", s.vertices},
+                          {"edges", s.edges},
+                          {"boundary_edges", s.boundary_edges},
+                          {"closed", s.closed},
+                          {"euler_characteristic", s.euler_characteristic},
+                          {"area_m2", s.area_m2},
+                          {"volume_m3", s.volume_m3}});
+    }
+    nlohmann::ordered_json boundary = nlohmann::ordered_json::array();
+    for (const auto& e : r.boundary_samples_m)
+        boundary.push_back({point_json(e[0]), point_json(e[1])});
+    return {{"vertices", r.vertices},
+            {"unreferenced_vertices", r.unreferenced_vertices},
+            {"triangles", r.triangles},
+            {"edges", r.edges},
+            {"closed", r.closed},
+            {"boundary_edges", r.boundary_edges},
+            {"non_manifold_edges", r.non_manifold_edges},
+            {"non_manifold_vertices", r.non_manifold_vertices},
+            {"oriented", r.oriented},
+            {"misoriented_edges", r.misoriented_edges},
+            {"degenerate_triangles", r.degenerate_triangles},
+            {"detached_triangles", r.detached_triangles},
+            {"bbox_min_m", point_json(r.bbox_min_m)},
+            {"bbox_max_m", point_json(r.bbox_max_m)},
+            {"area_m2", r.area_m2},
+            {"volume_m3", r.volume_m3},
+            {"shells", shells},
+            {"boundary_samples_m", boundary}};
+}
+
+nlohmann::ordered_json coincidence_json(const mesh::CoincidenceReport& c) {
+    nlohmann::ordered_json pairs = nlohmann::ordered_json::array();
+    for (const auto& p : c.vertex_samples) {
+        pairs.push_back({{"vertices", {p.first, p.second}},
+                         {"positions_m", {point_json(p.first_m), point_json(p.second_m)}},
+                         {"distance_m", p.distance_m}});
+    }
+    nlohmann::ordered_json triangles = nlohmann::ordered_json::array();
+    for (const auto& t : c.triangle_samples) triangles.push_back({t[0], t[1]});
+    return {{"tolerance_m", c.tolerance_m},
+            {"relative_tolerance", mesh::kCoincidenceRelativeTolerance},
+            {"coincident_vertex_pairs", c.coincident_vertex_pairs},
+            {"vertex_samples", pairs},
+            {"repeated_triangles", c.repeated_triangles},
+            {"triangle_samples", triangles},
+            {"complete", c.complete}};
+}
+
+std::string point_text(const mesh::Point& p, double scale) {
+    char b[96];
+    std::snprintf(b, sizeof b, "(%.6g, %.6g, %.6g)", p[0] / scale, p[1] / scale, p[2] / scale);
+    return b;
+}
+
+std::string coincidence_text(const mesh::CoincidenceReport& c, const mesh::ValidationReport& r,
+                             const std::string& units) {
+    const double s = mesh::metres_per_unit(*mesh::parse_units(units));
+    char b[160];
+    std::string out;
+    std::snprintf(b, sizeof b,
+                  "coincident vertices:   %zu pairs closer than %.3g %s (%g of the bounding-box "
+                  "diagonal)%s\n",
+                  c.coincident_vertex_pairs, c.tolerance_m / s, units.c_str(),
+                  mesh::kCoincidenceRelativeTolerance,
+                  c.complete ? "" : " (search stopped early: at least this many)");
+    out += b;
+    for (const auto& p : c.vertex_samples) {
+        std::snprintf(b, sizeof b, "  vertex %u and vertex %u, %.3g %s apart: ", p.first, p.second,
+                      p.distance_m / s, units.c_str());
+        out += b + point_text(p.first_m, s) + " and " + point_text(p.second_m, s) + "\n";
+    }
+    out += "repeated triangles:    " + std::to_string(c.repeated_triangles) +
+           " (the same three vertices as an earlier triangle)\n";
+    for (const auto& t : c.triangle_samples) {
+        out += "  triangle " + std::to_string(t[0]) + " repeats triangle " + std::to_string(t[1]) +
+               "\n";
+    }
+    if (r.closed && c.repeated_triangles > 0) {
+        out +=
+            "warning: 'closed' pairs repeated triangles with each other; coincident triangles "
+            "enclose no volume, so the mesh is not a sound solid\n";
+    }
+    return out;
+}
+
+/// "warning: ..." when the mesh is implausibly small or large for a bone in `units`; "" if not.
+std::string size_warning(const mesh::ValidationReport& r, mesh::Units units) {
+    const mesh::Point size = r.bbox_max_m - r.bbox_min_m;
+    const double largest = std::max({size[0], size[1], size[2]});
+    const std::string w = r.vertices > 0 ? mesh::bone_size_warning(largest, units) : "";
+    return w.empty() ? w : "warning: " + w + "\n";
+}
+
 void run_mesh_info(const MeshInfoOptions& o) {
     const mesh::Units units = *mesh::parse_units(o.units);
     auto loaded = mesh::load_mesh_file(o.file, units);
     if (!loaded) fail("mesh info", "cannot load mesh", loaded.error().to_string());
     mesh::ValidationReport report = mesh::validate(loaded->indexed);
     report.detached_triangles = loaded->detached_triangles;
+    const mesh::CoincidenceReport coincidence = mesh::find_coincidences(loaded->indexed);
     const auto format = mesh::format_from_path(o.file);
+    const std::string warning = size_warning(report, units);
+    if (!warning.empty()) std::cerr << "kerf mesh info: " << safe_text(o.file) << ": " << warning;
     if (o.json) {
-        std::cout << "{\"file\": " << json_string(o.file) << ", \"format\": \""
-                  << mesh::to_string(*format) << "\", \"units\": \"" << o.units
-                  << "\", \"report\": " << mesh::format_report_json(report) << "}\n";
+        const nlohmann::ordered_json doc = {{"file", o.file},
+                                            {"format", mesh::to_string(*format)},
+                                            {"units", o.units},
+                                            {"report", report_json(report)},
+                                            {"coincidence", coincidence_json(coincidence)}};
+        // Paths are bytes, not always UTF-8: replace what JSON cannot carry instead of throwing.
+        std::cout << doc.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace)
+                  << "\n";
         return;
     }
-    std::cout << "file:                  " << o.file << " (" << mesh::to_string(*format)
+    std::cout << "file:                  " << safe_text(o.file) << " (" << mesh::to_string(*format)
               << ", read as " << o.units << ")\n"
-              << mesh::format_report_text(report, units);
+              << mesh::format_report_text(report, units)
+              << coincidence_text(coincidence, report, o.units);
 }
 
 void run_gen_foot(const GenFootOptions& o) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "display/cut/cut_context.hpp"
 #include "display/cut/cut_session.hpp"
@@ -45,6 +46,13 @@ Status<CutJobError> check_cut_job(const CutJob& job) {
             0, cut::CutStatus::kInvalidArgument,
             std::string("mode ") + std::string(to_string(job.mode)) + " needs a positive --kerf"}};
     }
+    if (job.mode == CutMode::kUniplanar && job.kerf_m != 0.0) {
+        return Err{CutJobError{0, cut::CutStatus::kInvalidArgument,
+                               "mode uniplanar cuts along one plane and has no use for a blade "
+                               "width: leave --kerf out, or use --mode separated (one plane, "
+                               "then the kerf opened) or --mode biplanar (a kerf-wide slab)",
+                               "--kerf"}};
+    }
     if (job.mode == CutMode::kBiplanar && seeds == 0) {
         return Err{CutJobError{0, cut::CutStatus::kInvalidArgument,
                                "mode biplanar needs --seed (the slab is localised)"}};
@@ -55,7 +63,82 @@ Status<CutJobError> check_cut_job(const CutJob& job) {
                 CutJobError{i, cut::CutStatus::kInvalidPlane, "non-finite value or zero normal"}};
         }
     }
+    // A seed is where the blade touches the bone: on its plane (every mode; biplanar used to be
+    // the only one to notice, through the cut library).
+    for (std::size_t i = 0; i < job.planes.size() && seeds > 0; ++i) {
+        const std::size_t k = seeds == 1 ? 0 : i;
+        const auto plane = *cut::Plane::make(job.planes[i].point_m, job.planes[i].normal);
+        const double off = std::abs(plane.signed_distance(job.seeds_m[k]));
+        if (!(off <= kSeedPlaneTolerance_m)) {
+            char why[200];
+            std::snprintf(why, sizeof why,
+                          "%.4g mm from plane #%zu (more than %.2g mm): a seed is where the "
+                          "blade touches the bone, so it lies on the blade's plane",
+                          off * 1e3, i + 1, kSeedPlaneTolerance_m * 1e3);
+            return Err{CutJobError{i, cut::CutStatus::kInvalidArgument, why,
+                                   "--seed #" + std::to_string(k + 1)}};
+        }
+    }
     return {};
+}
+
+std::string refusal_text(cut::CutStatus status) {
+    std::string words;
+    switch (status) {
+        case cut::CutStatus::kOk:
+            words = "the mesh was cut";
+            break;
+        case cut::CutStatus::kPlaneMissesMesh:
+            words =
+                "the plane crosses no triangle of the mesh: check the plane's point and "
+                "normal (and --units)";
+            break;
+        case cut::CutStatus::kSeedNotOnSurface:
+            words =
+                "the seed is not on the mesh's surface: give a point where the blade touches "
+                "the bone";
+            break;
+        case cut::CutStatus::kSeedFarFromCut:
+            words =
+                "no part of the cross-section is reachable from the seed near the plane: put "
+                "the seed where the plane meets the bone";
+            break;
+        case cut::CutStatus::kSeedOnInnerBoundary:
+            words =
+                "the seed is on an inner wall (e.g. the medullary canal): put it on the bone's "
+                "outer surface";
+            break;
+        case cut::CutStatus::kNonManifoldInput:
+            words =
+                "the mesh is not a closed manifold where the plane passes (an open edge or a "
+                "broken fan; see kerf mesh info): repair the mesh or move the plane";
+            break;
+        case cut::CutStatus::kInvalidPlane:
+            words = "the plane has a non-finite value or a zero normal";
+            break;
+        case cut::CutStatus::kInvalidArgument:
+            words = "an argument is out of range (e.g. a kerf width that is not positive)";
+            break;
+        case cut::CutStatus::kDegenerateCrossSection:
+            words =
+                "the cross-section pinches at a vertex or along an edge: move or tilt the "
+                "plane slightly";
+            break;
+        case cut::CutStatus::kCapTriangulationFailed:
+            words =
+                "the cut face could not be filled without sliver triangles: move or tilt the "
+                "plane slightly";
+            break;
+        case cut::CutStatus::kSliverSplit:
+            words =
+                "the plane passes so near a vertex of a thin triangle that a piece would have "
+                "almost no area: move the plane by a fraction of a millimetre";
+            break;
+        case cut::CutStatus::kInternalError:
+            words = "an internal check failed; please report this with the mesh and the command";
+            break;
+    }
+    return words + " [" + std::string(cut::to_string(status)) + "]";
 }
 
 namespace {
@@ -82,8 +165,7 @@ Status<CutJobError> run_directly(mesh::TriMesh& mesh, const CutJob& job, CutRepo
         }
         const cut::CutResult r = cut_directly(ctx, plane, seed, job);
         if (!r.ok()) {
-            return Err{
-                CutJobError{i, r.status, "cut refused: " + std::string(to_string(r.status))}};
+            return Err{CutJobError{i, r.status, "cut refused: " + refusal_text(r.status)}};
         }
         report.steps.push_back({i, r});
     }
@@ -105,8 +187,7 @@ Status<CutJobError> run_in_session(mesh::TriMesh& mesh, const CutJob& job, CutRe
         begin.kerf_width_m = job.mode == CutMode::kSeparated ? job.kerf_m : 0.0;
         const cut::ApplyReport r = session.begin(begin);
         if (r.outcome != cut::EventOutcome::kApplied) {
-            status =
-                Err{CutJobError{i, r.status, "cut refused: " + std::string(to_string(r.status))}};
+            status = Err{CutJobError{i, r.status, "cut refused: " + refusal_text(r.status)}};
             break;
         }
         (void)session.end({begin.cut_id, cut::CutEndKind::kCompleted});

@@ -57,7 +57,16 @@ struct CutJobError {
     std::size_t plane = 0;
     cut::CutStatus status = cut::CutStatus::kInvalidArgument;
     std::string why;
+    std::string argument;  ///< the option at fault ("--seed #2", "--kerf"), "" if plane or mode
 };
+
+/// How far a seed may lie from its plane: half a typical 1 mm blade. A seed is where the blade
+/// touches the bone, so it is on the blade's plane.
+inline constexpr double kSeedPlaneTolerance_m = 0.5e-3;
+
+/// A refused cut in words for the user: what happened and what to try, then the status name in
+/// brackets (for a bug report), e.g. "the plane passes ... [sliver_split]".
+std::string refusal_text(cut::CutStatus status);
 
 /// Checks the job's shape (seed count, kerf for the mode, planes valid) without cutting.
 Status<CutJobError> check_cut_job(const CutJob& job);

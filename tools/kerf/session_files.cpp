@@ -8,16 +8,16 @@
 #include <fstream>
 #include <sstream>
 
+#include "config/file_io/file_io.hpp"
 #include "rt_core/ipc/session_socket.hpp"
 
 namespace kerf::cli {
 namespace fs = std::filesystem;
 
 std::string slurp(const fs::path& p) {
-    std::ifstream f(p);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
+    auto bytes = files::read_regular_file(p, 64u << 20);
+    if (!bytes) return {};
+    return std::string(reinterpret_cast<const char*>(bytes->data()), bytes->size());
 }
 
 bool write_file(const fs::path& p, const std::string& text) {

@@ -24,9 +24,23 @@ bool ignored(std::string_view keyword) {
     return false;
 }
 
-// A face corner reference "i", "i/t", "i//n" or "i/t/n": the vertex index part.
+// A face corner reference "i", "i/t", "i//n" or "i/t/n": the vertex index part; nullopt when
+// any part is not an integer ("1//x", "1/", "1/2/3/4").
 std::optional<long long> vertex_ref(std::string_view token) {
-    return parse_integer(token.substr(0, token.find('/')));
+    std::string_view parts[3];
+    std::size_t n = 0;
+    for (std::size_t start = 0;;) {
+        const std::size_t slash = token.find('/', start);
+        if (n == 3) return std::nullopt;
+        parts[n++] = token.substr(start, slash == std::string_view::npos ? slash : slash - start);
+        if (slash == std::string_view::npos) break;
+        start = slash + 1;
+    }
+    for (std::size_t i = 1; i < n; ++i) {
+        const bool empty_texture_ok = i == 1 && n == 3;  // "i//n": no texture index
+        if (parts[i].empty() ? !empty_texture_ok : !parse_integer(parts[i])) return std::nullopt;
+    }
+    return parse_integer(parts[0]);
 }
 
 class ObjParser {
@@ -58,7 +72,19 @@ std::optional<MeshError> ObjParser::vertex() {
         if (!std::isfinite(*d)) return fail(MeshErrorKind::kNonFinite, "coordinate " + quote(t));
         v = *d;
     }
-    s_.rest_of_line();  // optional w or r g b
+    // Optional: w, or r g b (a common extension), or w r g b; nothing else (`v 0 0 0 junk`).
+    std::size_t extra = 0;
+    for (std::string_view t = s_.next_token_on_line(); !t.empty(); t = s_.next_token_on_line()) {
+        if (t.front() == '#') break;  // a comment ends the line
+        const auto d = parse_double(t);
+        if (!d || !std::isfinite(*d) || ++extra > 4) {
+            return fail(MeshErrorKind::kSyntax,
+                        "after x y z, 'v' takes only w or r g b numbers, found " + quote(t));
+        }
+    }
+    if (extra == 2)
+        return fail(MeshErrorKind::kSyntax, "'v' with 5 numbers (expected 3, 4, 6 or 7)");
+    s_.rest_of_line();
     const auto p = to_metres(c[0], c[1], c[2], ctx_.metres_per_unit);
     if (!p) return fail(MeshErrorKind::kNonFinite, "coordinate overflows after unit scaling");
     if (raw_.size() >= 0xFFFFFFFEu)

@@ -93,6 +93,14 @@ private:
     std::vector<Point> raw_;
     std::vector<Material> materials_;
     std::vector<Triangle> triangles_;
+    /// "vertex" elements not read yet: while any is left, face indices are checked at the end.
+    std::size_t vertex_elements_left_ = 0;
+    /// A face read before its vertices: its triangles and where its index list was, so that a
+    /// bad index found at the end still names the real line or byte.
+    struct FaceSite {
+        std::size_t first_triangle, triangles, line, offset;
+    };
+    std::vector<FaceSite> deferred_;
 };
 
 std::optional<MeshError> PlyParser::header_line(std::string_view keyword) {
@@ -264,14 +272,26 @@ std::optional<MeshError> PlyParser::face(const PlyProperty& p) {
                                                    " bytes left");
     }
     const auto n = static_cast<std::size_t>(count);
+    const bool ascii = encoding_ == PlyEncoding::kAscii;
+    if (vertex_elements_left_ > 0) {
+        deferred_.push_back(
+            {triangles_.size(), n - 2, ascii ? s_.line() : 0, ascii ? s_.offset() : pos_});
+    }
     std::uint32_t first = 0, previous = 0;
     for (std::size_t k = 0; k < n; ++k) {
         double raw = 0;
+        const std::size_t at = pos_;  // binary: the index's own byte
         if (auto e = value(p.type, raw)) return e;
         if (raw < 0 || raw > 4294967294.0 || raw != std::floor(raw)) {
             return fail(MeshErrorKind::kIndexOutOfRange, "vertex index " + number_text(raw));
         }
         const auto v = static_cast<std::uint32_t>(raw);
+        if (vertex_elements_left_ == 0 && v >= raw_.size()) {
+            return ctx_.error(MeshErrorKind::kIndexOutOfRange, ascii ? s_.line() : 0,
+                              ascii ? s_.offset() : at,
+                              "a face refers to vertex " + std::to_string(v) + " but only " +
+                                  std::to_string(raw_.size()) + " vertices exist");
+        }
         if (k == 0) first = v;
         if (k >= 2) triangles_.push_back({first, previous, v});
         previous = v;
@@ -354,16 +374,20 @@ std::optional<MeshError> PlyParser::element(const PlyElement& e) {
 
 Result<IndexedMesh, MeshError> PlyParser::parse() {
     if (auto e = header()) return Err{*e};
+    for (const PlyElement& e : elements_) vertex_elements_left_ += e.name == "vertex" ? 1 : 0;
     for (const PlyElement& e : elements_) {
         if (auto err = element(e)) return Err{*err};
+        if (e.name == "vertex") --vertex_elements_left_;
     }
-    for (const Triangle& t : triangles_) {
-        for (std::uint32_t v : t) {
-            if (v >= raw_.size()) {
-                return Err{ctx_.error(MeshErrorKind::kIndexOutOfRange, 0, 0,
-                                      "a face refers to vertex " + std::to_string(v) +
-                                          " but only " + std::to_string(raw_.size()) +
-                                          " vertices exist")};
+    for (const FaceSite& f : deferred_) {  // faces that came before (some of) the vertices
+        for (std::size_t i = f.first_triangle; i < f.first_triangle + f.triangles; ++i) {
+            for (std::uint32_t v : triangles_[i]) {
+                if (v >= raw_.size()) {
+                    return Err{ctx_.error(MeshErrorKind::kIndexOutOfRange, f.line, f.offset,
+                                          "a face refers to vertex " + std::to_string(v) +
+                                              " but only " + std::to_string(raw_.size()) +
+                                              " vertices exist")};
+                }
             }
         }
     }
