@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "config/expand_path.hpp"
+#include "config/shm_slots.hpp"
 #include "config/toml_reader.hpp"
 
 namespace kerf::config {

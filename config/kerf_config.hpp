@@ -59,20 +59,14 @@ struct RealtimeSettings {
     bool require_realtime = false;  ///< refuse to start when a request is denied
 };
 
-/// Consumer slots in a session segment (rt_core/ipc/layout.hpp, kSlotCount) and how many of them
-/// are reserved: slot 0 for kerf-display, slot 1 for the soak monitor. Tools share the rest, so
-/// `consumer_slots` must leave at least one; tests/ipc checks these against the layout.
-inline constexpr std::uint32_t kSegmentConsumerSlots = 4;
-inline constexpr std::uint32_t kReservedConsumerSlots = 2;
-
 /// The shared-memory session (rt_core/ipc).
 struct ShmSettings {
     std::string session_name = "kerf";  ///< names the segment (shm_open("/" + name)); [A-Za-z0-9_-]
-    std::string group;  ///< empty: owner-only (0600); else 0660 with this (existing) group
+    std::string group;                  ///< empty: owner-only (0600); else 0660 with this group
     std::uint32_t event_ring_capacity = 4096;      ///< records per consumer; power of two
     std::uint32_t telemetry_ring_capacity = 8192;  ///< samples per consumer; power of two
-    std::uint32_t consumer_slots = 4;  ///< display, soak monitor, tools: 3..kSegmentConsumerSlots
-    std::uint32_t heartbeat_timeout_ms = 100;  ///< producer declared dead after this
+    std::uint32_t consumer_slots = 4;              ///< display, tuning, soak, spare
+    std::uint32_t heartbeat_timeout_ms = 100;      ///< producer declared dead after this
 };
 
 /// The session event journal.

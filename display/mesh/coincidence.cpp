@@ -36,7 +36,7 @@ void find_repeated_triangles(const IndexedMesh& mesh, CoincidenceReport& out) {
         if (inserted) continue;
         ++out.repeated_triangles;
         if (out.triangle_samples.size() < kMaxSamples)
-            out.triangle_samples.push_back({i, it->second});
+            out.triangle_samples.push_back(std::array<std::size_t, 2>{{i, it->second}});
     }
 }
 

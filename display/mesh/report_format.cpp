@@ -1,4 +1,4 @@
-// format_report_text(), declared in validate.hpp (JSON: `kerf mesh info --json`, nlohmann-json).
+// format_report_text() and format_report_json(), declared in validate.hpp.
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -20,9 +20,20 @@ std::string significant(double v) {  // 7 significant digits, any magnitude
     return buf;
 }
 
+std::string json_number(double v) {
+    if (!std::isfinite(v)) return "null";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.9g", v);
+    return buf;
+}
+
 std::string point_text(const Point& p, double scale) {
     return "(" + fmt(4, p[0] / scale) + ", " + fmt(4, p[1] / scale) + ", " + fmt(4, p[2] / scale) +
            ")";
+}
+
+std::string point_json(const Point& p) {
+    return "[" + json_number(p[0]) + ", " + json_number(p[1]) + ", " + json_number(p[2]) + "]";
 }
 
 std::string yes_no(bool b) { return b ? "yes" : "no"; }
@@ -77,6 +88,48 @@ std::string format_report_text(const ValidationReport& r, Units units) {
         out +=
             "  boundary edge " + point_text(e[0], s) + " - " + point_text(e[1], s) + " " + u + "\n";
     }
+    return out;
+}
+
+std::string format_report_json(const ValidationReport& r) {
+    auto field = [](const char* k, const std::string& v) {
+        return "\"" + std::string(k) + "\": " + v;
+    };
+    auto num = [](std::size_t v) { return std::to_string(v); };
+    std::string out = "{";
+    out += field("vertices", num(r.vertices)) + ", ";
+    out += field("unreferenced_vertices", num(r.unreferenced_vertices)) + ", ";
+    out += field("triangles", num(r.triangles)) + ", ";
+    out += field("edges", num(r.edges)) + ", ";
+    out += field("closed", r.closed ? "true" : "false") + ", ";
+    out += field("boundary_edges", num(r.boundary_edges)) + ", ";
+    out += field("non_manifold_edges", num(r.non_manifold_edges)) + ", ";
+    out += field("non_manifold_vertices", num(r.non_manifold_vertices)) + ", ";
+    out += field("oriented", r.oriented ? "true" : "false") + ", ";
+    out += field("misoriented_edges", num(r.misoriented_edges)) + ", ";
+    out += field("degenerate_triangles", num(r.degenerate_triangles)) + ", ";
+    out += field("detached_triangles", num(r.detached_triangles)) + ", ";
+    out += field("bbox_min_m", point_json(r.bbox_min_m)) + ", ";
+    out += field("bbox_max_m", point_json(r.bbox_max_m)) + ", ";
+    out += field("area_m2", json_number(r.area_m2)) + ", ";
+    out += field("volume_m3", json_number(r.volume_m3)) + ", ";
+    out += "\"shells\": [";
+    for (std::size_t i = 0; i < r.shells.size(); ++i) {
+        const ShellSummary& s = r.shells[i];
+        out += std::string(i ? ", " : "") + "{" + field("triangles", num(s.triangles)) + ", " +
+               field("vertices", num(s.vertices)) + ", " + field("edges", num(s.edges)) + ", " +
+               field("boundary_edges", num(s.boundary_edges)) + ", " +
+               field("closed", s.closed ? "true" : "false") + ", " +
+               field("euler_characteristic", std::to_string(s.euler_characteristic)) + ", " +
+               field("area_m2", json_number(s.area_m2)) + ", " +
+               field("volume_m3", json_number(s.volume_m3)) + "}";
+    }
+    out += "], \"boundary_samples_m\": [";
+    for (std::size_t i = 0; i < r.boundary_samples_m.size(); ++i) {
+        out += std::string(i ? ", " : "") + "[" + point_json(r.boundary_samples_m[i][0]) + ", " +
+               point_json(r.boundary_samples_m[i][1]) + "]";
+    }
+    out += "]}";
     return out;
 }
 

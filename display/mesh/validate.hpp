@@ -76,4 +76,7 @@ ValidationReport validate(const TriMesh& mesh);
 /// Several lines for people, lengths shown in `units` (mm for most bone files).
 std::string format_report_text(const ValidationReport& r, Units units = Units::kMillimetres);
 
+/// One JSON object, SI units (keys end in _m, _m2, _m3).
+std::string format_report_json(const ValidationReport& r);
+
 }  // namespace kerf::mesh

@@ -130,6 +130,22 @@ Result<SeqpacketListener, TransportError> SeqpacketListener::listen(const std::s
             return Err{TransportError{"listen on emulator socket", path,
                                       "a file that is not a socket is in the way"}};
         }
+        // A socket with a live listener belongs to a running process: never take it over. Only
+        // a stale one (connect refused: its emulator died) is replaced.
+        const int probe = ::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+        if (probe < 0) return os_error("create socket", path, errno);
+        const int rc = ::connect(probe, reinterpret_cast<const sockaddr*>(&addr), sizeof addr);
+        const int err = rc == 0 ? 0 : errno;
+        ::close(probe);
+        if (err != ECONNREFUSED) {
+            return Err{TransportError{
+                "listen on emulator socket", path,
+                err == 0 || err == EAGAIN || err == EINPROGRESS || err == EPROTOTYPE
+                    ? "another process is listening on this socket (a running kerf-hapsim?); "
+                      "refused to take it over: stop that process or choose another path"
+                    : std::string("cannot tell whether another process listens on it (") +
+                          std::strerror(err) + "); refused"}};
+        }
         ::unlink(path.c_str());  // stale socket from an emulator that died
     }
     const int fd = ::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0);

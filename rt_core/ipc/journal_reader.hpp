@@ -20,9 +20,8 @@ enum class JournalRead : std::uint8_t {
 
 class JournalReader {
 public:
-    /// Opens `path` (a regular file owned by this user or root and not writable by others; never
-    /// follows a final symbolic link, never blocks on a FIFO) and checks its header;
-    /// `expected_session_id` 0 accepts any session.
+    /// Opens `path` (regular, owned by this user or root, not world-writable; never follows a
+    /// final link or blocks on a FIFO), checks its header; `expected_session_id` 0: any session.
     static Result<JournalReader, IpcError> open(const std::string& path,
                                                 std::uint64_t expected_session_id);
     /// Takes `fd` (e.g. served by the producer; closed on failure too), requires a regular file

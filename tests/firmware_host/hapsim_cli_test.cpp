@@ -1,11 +1,15 @@
 // kerf-hapsim's command line: every bad argument is a clear error with the right exit code.
 #include <gtest/gtest.h>
+#include <sys/socket.h>
+#include <sys/un.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <fstream>
 #include <string>
 
+#include "firmware_host/transport/seqpacket_socket.hpp"
 #include "tests/firmware_host/hapsim_process.hpp"
 
 namespace kerf::firmware_host {
@@ -56,6 +60,37 @@ TEST(HapsimCli, ASocketPathInTheWayIsAClearError) {
     EXPECT_EQ(rc, 1);
     EXPECT_NE(out.find("a file that is not a socket is in the way"), std::string::npos) << out;
     std::remove(path.c_str());
+}
+
+// Issue 9, item 11: a second kerf-hapsim on the socket a live one listens on is refused (it used
+// to unlink the socket and take it over); a stale socket nobody listens on is replaced.
+TEST(HapsimCli, ALiveListenersSocketIsNeverTakenOverButAStaleOneIsReplaced) {
+    test::HapsimProcess first({});
+    ASSERT_TRUE(first.ready()) << first.output();
+    int rc = 0;
+    std::string out = run("--socket " + first.socket_path() + " --commands", rc);
+    EXPECT_EQ(rc, 1) << out;
+    EXPECT_NE(out.find(first.socket_path()), std::string::npos) << out;
+    EXPECT_NE(out.find("another process is listening on this socket"), std::string::npos) << out;
+    EXPECT_EQ(out.find("ready"), std::string::npos) << out;
+    EXPECT_TRUE(first.command("status")) << first.output();  // the first still serves...
+    auto host = SeqpacketSocket::connect(first.socket_path());
+    EXPECT_TRUE(host) << host.error().message();  // ...on its own socket
+    EXPECT_EQ(first.stop(), 0);
+
+    // Stale: bound, then its owner died without removing it.
+    const std::string stale = test::temp_path("stale.sock");
+    {
+        const int fd = ::socket(AF_UNIX, SOCK_SEQPACKET, 0);
+        sockaddr_un addr{};
+        addr.sun_family = AF_UNIX;
+        std::snprintf(addr.sun_path, sizeof addr.sun_path, "%s", stale.c_str());
+        ASSERT_EQ(::bind(fd, reinterpret_cast<const sockaddr*>(&addr), sizeof addr), 0);
+        ::close(fd);
+    }
+    out = run("--socket " + stale + " --commands", rc);  // stdin at EOF: quits once ready
+    EXPECT_EQ(rc, 0) << out;
+    EXPECT_NE(out.find("ready"), std::string::npos) << out;
 }
 
 TEST(HapsimCli, ABadProfileExitsOneAndNamesTheFile) {

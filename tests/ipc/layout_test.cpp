@@ -7,7 +7,7 @@
 
 #include <cstddef>
 
-#include "config/kerf_config.hpp"  // constants only (no link)
+#include "config/shm_slots.hpp"  // constants only (no link)
 #include "rt_core/ipc/consumer.hpp"
 #include "rt_core/ipc/journal_format.hpp"
 

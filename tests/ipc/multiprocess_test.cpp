@@ -1,10 +1,13 @@
 // Multi-process tests: real processes (ipc_test_peer, fork/exec from KERF_BIN_DIR) on a real
 // POSIX shared-memory segment and journal. Label `integration`.
 #include <fcntl.h>
+#include <grp.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/mman.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
+#include <sys/un.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -12,6 +15,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -351,6 +355,91 @@ TEST(MultiProcess, NoProcessSharingTheSessionCanResizeTheSegmentUnderProducerOrT
     std::printf("adversary: %s", adversary.output().c_str());
 }
 
+/// Runs `body` in a forked child that has become `nobody` (uid/gid 65534, no supplementary
+/// groups); returns the child's exit code, or -1 when the identity could not be changed.
+template <class Body>
+int as_nobody(Body body) {
+    const pid_t pid = fork();
+    if (pid == 0) {
+        if (setgroups(0, nullptr) != 0 || setresgid(65534, 65534, 65534) != 0 ||
+            setresuid(65534, 65534, 65534) != 0) {
+            _exit(255);
+        }
+        _exit(body());
+    }
+    int status = 0;
+    waitpid(pid, &status, 0);
+    if (!WIFEXITED(status) || WEXITSTATUS(status) == 255) return -1;
+    return WEXITSTATUS(status);
+}
+
+// Issue 9, item 6: another user on the machine can neither attach to a session (`kerf shm tail`
+// run as nobody against root's runtime folder) nor reach the producer's descriptors to resize or
+// write the segment; the producer and its consumers carry on. Needs root (CI runs as root).
+TEST(MultiProcess, AnotherUserCanNeitherAttachToNorTamperWithASession) {
+    if (geteuid() != 0) GTEST_SKIP() << "changing to another user needs root";
+    test::ScratchDir dir;
+    const auto name = test::unique_segment_name("foreign");
+    const std::uint64_t n = 200;
+    Peer producer(dir.path, {"producer", "--name", name, "--journal-dir", dir.path, "--events",
+                             std::to_string(n), "--per-tick", "1", "--hold-ms", "30000"});
+    ASSERT_TRUE(wait_for_segment(name));
+    const std::string runtime = default_runtime_dir();
+    const std::string socket = session_socket_of(runtime, name);
+    const std::string out = dir.path + "/nobody.out";
+    ASSERT_EQ(chmod(dir.path.c_str(), 0777), 0);  // so nobody can write its output there
+
+    // Attach as a user would: the real `kerf shm tail`, pointed at root's runtime folder.
+    const int tail = as_nobody([&] {
+        setenv("KERF_RUNTIME_DIR", runtime.c_str(), 1);
+        const int fd = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0666);
+        dup2(fd, 1);
+        dup2(fd, 2);
+        std::string exe = std::string(KERF_BIN_DIR) + "/kerf";
+        std::vector<std::string> args = {exe, "shm", "tail", name, "--from", "0", "--count", "1"};
+        std::vector<char*> argv;
+        for (auto& a : args) argv.push_back(a.data());
+        argv.push_back(nullptr);
+        execv(exe.c_str(), argv.data());
+        return 127;
+    });
+    ASSERT_NE(tail, -1) << "could not become nobody";
+    std::ifstream f(out);
+    const std::string said((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(tail, 1) << said;
+    EXPECT_NE(said.find(name), std::string::npos) << said;
+    EXPECT_EQ(said.find("cut_begin"), std::string::npos) << said;  // no event reached nobody
+
+    // Tamper: every descriptor of the producer (the memfd, the journal) and the socket itself.
+    const int reached = as_nobody([&] {
+        int opened = 0;
+        for (int fd = 0; fd < 256; ++fd) {
+            const std::string p =
+                "/proc/" + std::to_string(producer.pid()) + "/fd/" + std::to_string(fd);
+            const int h = ::open(p.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
+            if (h >= 0) {
+                ++opened;
+                (void)ftruncate(h, 0);
+                ::close(h);
+            }
+        }
+        const int c = ::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0);
+        sockaddr_un addr{};
+        addr.sun_family = AF_UNIX;
+        std::snprintf(addr.sun_path, sizeof addr.sun_path, "%s", socket.c_str());
+        if (::connect(c, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) == 0) ++opened;
+        return opened;
+    });
+    EXPECT_EQ(reached, 0) << "nobody opened " << reached << " of root's session descriptors";
+
+    // Root's own consumer still gets every event; the producer ends cleanly.
+    Peer consumer(dir.path, {"consumer", "--name", name, "--out", dir.path + "/c.bin", "--events",
+                             std::to_string(n), "--max-ms", "20000"});
+    EXPECT_EQ(consumer.wait(), 0) << consumer.output();
+    producer.kill_now(SIGTERM);  // it holds the session open until told
+    EXPECT_EQ(producer.wait(), 0) << producer.output();
+}
+
 std::string run_kerf(const std::string& args, int& exit_code) {
     const std::string cmd = std::string(KERF_BIN_DIR) + "/kerf " + args + " 2>&1";
     FILE* f = popen(cmd.c_str(), "r");
@@ -414,6 +503,32 @@ TEST(KerfShmCommand, JsonOutputsParseAndAnyNameIsListed) {
     EXPECT_EQ(events, 10);
     producer.kill_now(SIGTERM);
     EXPECT_EQ(producer.wait(), 0);
+}
+
+// Issue 9, item 7: a string in the segment (here the journal path, which the producer copies
+// from its journal folder's name) full of escape sequences reaches the terminal as visible \xNN
+// escapes, never as raw control bytes; --json carries it exactly, JSON-escaped.
+TEST(KerfShmCommand, HostileStringsFromTheSegmentArePrintedEscaped) {
+    test::ScratchDir dir;
+    const std::string hostile = dir.path + "/j\x1b]0;pwned\x07\x1b[2J";
+    ASSERT_EQ(mkdir(hostile.c_str(), 0700), 0);
+    const auto name = test::unique_segment_name("hostile");
+    Peer producer(dir.path, {"producer", "--name", name, "--journal-dir", hostile, "--events", "20",
+                             "--per-tick", "5", "--hold-ms", "30000"});
+    ASSERT_TRUE(wait_for_segment(name));
+    int code = -1;
+    const std::string text = run_kerf("shm stats " + name, code);
+    EXPECT_EQ(code, 0) << text;
+    EXPECT_EQ(text.find('\x1b'), std::string::npos) << text;
+    EXPECT_EQ(text.find('\x07'), std::string::npos) << text;
+    EXPECT_NE(text.find("j\\x1b]0;pwned\\x07\\x1b[2J"), std::string::npos) << text;
+    const std::string json = run_kerf("shm stats " + name + " --json 2>/dev/null", code);
+    EXPECT_EQ(code, 0) << json;
+    EXPECT_EQ(json.find('\x1b'), std::string::npos) << json;
+    const auto doc = nlohmann::json::parse(json);
+    EXPECT_NE(doc["journal"].get<std::string>().find("pwned"), std::string::npos) << json;
+    producer.kill_now(SIGTERM);
+    EXPECT_EQ(producer.wait(), 0) << producer.output();
 }
 
 TEST(KerfShmCommand, MissingSessionIsAClearErrorWithExitCode1) {

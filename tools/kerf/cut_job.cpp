@@ -33,18 +33,22 @@ std::optional<CutMode> parse_cut_mode(std::string_view text) noexcept {
 
 Status<CutJobError> check_cut_job(const CutJob& job) {
     if (job.planes.empty())
-        return Err{CutJobError{0, cut::CutStatus::kInvalidArgument, "no plane"}};
+        return Err{CutJobError{0, cut::CutStatus::kInvalidArgument, "no plane", {}}};
     const std::size_t seeds = job.seeds_m.size();
     if (seeds > 1 && seeds != job.planes.size()) {
-        return Err{CutJobError{0, cut::CutStatus::kInvalidArgument,
+        return Err{CutJobError{0,
+                               cut::CutStatus::kInvalidArgument,
                                "give one --seed for all planes or one per plane (" +
                                    std::to_string(job.planes.size()) + " planes, " +
-                                   std::to_string(seeds) + " seeds)"}};
+                                   std::to_string(seeds) + " seeds)",
+                               {}}};
     }
     if (job.mode != CutMode::kUniplanar && !(std::isfinite(job.kerf_m) && job.kerf_m > 0)) {
         return Err{CutJobError{
-            0, cut::CutStatus::kInvalidArgument,
-            std::string("mode ") + std::string(to_string(job.mode)) + " needs a positive --kerf"}};
+            0,
+            cut::CutStatus::kInvalidArgument,
+            std::string("mode ") + std::string(to_string(job.mode)) + " needs a positive --kerf",
+            {}}};
     }
     if (job.mode == CutMode::kUniplanar && job.kerf_m != 0.0) {
         return Err{CutJobError{0, cut::CutStatus::kInvalidArgument,
@@ -54,13 +58,15 @@ Status<CutJobError> check_cut_job(const CutJob& job) {
                                "--kerf"}};
     }
     if (job.mode == CutMode::kBiplanar && seeds == 0) {
-        return Err{CutJobError{0, cut::CutStatus::kInvalidArgument,
-                               "mode biplanar needs --seed (the slab is localised)"}};
+        return Err{CutJobError{0,
+                               cut::CutStatus::kInvalidArgument,
+                               "mode biplanar needs --seed (the slab is localised)",
+                               {}}};
     }
     for (std::size_t i = 0; i < job.planes.size(); ++i) {
         if (!cut::Plane::make(job.planes[i].point_m, job.planes[i].normal)) {
-            return Err{
-                CutJobError{i, cut::CutStatus::kInvalidPlane, "non-finite value or zero normal"}};
+            return Err{CutJobError{
+                i, cut::CutStatus::kInvalidPlane, "non-finite value or zero normal", {}}};
         }
     }
     // A seed is where the blade touches the bone: on its plane (every mode; biplanar used to be
@@ -165,7 +171,7 @@ Status<CutJobError> run_directly(mesh::TriMesh& mesh, const CutJob& job, CutRepo
         }
         const cut::CutResult r = cut_directly(ctx, plane, seed, job);
         if (!r.ok()) {
-            return Err{CutJobError{i, r.status, "cut refused: " + refusal_text(r.status)}};
+            return Err{CutJobError{i, r.status, "cut refused: " + refusal_text(r.status), {}}};
         }
         report.steps.push_back({i, r});
     }
@@ -187,7 +193,7 @@ Status<CutJobError> run_in_session(mesh::TriMesh& mesh, const CutJob& job, CutRe
         begin.kerf_width_m = job.mode == CutMode::kSeparated ? job.kerf_m : 0.0;
         const cut::ApplyReport r = session.begin(begin);
         if (r.outcome != cut::EventOutcome::kApplied) {
-            status = Err{CutJobError{i, r.status, "cut refused: " + refusal_text(r.status)}};
+            status = Err{CutJobError{i, r.status, "cut refused: " + refusal_text(r.status), {}}};
             break;
         }
         (void)session.end({begin.cut_id, cut::CutEndKind::kCompleted});
