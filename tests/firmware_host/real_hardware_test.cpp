@@ -80,7 +80,9 @@ TEST(KerfDevicesCommand, ListsDevicesOrSaysNoneFoundAgainstRealLibraries) {
     EXPECT_TRUE(none || some) << out;
     const auto json =
         run(kerf + " devices --json --devices-dir " KERF_SOURCE_DIR "/config/devices", status);
-    EXPECT_EQ(json.rfind("{\"devices\": [", 0), 0U) << json;
+    // One JSON object (nlohmann-json, indented): the folder, the devices, the errors.
+    EXPECT_EQ(json.rfind("{\n  \"devices_dir\": ", 0), 0U) << json;
+    EXPECT_NE(json.find("\"devices\": ["), std::string::npos) << json;
 }
 
 TEST(KerfDevicesCommand, ABadProfileDirectoryIsAClearError) {
