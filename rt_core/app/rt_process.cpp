@@ -239,7 +239,10 @@ int run_rt_process(const RtOptions& o) {
     WorldBuilder builder(loop->world_handoff(), producer->layout());
     if (replay) {  // worlds swap at the recorded ticks (input_recording.hpp)
         builder.gate(&world_release);
-        replay_device->set_gate({&world_release, &builder.offered_generation()});
+        ReplayWorldGate gate{&world_release, &builder.offered_generation()};
+        gate.keep_alive = [](void* l) noexcept { static_cast<HapticLoop*>(l)->keep_alive(); };
+        gate.keep_alive_context = loop.get();
+        replay_device->set_gate(gate);
     }
     if (world_sync) {
         builder.gate(&world_release);

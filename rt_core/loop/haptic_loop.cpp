@@ -1,5 +1,7 @@
 #include "rt_core/loop/haptic_loop.hpp"
 
+#include <time.h>
+
 #include <cmath>
 #include <cstring>
 
@@ -285,6 +287,13 @@ void HapticLoop::track_device_state() noexcept {
         next = ipc::DeviceState::kReady;
     }
     if (next != device_state_) publish_device_state(next);
+}
+
+void HapticLoop::keep_alive() noexcept {
+    timespec ts{};
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    producer_.heartbeat(tick_,
+                        std::uint64_t(ts.tv_sec) * 1'000'000'000u + std::uint64_t(ts.tv_nsec));
 }
 
 void HapticLoop::write_device() noexcept {

@@ -108,6 +108,9 @@ public:
     void record_compute(std::uint64_t compute_ns) noexcept;
     /// Commands zero force with the amplifiers off (shutdown, signals). noexcept.
     void command_zero() noexcept;
+    /// From the loop thread while a tick is held up on purpose (a replay waiting for its recorded
+    /// collision world): refreshes the heartbeat so consumers still see a live producer. noexcept.
+    void keep_alive() noexcept;
 
     Handoff<WorldSnapshot>& world_handoff() noexcept { return world_handoff_; }
     Handoff<ProfileUpdate>& profile_handoff() noexcept { return profile_handoff_; }

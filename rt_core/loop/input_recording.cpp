@@ -181,11 +181,13 @@ DeviceStatus ReplayDevice::try_read(DeviceSample& out, std::uint32_t) noexcept {
         gate_.release->store(due, std::memory_order_release);
         const auto limit =
             std::chrono::steady_clock::now() + std::chrono::milliseconds(gate_.wait_limit_ms);
-        while (gate_.offered->load(std::memory_order_acquire) < due) {
+        while (due > given_up_generation_ && gate_.offered->load(std::memory_order_acquire) < due) {
             if (std::chrono::steady_clock::now() > limit) {
                 ++late_worlds_;
+                given_up_generation_ = due;  // counted once; the replay goes on without it
                 break;
             }
+            if (gate_.keep_alive) gate_.keep_alive(gate_.keep_alive_context);
             std::this_thread::sleep_for(std::chrono::microseconds(200));
         }
     }

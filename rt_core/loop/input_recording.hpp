@@ -141,6 +141,10 @@ struct ReplayWorldGate {
     std::atomic<std::uint64_t>* release = nullptr;        ///< the builder may offer up to this
     const std::atomic<std::uint64_t>* offered = nullptr;  ///< the newest generation offered
     std::uint32_t wait_limit_ms = 30'000;                 ///< then go on and count a late world
+    /// Called while waiting (from the loop thread): keeps the session's heartbeat fresh, so a
+    /// display can still attach and publish the world the replay waits for. Real-time safe.
+    void (*keep_alive)(void* context) noexcept = nullptr;
+    void* keep_alive_context = nullptr;
 };
 
 /// A Device replaying a recording: try_read returns tick N's recorded status and sample.
@@ -170,6 +174,7 @@ private:
     firmware_host::DeviceCounters counters_;
     std::uint64_t next_ = 0;
     std::uint64_t late_worlds_ = 0;
+    std::uint64_t given_up_generation_ = 0;  ///< a world that came too late is not waited for again
 };
 
 }  // namespace kerf::rt

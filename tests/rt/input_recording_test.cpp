@@ -182,5 +182,34 @@ TEST(InputRecording, ReplayHoldsTheLoopUntilTheRecordedWorldIsOffered) {
     EXPECT_EQ(replay.late_worlds(), 0u);
 }
 
+// A world that never comes (the display could not attach: CI saw kerf replay hang for minutes)
+// costs one wait, counted, not one per remaining tick; the wait keeps the heartbeat fresh, so a
+// display can still attach to the waiting session.
+TEST(InputRecording, AWorldThatNeverComesIsWaitedForOnceAndTheWaitKeepsTheSessionAlive) {
+    Recording recording;
+    recording.period_ns = 1'000'000;
+    for (std::uint64_t t = 0; t < 200; ++t) {
+        RecordedInput r{};
+        r.tick = t;
+        r.world_generation = t >= 2 ? 1 : 0;  // world 1 due at tick 2; never offered
+        r.status = std::uint8_t(DeviceStatus::kOk);
+        r.orientation_wxyz[0] = 1;
+        recording.inputs.push_back(r);
+    }
+    std::atomic<std::uint64_t> release{0}, offered{0};
+    int beats = 0;
+    ReplayWorldGate gate{&release, &offered, 50};
+    gate.keep_alive = [](void* n) noexcept { ++*static_cast<int*>(n); };
+    gate.keep_alive_context = &beats;
+    ReplayDevice replay(recording, gate);
+    DeviceSample s;
+    for (int t = 0; t < 200; ++t) ASSERT_EQ(replay.try_read(s, 0), DeviceStatus::kOk) << t;
+    EXPECT_EQ(replay.late_worlds(), 1u);
+    EXPECT_GT(beats, 0) << "the wait never refreshed the heartbeat";
+    // One wait: at most 50 ms / 200 us (+1) beats; waiting again at each of the 198 later ticks
+    // would give ~50,000 (and ~10 s). A loaded machine only sleeps longer: fewer beats.
+    EXPECT_LE(beats, 251);
+}
+
 }  // namespace
 }  // namespace kerf::rt
