@@ -52,7 +52,7 @@ packages=(
   nlohmann-json3-dev
   gnuplot-nox
 )
-if [[ $bench_peers == 1 ]]; then packages+=(libvtk9-dev libcgal-dev); fi
+if [[ $bench_peers == 1 ]]; then packages+=(libvtk9-dev libcgal-dev libjsoncpp-dev); fi
 
 missing=()
 for p in "${packages[@]}"; do
