@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -113,24 +114,33 @@ TEST(Supervisor, AnEssentialProcessEndingEndsTheSession) {
 TEST(Supervisor, RestartsARestartableProcessAndGoesOn) {
     const auto dir = temp_dir("restart");
     const auto count = dir / "starts";
+    const auto lines = [&] {
+        std::ifstream in(count);
+        std::string all((std::istreambuf_iterator<char>(in)), {});
+        for (const char c : all) EXPECT_TRUE(c == 'x' || c == '\n') << all;
+        return static_cast<int>(std::count(all.begin(), all.end(), '\n'));
+    };
     Supervisor sup;
     ASSERT_TRUE(
         sup.add({shell("display", "echo x >> " + count.string() + "; exit 1"), Policy::kRestart}));
     int told = 0;
+    // Stop once three starts have written their line, not once the second restart was spawned: on
+    // a loaded machine the third start may not have run its `echo` yet when the supervisor stops.
     const auto deadline = std::chrono::steady_clock::now() + 120s;
-    const RunOutcome out = sup.run(
-        [&] { return sup.restarts("display") >= 2 || std::chrono::steady_clock::now() > deadline; },
-        [&](const std::string& name, int n) {
-            EXPECT_EQ(name, "display");
-            told = n;
-        });
+    const RunOutcome out =
+        sup.run([&] { return lines() >= 3 || std::chrono::steady_clock::now() > deadline; },
+                [&](const std::string& name, int n) {
+                    EXPECT_EQ(name, "display");
+                    told = n;
+                });
     EXPECT_TRUE(out.ok());
-    EXPECT_EQ(sup.restarts("display"), 2);
-    EXPECT_EQ(told, 2);
+    const int restarts = sup.restarts("display");
+    EXPECT_GE(restarts, 2);
+    EXPECT_EQ(told, restarts);  // told of every restart, with its count
     sup.stop_all();
-    std::ifstream in(count);
-    std::string all((std::istreambuf_iterator<char>(in)), {});
-    EXPECT_EQ(all, "x\nx\nx\n");  // first start and two restarts
+    // Every start writes one line, except possibly the last one, stopped before it ran `echo`.
+    EXPECT_GE(lines(), 3);
+    EXPECT_LE(lines(), restarts + 1);
     std::filesystem::remove_all(dir);
 }
 
