@@ -237,55 +237,100 @@ bool separate_loop(TriMesh& m, const std::vector<VertexHandle>& r,
     return true;
 }
 
-// Closes the rim loops of one side with the cap triangles `tris` (vertex triples, wound to face
-// out of that side). Built directly on the halfedge arrays: every triangle edge is either a rim
-// boundary halfedge or an inner edge shared by two cap triangles, so no search around vertices
-// (OpenMesh's add_face would scan a fan vertex's whole one-ring for every triangle).
-bool add_cap(TriMesh& m, const std::vector<std::array<VertexHandle, 3>>& tris, RimEdges& rim,
-             std::vector<FaceHandle>& faces) {
-    const std::size_t n = tris.size();
-    std::vector<HalfedgeHandle> he(3 * n);
-    struct Inner {
-        std::uint64_t undirected;
-        std::uint32_t slot;
-        bool operator<(const Inner& o) const {
-            return undirected < o.undirected || (undirected == o.undirected && slot < o.slot);
-        }
+// Closes the rim loops of one side with the plan's cap triangles on that side's vertices
+// (`vertex` per plan point; `reversed`: corners b and c swapped, so the cap faces the other way).
+// Built directly on the halfedge arrays: every triangle edge is either a rim boundary halfedge or
+// an inner edge shared by two cap triangles, paired by the plan (SectionPlan::cap_neighbours), so
+// no search around vertices (OpenMesh's add_face would scan a fan vertex's whole one-ring for
+// every triangle) and no sort of the edges (they are numbered in the order of their two vertex
+// handles, as OpenMesh's new_edge in sorted order gave them, by two counting passes).
+bool add_cap(TriMesh& m, const SectionPlan& plan, const std::vector<VertexHandle>& vertex,
+             bool reversed, RimEdges& rim, std::vector<FaceHandle>& faces) {
+    const std::size_t n = plan.cap_triangles.size();
+    // Slot 3t + k of this side: edge from corner k to corner k + 1 of triangle t as built here.
+    auto corner = [&](std::size_t t, int k) {
+        const Triangle& tri = plan.cap_triangles[t];
+        if (reversed) k = (3 - k) % 3;  // (a, c, b)
+        return k == 0 ? tri.a : (k == 1 ? tri.b : tri.c);
     };
-    std::vector<Inner> inner;
+    // A plan slot 3t + e (corner e -> e + 1) is slot 3t + (2 - e) here when reversed.
+    auto side_slot = [&](std::uint32_t plan_slot) {
+        return reversed ? plan_slot - plan_slot % 3 + (2 - plan_slot % 3) : plan_slot;
+    };
+    auto across = [&](std::uint32_t slot) {
+        const std::uint32_t o = plan.cap_neighbours[side_slot(slot)];
+        return o == kNoCapNeighbour ? o : side_slot(o);
+    };
+    std::vector<HalfedgeHandle> he(3 * n);
+    std::vector<char> on_rim(3 * n, 0);
+    std::vector<std::uint32_t> inner;  // the lower slot of each inner edge
     std::size_t rim_used = 0;
     for (std::size_t t = 0; t < n; ++t)
         for (int k = 0; k < 3; ++k) {
-            const VertexHandle u = tris[t][k], v = tris[t][(k + 1) % 3];
+            const VertexHandle u = vertex[corner(t, k)], v = vertex[corner(t, (k + 1) % 3)];
             // A rim edge u -> v is u's own halfedge: separate_loop made every rim vertex's
             // halfedge its outgoing boundary halfedge (rim vertices are never on a boundary of
             // the input: the walk refuses those), so no search.
             const HalfedgeHandle b = m.halfedge_handle(u);
             if (b.is_valid() && m.is_boundary(b) && m.to_vertex_handle(b) == v) {
                 he[3 * t + k] = b;
+                on_rim[3 * t + k] = 1;
                 ++rim_used;
-                continue;
             }
-            inner.push_back(Inner{u.idx() < v.idx() ? edge_key(u, v) : edge_key(v, u),
-                                  static_cast<std::uint32_t>(3 * t + k)});
         }
-    std::sort(inner.begin(), inner.end());
-    if (inner.size() % 2 != 0 || rim_used != rim.size()) return false;  // every rim edge once
-    for (std::size_t i = 0; i < inner.size(); i += 2) {
-        if (inner[i].undirected != inner[i + 1].undirected) return false;
-        const std::uint32_t a = inner[i].slot, b = inner[i + 1].slot;
-        const VertexHandle v = tris[a / 3][(a % 3 + 1) % 3];
-        if (tris[b / 3][b % 3] != v) return false;  // the two uses must run opposite ways
+    if (rim_used != rim.size()) return false;  // every rim edge once
+    for (std::uint32_t slot = 0; slot < 3 * n; ++slot) {
+        if (on_rim[slot]) continue;
+        const std::uint32_t o = across(slot);
+        if (o == kNoCapNeighbour || on_rim[o]) return false;
+        // The two uses must run opposite ways.
+        if (corner(o / 3, static_cast<int>(o % 3)) !=
+                corner(slot / 3, static_cast<int>(slot % 3 + 1) % 3) ||
+            across(o) != slot)
+            return false;
+        if (slot < o) inner.push_back(slot);
+    }
+    // Order of the new edges: by (lower, higher) vertex handle of the edge. Points ranked by
+    // their handle, then two stable counting passes (higher rank, then lower rank) over the
+    // edges in slot order.
+    std::vector<std::pair<int, std::uint32_t>> by_handle;
+    by_handle.reserve(plan.points.size());
+    std::vector<char> used(plan.points.size(), 0);
+    for (const Triangle& t : plan.cap_triangles) used[t.a] = used[t.b] = used[t.c] = 1;
+    for (std::uint32_t p = 0; p < plan.points.size(); ++p)
+        if (used[p]) by_handle.emplace_back(vertex[p].idx(), p);
+    if (!std::is_sorted(by_handle.begin(), by_handle.end()))
+        std::sort(by_handle.begin(), by_handle.end());
+    std::vector<std::uint32_t> rank(plan.points.size(), 0);
+    for (std::uint32_t r = 0; r < by_handle.size(); ++r) rank[by_handle[r].second] = r;
+    auto ranks = [&](std::uint32_t slot, std::uint32_t& lo, std::uint32_t& hi) {
+        const std::uint32_t a = rank[corner(slot / 3, static_cast<int>(slot % 3))];
+        const std::uint32_t b = rank[corner(slot / 3, static_cast<int>(slot % 3 + 1) % 3)];
+        lo = std::min(a, b), hi = std::max(a, b);
+    };
+    std::vector<std::uint32_t> count(by_handle.size() + 1), sorted(inner.size());
+    for (int pass = 0; pass < 2; ++pass) {
+        std::fill(count.begin(), count.end(), 0u);
+        auto key = [&](std::uint32_t slot) {
+            std::uint32_t lo = 0, hi = 0;
+            ranks(slot, lo, hi);
+            return pass == 0 ? hi : lo;
+        };
+        for (const std::uint32_t slot : inner) ++count[key(slot) + 1];
+        for (std::size_t k = 1; k < count.size(); ++k) count[k] += count[k - 1];
+        for (const std::uint32_t slot : inner) sorted[count[key(slot)]++] = slot;
+        inner.swap(sorted);
     }
     // Every edge and face allocated in one resize, handed out in the order OpenMesh's
     // new_edge / new_face would give them.
     const int ne = static_cast<int>(m.n_edges()), nf = static_cast<int>(m.n_faces());
-    m.resize(m.n_vertices(), ne + inner.size() / 2, nf + n);
-    for (std::size_t i = 0; i < inner.size(); i += 2) {
-        const std::uint32_t a = inner[i].slot, b = inner[i + 1].slot;
-        const VertexHandle u = tris[a / 3][a % 3], v = tris[a / 3][(a % 3 + 1) % 3];
-        he[a] = make_edge(m, EdgeHandle(ne + static_cast<int>(i / 2)), u, v);
-        he[b] = m.opposite_halfedge_handle(he[a]);
+    m.resize(m.n_vertices(), ne + inner.size(), nf + n);
+    for (std::size_t i = 0; i < inner.size(); ++i) {
+        const std::uint32_t a = inner[i];
+        const VertexHandle u = vertex[corner(a / 3, static_cast<int>(a % 3))];
+        const VertexHandle v = vertex[corner(a / 3, static_cast<int>(a % 3 + 1) % 3)];
+        he[a] = make_edge(m, EdgeHandle(ne + static_cast<int>(i)), u, v);
+        he[across(a)] = m.opposite_halfedge_handle(he[a]);
     }
     for (std::size_t t = 0; t < n; ++t) {
         const FaceHandle f(nf + static_cast<int>(t));
@@ -293,7 +338,7 @@ bool add_cap(TriMesh& m, const std::vector<std::array<VertexHandle, 3>>& tris, R
         for (int k = 0; k < 3; ++k) {
             m.set_face_handle(he[3 * t + k], f);
             m.set_next_halfedge_handle(he[3 * t + k], he[3 * t + (k + 1) % 3]);
-            m.set_halfedge_handle(tris[t][k], he[3 * t + k]);
+            m.set_halfedge_handle(vertex[corner(t, k)], he[3 * t + k]);
         }
         faces.push_back(f);
     }
@@ -361,17 +406,8 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
             s.tree.insert(m, f);
     }
     // Caps: positive side faces -normal (reversed triangles), negative side +normal.
-    std::vector<std::array<VertexHandle, 3>> pos_tris, neg_tris;
-    pos_tris.reserve(plan.cap_triangles.size());
-    neg_tris.reserve(plan.cap_triangles.size());
-    for (const Triangle& t : plan.cap_triangles) {
-        const std::uint32_t a = plan.cap_points[t.a], b = plan.cap_points[t.b],
-                            c = plan.cap_points[t.c];
-        pos_tris.push_back({rim[a], rim[c], rim[b]});
-        neg_tris.push_back({dup[a], dup[b], dup[c]});
-    }
-    if (!add_cap(m, pos_tris, pos_rim, out.positive.cap_faces) ||
-        !add_cap(m, neg_tris, neg_rim, out.negative.cap_faces))
+    if (!add_cap(m, plan, rim, true, pos_rim, out.positive.cap_faces) ||
+        !add_cap(m, plan, dup, false, neg_rim, out.negative.cap_faces))
         return CutStatus::kInternalError;
     for (FaceHandle f : out.positive.cap_faces) {
         m.set_normal(f, -plane.normal());

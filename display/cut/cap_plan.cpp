@@ -174,6 +174,10 @@ GroupResult try_triangulate_group(ContextState& s, const Plane& plane,
     if (!s.triangulator.triangulate(spans, tris) || !repair_slivers(uv, tris))
         return GroupResult::kFailed;
     for (Triangle& t : tris) t = Triangle{index[t.a], index[t.b], index[t.c]};
+    if (gaps.empty()) {  // every point kept: nothing to put back
+        out.insert(out.end(), tris.begin(), tris.end());
+        return GroupResult::kOk;
+    }
     // Put the left-out points back: the triangle on kept edge (u, w) becomes a fan from its apex.
     std::vector<std::pair<std::uint64_t, std::uint32_t>> by_edge;
     by_edge.reserve(3 * tris.size());
@@ -216,51 +220,116 @@ GroupResult try_triangulate_group(ContextState& s, const Plane& plane,
     return GroupResult::kOk;
 }
 
+// Cap triangles with the neighbour across each edge (SectionPlan::cap_neighbours), kept up to
+// date through every flip, so the triangle across an edge is one lookup (searching the
+// triangles, or a per-point edge table rebuilt every pass, made the flips a third of a cut).
+class CapAdjacency {
+public:
+    CapAdjacency(std::vector<Triangle>& tris, std::vector<std::uint32_t>& neighbours)
+        : tris_(tris), nb_(neighbours) {}
+
+    static std::uint32_t corner(const Triangle& t, int k) {
+        return k == 0 ? t.a : (k == 1 ? t.b : t.c);
+    }
+
+    // Links every edge slot to the slot of its reverse edge; false when a directed edge is held
+    // twice (not a triangulation). O(points + triangles): every triangle at point u has one edge
+    // out of u and the one before it into u, so u's incoming edges are found through its own.
+    bool build(std::size_t points) {
+        const auto n = static_cast<std::uint32_t>(tris_.size());
+        nb_.assign(3 * std::size_t{n}, kNoCapNeighbour);
+        first_.assign(points + 1, 0);
+        for (const Triangle& t : tris_) ++first_[t.a + 1], ++first_[t.b + 1], ++first_[t.c + 1];
+        for (std::size_t k = 1; k < first_.size(); ++k) first_[k] += first_[k - 1];
+        out_.resize(3 * std::size_t{n});
+        fill_.assign(first_.begin(), first_.end() - 1);
+        for (std::uint32_t i = 0; i < n; ++i)
+            for (int e = 0; e < 3; ++e) out_[fill_[corner(tris_[i], e)]++] = 3 * i + e;
+        seen_.assign(points, kNoCapNeighbour);  // per point w: the slot u -> w, this u's only
+        for (std::uint32_t u = 0; u < points; ++u) {
+            for (std::uint32_t k = first_[u]; k < first_[u + 1]; ++k) {
+                const std::uint32_t w = to(out_[k]);
+                if (seen_[w] != kNoCapNeighbour && from(seen_[w]) == u) return false;
+                seen_[w] = out_[k];
+            }
+            for (std::uint32_t k = first_[u]; k < first_[u + 1]; ++k) {
+                const std::uint32_t in = before(out_[k]);  // x -> u
+                const std::uint32_t back = seen_[from(in)];
+                if (back == kNoCapNeighbour || from(back) != u || nb_[in] == back) continue;
+                if (nb_[in] != kNoCapNeighbour || nb_[back] != kNoCapNeighbour) return false;
+                nb_[in] = back, nb_[back] = in;
+            }
+        }
+        return true;
+    }
+
+    // The slot across slot `s` (kNoCapNeighbour on the rim).
+    std::uint32_t across(std::uint32_t s) const { return nb_[s]; }
+
+    // Flips the edge of slot si = 3i + e (c -> a, triangle i = (a, b, c) read from a) with its
+    // reverse sj = 3j + f (a -> c, triangle j = (a, c, d)): i becomes (a, b, d), j (b, c, d).
+    void flip(std::uint32_t si, std::uint32_t sj) {
+        const std::uint32_t i = si / 3, j = sj / 3;
+        const int e = static_cast<int>(si % 3), f = static_cast<int>(sj % 3);
+        const Triangle ti = tris_[i], tj = tris_[j];
+        const std::uint32_t a = corner(ti, (e + 1) % 3), b = corner(ti, (e + 2) % 3),
+                            c = corner(ti, e), d = corner(tj, (f + 2) % 3);
+        const std::uint32_t ab = nb_[3 * i + (e + 1) % 3], bc = nb_[3 * i + (e + 2) % 3];
+        const std::uint32_t cd = nb_[3 * j + (f + 1) % 3], da = nb_[3 * j + (f + 2) % 3];
+        tris_[i] = Triangle{a, b, d};
+        tris_[j] = Triangle{b, c, d};
+        link(3 * i, ab), link(3 * i + 2, da), link(3 * j, bc), link(3 * j + 1, cd);
+        nb_[3 * i + 1] = 3 * j + 2, nb_[3 * j + 2] = 3 * i + 1;
+    }
+
+private:
+    std::uint32_t from(std::uint32_t s) const {
+        return corner(tris_[s / 3], static_cast<int>(s % 3));
+    }
+    std::uint32_t to(std::uint32_t s) const {
+        return corner(tris_[s / 3], static_cast<int>(s % 3 + 1) % 3);
+    }
+    static std::uint32_t before(std::uint32_t s) { return s - s % 3 + (s % 3 + 2) % 3; }
+    void link(std::uint32_t s, std::uint32_t other) {
+        nb_[s] = other;
+        if (other != kNoCapNeighbour) nb_[other] = s;
+    }
+
+    std::vector<Triangle>& tris_;
+    std::vector<std::uint32_t>& nb_;
+    std::vector<std::uint32_t> first_, out_, fill_, seen_;
+};
+
 // Lawson flips towards the Delaunay triangulation of the cap (in the plane frame): an inner edge
 // whose opposite vertex lies inside the other triangle's circumcircle is flipped when both new
 // triangles are `good`. Ear clipping leaves long thin ears; Delaunay maximises the smallest angle,
-// so what stays thin is only what the rim itself forces. A bounded number of passes.
+// so what stays thin is only what the rim itself forces. A bounded number of passes; in a pass a
+// triangle flips at most once, and an edge next to a triangle flipped in that pass waits for the
+// next pass (the order and the result of the per-pass edge table this replaced).
 template <class Good>
-void delaunay_flips(const SectionPlan& plan, std::vector<Triangle>& tris, const Good& good) {
-    // Directed edge (u, v) -> its triangle: per u, its outgoing edges in triangle order (a CSR
-    // over the point indices, O(points + triangles) per pass; a sorted list cost a third of a
-    // localised cut). The first match is the lowest triangle, as a sorted list gave.
-    struct Out {
-        std::uint32_t to, tri;
-    };
-    std::vector<std::uint32_t> first;
-    std::vector<Out> out;
-    auto find = [&](std::uint32_t u, std::uint32_t v) {
-        for (std::uint32_t k = first[u]; k < first[u + 1]; ++k)
-            if (out[k].to == v) return out[k].tri;
-        return ~std::uint32_t{0};
-    };
+void delaunay_flips(const SectionPlan& plan, std::vector<Triangle>& tris, CapAdjacency& adj,
+                    const Good& good) {
+    std::vector<char> touched;
     for (int pass = 0; pass < 8; ++pass) {
-        first.assign(plan.points.size() + 1, 0);
-        for (const Triangle& t : tris) ++first[t.a + 1], ++first[t.b + 1], ++first[t.c + 1];
-        for (std::size_t k = 1; k < first.size(); ++k) first[k] += first[k - 1];
-        out.resize(3 * tris.size());
-        std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
-        for (std::uint32_t i = 0; i < tris.size(); ++i) {
-            const Triangle& t = tris[i];
-            out[fill[t.a]++] = Out{t.b, i}, out[fill[t.b]++] = Out{t.c, i};
-            out[fill[t.c]++] = Out{t.a, i};
-        }
-        std::vector<char> touched(tris.size(), 0);
+        touched.assign(tris.size(), 0);
         bool flipped = false;
         for (std::uint32_t i = 0; i < tris.size(); ++i) {
             for (int r = 0; r < 3 && !touched[i]; ++r) {
-                Triangle t = tris[i];
-                for (int k = 0; k < r; ++k) t = Triangle{t.b, t.c, t.a};
-                // Edge c -> a of t; the neighbour holds a -> c with apex d.
-                const std::uint32_t j = find(t.a, t.c);
-                if (j == ~std::uint32_t{0} || touched[j] || j == i) continue;
-                Triangle o = tris[j];
-                while (o.a != t.a) o = Triangle{o.b, o.c, o.a};
-                if (o.b != t.c) continue;
-                const std::uint32_t d = o.c;
-                const Vec2 &pa = plan.points[t.a].uv, &pb = plan.points[t.b].uv,
-                           &pc = plan.points[t.c].uv, &pd = plan.points[d].uv;
+                // Triangle i read from corner r: (a, b, c); edge c -> a is slot 3i + (r + 2) % 3,
+                // and the neighbour holds a -> c with apex d.
+                const Triangle& ti = tris[i];
+                const std::uint32_t a = CapAdjacency::corner(ti, r),
+                                    b = CapAdjacency::corner(ti, (r + 1) % 3),
+                                    c = CapAdjacency::corner(ti, (r + 2) % 3);
+                const std::uint32_t si = 3 * i + static_cast<std::uint32_t>((r + 2) % 3);
+                const std::uint32_t sj = adj.across(si);
+                if (sj == kNoCapNeighbour) continue;
+                const std::uint32_t j = sj / 3;
+                if (touched[j] || j == i) continue;
+                const std::uint32_t d =
+                    CapAdjacency::corner(tris[j], static_cast<int>(sj % 3 + 2) % 3);
+                const Vec2 &pa = plan.points[a].uv, &pb = plan.points[b].uv,
+                           &pc = plan.points[c].uv, &pd = plan.points[d].uv;
                 const double adx = pa[0] - pd[0], ady = pa[1] - pd[1];
                 const double bdx = pb[0] - pd[0], bdy = pb[1] - pd[1];
                 const double cdx = pc[0] - pd[0], cdy = pc[1] - pd[1];
@@ -269,9 +338,8 @@ void delaunay_flips(const SectionPlan& plan, std::vector<Triangle>& tris, const 
                                    (cdx * cdx + cdy * cdy) * (adx * bdy - bdx * ady);
                 const double scale = (adx * adx + ady * ady) * (bdx * bdx + bdy * bdy);
                 if (!(det > 1e-9 * scale)) continue;  // not clearly inside the circumcircle
-                const Triangle n1{t.a, t.b, d}, n2{t.b, t.c, d};
-                if (!good(n1) || !good(n2)) continue;
-                tris[i] = n1, tris[j] = n2;
+                if (!good(Triangle{a, b, d}) || !good(Triangle{b, c, d})) continue;
+                adj.flip(si, sj);
                 touched[i] = touched[j] = 1;
                 flipped = true;
             }
@@ -360,7 +428,9 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
         return (plan.points[a].position - plan.points[b].position).sqrnorm();
     };
     std::vector<Triangle>& tris = plan.cap_triangles;
-    delaunay_flips(plan, tris, good);
+    CapAdjacency adj(tris, plan.cap_neighbours);
+    if (!adj.build(plan.points.size())) return CutStatus::kCapTriangulationFailed;
+    delaunay_flips(plan, tris, adj, good);
     // Tries the flip across the longest edge first, then the other two; good triangles first,
     // then acceptable ones.
     bool failed = false;
@@ -372,21 +442,25 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
                 fixed = true;
                 break;
             }
-            Triangle t = tris[i];
-            for (int r = 0; r < 3 && len2(t.c, t.a) < std::max(len2(t.a, t.b), len2(t.b, t.c)); ++r)
+            // Read from corner r, triangle i is (a, b, c) with c -> a its longest edge.
+            int r = 0;
+            for (Triangle t = tris[i];
+                 r < 3 && len2(t.c, t.a) < std::max(len2(t.a, t.b), len2(t.b, t.c)); ++r)
                 t = Triangle{t.b, t.c, t.a};
-            for (int edge = 0; edge < 3 && !fixed; ++edge, t = Triangle{t.b, t.c, t.a}) {
-                for (std::size_t k = 0; k < tris.size() && !fixed; ++k) {
-                    const std::uint32_t v[3] = {tris[k].a, tris[k].b, tris[k].c};
-                    for (int e = 0; e < 3 && !fixed; ++e) {
-                        if (v[e] != t.a || v[(e + 1) % 3] != t.c) continue;
-                        const std::uint32_t d = v[(e + 2) % 3];
-                        const Triangle n1{t.a, t.b, d}, n2{t.b, t.c, d};
-                        const bool ok =
-                            tier == 0 ? good(n1) && good(n2) : acceptable(n1) && acceptable(n2);
-                        if (ok) tris[i] = n1, tris[k] = n2, fixed = true;
-                    }
-                }
+            r %= 3;
+            for (int edge = 0; edge < 3 && !fixed; ++edge, r = (r + 1) % 3) {
+                const Triangle& ti = tris[i];
+                const std::uint32_t a = CapAdjacency::corner(ti, r),
+                                    b = CapAdjacency::corner(ti, (r + 1) % 3),
+                                    c = CapAdjacency::corner(ti, (r + 2) % 3);
+                const auto si = static_cast<std::uint32_t>(3 * i + (r + 2) % 3);
+                const std::uint32_t sj = adj.across(si);
+                if (sj == kNoCapNeighbour) continue;
+                const std::uint32_t d =
+                    CapAdjacency::corner(tris[sj / 3], static_cast<int>(sj % 3 + 2) % 3);
+                const Triangle n1{a, b, d}, n2{b, c, d};
+                const bool ok = tier == 0 ? good(n1) && good(n2) : acceptable(n1) && acceptable(n2);
+                if (ok) adj.flip(si, sj), fixed = true;
             }
         }
         if (fixed) continue;

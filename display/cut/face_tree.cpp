@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace kerf::cut::detail {
@@ -11,14 +13,30 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-// A float not above x / not below x (float rounding must never shrink a box).
+// The float next to finite f towards -inf / +inf: std::nextafter's value without its library
+// call (an insert rounds six coordinates; the call was a tenth of an insert).
+float next_down(float f) {
+    if (f == 0.0f) return -std::numeric_limits<float>::denorm_min();
+    const auto bits = std::bit_cast<std::uint32_t>(f);
+    return std::bit_cast<float>(f > 0.0f ? bits - 1 : bits + 1);
+}
+float next_up(float f) {
+    if (f == 0.0f) return std::numeric_limits<float>::denorm_min();
+    const auto bits = std::bit_cast<std::uint32_t>(f);
+    return std::bit_cast<float>(f > 0.0f ? bits + 1 : bits - 1);
+}
+
+// A float not above x / not below x (float rounding must never shrink a box). Only a finite
+// float is stepped (NaN and infinities stay as std::nextafter leaves them).
 float round_down(double x) {
     const auto f = static_cast<float>(x);
-    return static_cast<double>(f) > x ? std::nextafter(f, -kInf) : f;
+    if (!(static_cast<double>(f) > x)) return f;
+    return std::isfinite(f) ? next_down(f) : std::nextafter(f, -kInf);
 }
 float round_up(double x) {
     const auto f = static_cast<float>(x);
-    return static_cast<double>(f) < x ? std::nextafter(f, kInf) : f;
+    if (!(static_cast<double>(f) < x)) return f;
+    return std::isfinite(f) ? next_up(f) : std::nextafter(f, kInf);
 }
 
 // Spreads the low 21 bits of x to every third bit.
@@ -66,11 +84,18 @@ FaceTree::Box empty_box() {
 }  // namespace
 
 FaceTree::Item FaceTree::item_of(const mesh::TriMesh& mesh, mesh::FaceHandle f) {
-    Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
-    for (auto v : mesh.fv_range(f)) {
-        lo.minimize(mesh.point(v));
-        hi.maximize(mesh.point(v));
-    }
+    // The three corners straight from the halfedge arrays (a circulator costs several times more).
+    const mesh::HalfedgeHandle h0 = mesh.halfedge_handle(f);
+    const mesh::HalfedgeHandle h1 = mesh.next_halfedge_handle(h0);
+    const mesh::HalfedgeHandle h2 = mesh.next_halfedge_handle(h1);
+    const Vec3& p0 = mesh.point(mesh.to_vertex_handle(h0));
+    const Vec3& p1 = mesh.point(mesh.to_vertex_handle(h1));
+    const Vec3& p2 = mesh.point(mesh.to_vertex_handle(h2));
+    Vec3 lo = p0, hi = p0;
+    lo.minimize(p1);
+    hi.maximize(p1);
+    lo.minimize(p2);
+    hi.maximize(p2);
     Item e;
     e.face = f.idx();
     for (int a = 0; a < 3; ++a) e.box.lo[a] = round_down(lo[a]), e.box.hi[a] = round_up(hi[a]);

@@ -42,13 +42,6 @@ Result<Plane, CutStatus> Plane::make(const Vec3& point_m, const Vec3& normal) no
     return p;
 }
 
-int Plane::side(const Vec3& p, double tolerance_m) const noexcept {
-    const double d = signed_distance(p);
-    if (d > tolerance_m) return 1;
-    if (d < -tolerance_m) return -1;
-    return 0;
-}
-
 Vec2 Plane::to_2d(const Vec3& p) const noexcept {
     const Vec3 r = p - point_;
     return Vec2(OpenMesh::dot(r, u_), OpenMesh::dot(r, v_));

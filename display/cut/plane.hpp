@@ -48,7 +48,10 @@ public:
     }
 
     /// -1, 0 or +1: the side of `p`, 0 when within `tolerance_m` of the plane.
-    int side(const Vec3& p, double tolerance_m) const noexcept;
+    int side(const Vec3& p, double tolerance_m) const noexcept {
+        const double d = signed_distance(p);
+        return d > tolerance_m ? 1 : (d < -tolerance_m ? -1 : 0);
+    }
 
     /// Coordinates of `p` projected into the frame (u, v), m.
     Vec2 to_2d(const Vec3& p) const noexcept;

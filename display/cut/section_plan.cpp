@@ -370,6 +370,7 @@ void SectionPlan::clear() {
     merged.clear();
     cap_points.clear();
     cap_triangles.clear();
+    cap_neighbours.clear();
 }
 
 namespace {

@@ -56,6 +56,9 @@ struct MergedPoint {
     std::uint32_t into;  ///< index in SectionPlan::points of the point that stays
 };
 
+/// A cap triangle edge on the rim (no neighbouring cap triangle): SectionPlan::cap_neighbours.
+inline constexpr std::uint32_t kNoCapNeighbour = 0xffffffffu;
+
 /// Everything the second (editing) phase needs.
 struct SectionPlan {
     std::vector<PlanPoint> points;
@@ -63,6 +66,10 @@ struct SectionPlan {
     std::vector<MergedPoint> merged;  ///< dropped from the selected loops by merge_close_points
     std::vector<std::uint32_t> cap_points;  ///< selected loops' point indices, concatenated
     std::vector<Triangle> cap_triangles;    ///< counter-clockwise, indexing cap_points
+    /// Per cap triangle edge slot 3t + e (from corner e to corner e + 1 of cap_triangles[t]): the
+    /// slot of the same edge, run the other way, in the neighbouring cap triangle, or
+    /// kNoCapNeighbour on the rim.
+    std::vector<std::uint32_t> cap_neighbours;
 
     void clear();
 };
