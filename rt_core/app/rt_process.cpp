@@ -226,6 +226,7 @@ int run_rt_process(const RtOptions& o) {
     auto loop =
         std::make_unique<HapticLoop>(*loop_device, *producer, log, settings, physics, safety);
     if (recording_device) recording_device->attach(*loop);
+    if (replay_device) loop->replay_timing_from(replay_device.get());  // recorded stalls
     // A lost device is opened again by this thread (normal priority), as at start.
     DeviceReconnector reconnector(
         loop->device_link(), loop->device_handoff(),

@@ -92,9 +92,16 @@ void HapticLoop::command_zero() noexcept {
     device_->try_write(command_);
 }
 
-void HapticLoop::tick(const TickTiming& timing) noexcept {
+void HapticLoop::tick(const TickTiming& measured) noexcept {
     swap_at_tick_boundary();
+    tick_timing_ = {measured.missed_deadlines, overran_last_};
     read_device();
+    TickTiming timing = measured;
+    if (timing_replay_) {
+        tick_timing_ = timing_replay_->recorded_timing();
+        timing.missed_deadlines = tick_timing_.missed_deadlines;
+        overran_last_ = tick_timing_.overran_last;
+    }
     compute_kinematics();
     collide_and_force();
     apply_safety(timing);

@@ -60,6 +60,21 @@ struct TickTiming {
     std::uint64_t missed_deadlines = 0;  ///< deadlines skipped because the tick woke too late
 };
 
+/// The timing faults a recorded loop saw at one tick: what a replay re-enacts so that safe-state
+/// entries (and so events and forces) happen at the recorded ticks (input_recording.hpp).
+struct RecordedTiming {
+    std::uint64_t missed_deadlines = 0;  ///< TickTiming::missed_deadlines of the recorded tick
+    bool overran_last = false;           ///< the recorded loop's previous tick overran its period
+};
+
+/// Where a replayed loop takes its timing from (ReplayDevice): asked once per tick, after the
+/// device read, for the tick just read. Real-time safe.
+class TimingReplay {
+public:
+    virtual ~TimingReplay() = default;
+    virtual RecordedTiming recorded_timing() const noexcept = 0;
+};
+
 /// Counters since start (read after the loop stopped, or approximately from another thread).
 struct LoopStats {
     std::uint64_t ticks = 0;
@@ -108,6 +123,12 @@ public:
     void record_compute(std::uint64_t compute_ns) noexcept;
     /// Commands zero force with the amplifiers off (shutdown, signals). noexcept.
     void command_zero() noexcept;
+    /// Before the loop runs (kerf-rt --replay): each tick takes its missed deadlines and the
+    /// previous tick's overrun from `source` instead of the runner's clock, so a recording made in
+    /// real time, stalls included, replays in lockstep to the same safe-state entries.
+    void replay_timing_from(const TimingReplay* source) noexcept { timing_replay_ = source; }
+    /// This tick's timing faults as the loop counts them (RecordingDevice records them).
+    RecordedTiming tick_timing() const noexcept { return tick_timing_; }
     /// From the loop thread while a tick is held up on purpose (a replay waiting for its recorded
     /// collision world): refreshes the heartbeat so consumers still see a live producer. noexcept.
     void keep_alive() noexcept;
@@ -194,6 +215,8 @@ private:
     bool safe_state_ = false;
     FaultLatch checks_;
     bool overran_last_ = false;
+    RecordedTiming tick_timing_;                   ///< this tick's, set before the device read
+    const TimingReplay* timing_replay_ = nullptr;  ///< replay: recorded timing instead
     ipc::DeviceState device_state_ = ipc::DeviceState::kConnecting;
     std::uint32_t period_ns_max_ = 0, compute_ns_max_ = 0;
     LoopStats stats_;

@@ -1,5 +1,6 @@
 #include "rt_core/loop/input_recording.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -13,6 +14,9 @@ namespace {
 
 using firmware_host::DeviceSample;
 using firmware_host::DeviceStatus;
+
+/// Most missed deadlines one record may say (a 1,000-s stall at 1 kHz; a recorder clamps to it).
+constexpr std::uint64_t kMaxMissed = 1'000'000;
 
 std::uint8_t flag_bits(const firmware_host::DeviceFlags& f) noexcept {
     return std::uint8_t((f.homed ? 1 : 0) | (f.amplifiers_on ? 2 : 0) | (f.estop ? 4 : 0) |
@@ -110,6 +114,11 @@ DeviceStatus RecordingDevice::try_read(DeviceSample& out, std::uint32_t timeout_
     r.status = std::uint8_t(status);
     r.flags = flag_bits(out.flags);
     r.has_orientation = out.has_orientation ? 1 : 0;
+    if (loop_) {
+        const RecordedTiming t = loop_->tick_timing();
+        r.overran_last = t.overran_last ? 1 : 0;
+        r.missed_deadlines = std::uint32_t(std::min<std::uint64_t>(t.missed_deadlines, kMaxMissed));
+    }
     recorder_.try_push(r);
     return status;
 }
@@ -132,7 +141,8 @@ Result<Recording, std::string> load_recording(const std::string& path) {
     };
     if (!head_ok || std::memcmp(h.magic, kRecordingMagic, sizeof h.magic) != 0)
         return fail("not a Kerf input recording (bad magic)");
-    if (h.version != kRecordingVersion || h.record_size != sizeof(RecordedInput))
+    if ((h.version != 1 && h.version != kRecordingVersion) ||
+        h.record_size != sizeof(RecordedInput))
         return fail("version " + std::to_string(h.version) + " / record size " +
                     std::to_string(h.record_size) + " (expected " +
                     std::to_string(kRecordingVersion) + " / " +
@@ -158,6 +168,12 @@ Result<Recording, std::string> load_recording(const std::string& path) {
             return Err{"recording " + path + ": " + at + "tick " + std::to_string(r.tick)};
         if (r.status > std::uint8_t(DeviceStatus::kError))
             return Err{"recording " + path + ": " + at + "bad status " + std::to_string(r.status)};
+        if (h.version == 1 && (r.overran_last || r.missed_deadlines || r.reserved))
+            return Err{"recording " + path + ": " + at + "version 1 with timing fields set"};
+        if (r.overran_last > 1 || r.missed_deadlines > kMaxMissed || r.reserved)
+            return Err{"recording " + path + ": " + at + "bad timing (overran " +
+                       std::to_string(r.overran_last) + ", missed deadlines " +
+                       std::to_string(r.missed_deadlines) + ")"};
         if (!finite(r.position_m, 3) || !finite(r.velocity_m_per_s, 3) ||
             !finite(r.orientation_wxyz, 4))
             return Err{"recording " + path + ": " + at + "non-finite sample"};
@@ -170,6 +186,12 @@ Result<Recording, std::string> load_recording(const std::string& path) {
 
 ReplayDevice::ReplayDevice(const Recording& recording, ReplayWorldGate gate) noexcept
     : recording_(recording), gate_(gate) {}
+
+RecordedTiming ReplayDevice::recorded_timing() const noexcept {
+    if (next_ == 0 || next_ > recording_.inputs.size()) return {};
+    const RecordedInput& r = recording_.inputs[next_ - 1];
+    return {r.missed_deadlines, r.overran_last != 0};
+}
 
 DeviceStatus ReplayDevice::try_read(DeviceSample& out, std::uint32_t) noexcept {
     const std::vector<RecordedInput>& in = recording_.inputs;

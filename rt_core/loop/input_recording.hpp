@@ -11,7 +11,10 @@
 //            collision world the recorded loop used at each tick is part of the record: the
 //            replay device holds the loop (bounded) until the world builder has offered that
 //            generation, and the builder offers none before it is due (WorldBuilder's gate), so
-//            worlds swap at the recorded ticks.
+//            worlds swap at the recorded ticks. The timing faults the recorded loop saw (missed
+//            deadlines, an overrun) are part of the record too: the replayed loop takes them
+//            instead of its own clock's (HapticLoop::replay_timing_from), so a session recorded
+//            in real time — stalls, safe-state entries and all — replays to the same events.
 //
 // File (little-endian x86-64/aarch64, units in the field names): RecordingHeader, then
 // RecordedInput records, one per tick from tick 0. A file with dropped records is refused.
@@ -27,13 +30,14 @@
 #include "config/base/result.hpp"
 #include "firmware_host/device/device.hpp"
 #include "rt_core/ipc/spsc_ring.hpp"
+#include "rt_core/loop/haptic_loop.hpp"
 
 namespace kerf::rt {
 
-class HapticLoop;
-
 inline constexpr char kRecordingMagic[8] = {'K', 'E', 'R', 'F', 'R', 'E', 'C', '1'};
-inline constexpr std::uint32_t kRecordingVersion = 1;
+/// 2: records carry the tick's timing faults (version 1 files, written before, replay as if the
+/// recorded loop never missed a deadline: right for lockstep recordings, which never do).
+inline constexpr std::uint32_t kRecordingVersion = 2;
 
 /// What the loop read from the device in one tick, and the collision world it used.
 struct RecordedInput {
@@ -50,8 +54,9 @@ struct RecordedInput {
     std::uint8_t flags;              ///< DeviceFlags bits: homed 1, amps 2, estop 4, watchdog 8,
                                      ///< encoder 16, over-temperature 32
     std::uint8_t has_orientation;    ///< 0 or 1
-    std::uint8_t reserved0;          ///< 0
-    std::uint64_t reserved1;         ///< 0
+    std::uint8_t overran_last;       ///< 0 or 1: the loop's previous tick overran its period
+    std::uint32_t missed_deadlines;  ///< deadlines this tick's wake-up skipped (stalls)
+    std::uint32_t reserved;          ///< 0
 };
 static_assert(sizeof(RecordedInput) == 128);
 
@@ -147,8 +152,9 @@ struct ReplayWorldGate {
     void* keep_alive_context = nullptr;
 };
 
-/// A Device replaying a recording: try_read returns tick N's recorded status and sample.
-class ReplayDevice final : public firmware_host::Device {
+/// A Device replaying a recording: try_read returns tick N's recorded status and sample, and
+/// recorded_timing() that tick's timing faults (give it to HapticLoop::replay_timing_from).
+class ReplayDevice final : public firmware_host::Device, public TimingReplay {
 public:
     /// @pre `recording` outlives the device
     ReplayDevice(const Recording& recording, ReplayWorldGate gate) noexcept;
@@ -162,6 +168,9 @@ public:
         return firmware_host::DeviceStatus::kOk;
     }
     const firmware_host::DeviceCounters& counters() const noexcept override { return counters_; }
+
+    /// The timing faults of the tick try_read last replayed (none before the first).
+    RecordedTiming recorded_timing() const noexcept override;
 
     /// Ticks replayed so far.
     std::uint64_t ticks() const noexcept { return next_; }

@@ -161,7 +161,7 @@ void run_replay(const ReplayOptions& o) {
     const nlohmann::json report = {
         {"recording", dir.string()},
         {"display", o.no_display ? "none (in-process follower)" : "kerf-display headless"},
-        {"ticks", std::uint64_t(std::max(0.0, number_after(rt_text, "ticks ")))},
+        {"ticks", std::uint64_t(std::max(0.0, number_after(rt_text, "kerf-rt summary: ticks ")))},
         {"recorded_ticks", (*meta)["ticks"]},
         {"worlds_not_ready",
          std::uint64_t(std::max(0.0, number_after(rt_text, "worlds not ready in time ")))},
