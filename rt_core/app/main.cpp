@@ -24,6 +24,9 @@ static int program_main(int argc, char** argv) {
     app.add_option("--duration", o.duration_s, "seconds to run (0: until SIGINT/SIGTERM)")
         ->check(CLI::Range(0.0, 1e7));
     app.add_flag("--lockstep", o.lockstep, "paced by the emulator: deterministic, not real time");
+    app.add_flag("--await-display", o.await_display,
+                 "with --lockstep: wait (up to 10 s) for kerf-display's first collision world "
+                 "before the first tick");
     app.add_option("--record", o.record_path,
                    "record the device input stream (each tick's read) into this file");
     app.add_option("--replay", o.replay_path,

@@ -217,6 +217,7 @@ int run_rt_process(const RtOptions& o) {
     std::unique_ptr<LockstepWorldSync> world_sync;  // lockstep: cut meshes at fixed ticks
     if (o.lockstep && !replay) {
         world_sync = std::make_unique<LockstepWorldSync>(*loop_device);
+        world_sync->await_first_world(o.await_display);
         loop_device = world_sync.get();
     }
     if (recorder) {
@@ -322,9 +323,11 @@ int run_rt_process(const RtOptions& o) {
         return fail("could not write the histograms " + o.histogram_path);
     if (world_sync) {
         std::printf(
-            "kerf-rt: lockstep: %llu cut meshes swapped in two ticks after their cut "
-            "ended, %llu not published within 10 s\n",
-            (unsigned long long)world_sync->synced(), (unsigned long long)world_sync->timed_out());
+            "kerf-rt: lockstep: %llu collision worlds (%scut meshes) swapped in two ticks "
+            "after they were due, %llu not published within 10 s\n",
+            (unsigned long long)world_sync->synced(),
+            o.await_display ? "the display's first, then " : "",
+            (unsigned long long)world_sync->timed_out());
     }
     if (replay) {
         std::printf(

@@ -17,6 +17,7 @@ struct RtOptions {
     std::string session_name;      ///< overrides [shm] session_name
     double duration_s = 0;         ///< 0: until SIGINT / SIGTERM
     bool lockstep = false;         ///< paced by the emulator (deterministic)
+    bool await_display = false;    ///< lockstep: wait for kerf-display's first world first
     std::string record_path;       ///< optional: record the device input stream (input_recording)
     std::string replay_path;       ///< optional: replay a recording instead of a device (lockstep)
     std::string trace_path;        ///< optional: per-tick force trace (CSV), written at exit

@@ -74,7 +74,8 @@ HapticLoop::HapticLoop(firmware_host::Device& device, ipc::Producer& producer, R
       settings_(settings),
       model_(physics),
       safety_(safety),
-      blade_(settings.blade) {}
+      blade_(settings.blade),
+      grab_(settings.grab) {}
 
 HapticLoop::~HapticLoop() {
     delete world_;
@@ -103,6 +104,7 @@ void HapticLoop::tick(const TickTiming& measured) noexcept {
         overran_last_ = tick_timing_.overran_last;
     }
     compute_kinematics();
+    move_held_body();
     collide_and_force();
     apply_safety(timing);
     write_device();
@@ -154,6 +156,7 @@ void HapticLoop::install_world(WorldSnapshot* world) noexcept {
         collision_.set_body(b, b < world->body_count ? world->bodies[b].get() : nullptr);
         if (b < world->body_count) collision_.set_pose(b, world->poses[b]);
     }
+    grab_.reapply(collision_);
     world_handoff_.retire(world_);
     world_ = world;
     ++stats_.worlds_swapped;
@@ -210,6 +213,14 @@ void HapticLoop::compute_kinematics() noexcept {
     KERF_RT_CHECK(
         physics::is_finite(tool_.pose.position_m) && physics::is_finite(tool_.velocity_m_s),
         checks_, LoopCheck::kNonFiniteToolPose);
+}
+
+void HapticLoop::move_held_body() noexcept {
+    // No device: its last buttons are stale, so the hand lets go. Never while the saw runs.
+    const std::uint32_t buttons = device_lost_ ? 0u : sample_.buttons;
+    const bool saw_busy = tool_.saw_running || physics_out_.saw.locked;
+    body_move_pending_ =
+        grab_.update(buttons, tool_.pose.position_m, saw_busy, collision_, body_move_);
 }
 
 void HapticLoop::collide_and_force() noexcept {
@@ -309,6 +320,7 @@ void HapticLoop::write_device() noexcept {
 
 void HapticLoop::publish(const TickTiming& timing) noexcept {
     publish_cut_events();
+    publish_body_move();
     const std::uint64_t period = last_start_ns_ ? timing.start_ns - last_start_ns_ : 0;
     last_start_ns_ = timing.start_ns;
     stats_.wake_latency.record(timing.wake_latency_ns);
@@ -367,6 +379,20 @@ void HapticLoop::publish_cut_events() noexcept {
                           double(r.cut.cut_id));
         }
     }
+}
+
+void HapticLoop::publish_body_move() noexcept {
+    if (!body_move_pending_) return;
+    body_move_pending_ = false;
+    ipc::EventRecord r{};
+    r.header.type = ipc::EventType::kBodyMoved;
+    r.body_moved.body_id = body_move_.body;
+    const physics::RigidTransform& pose = body_move_.world_from_body;
+    r.body_moved.position_m[0] = pose.translation.x;
+    r.body_moved.position_m[1] = pose.translation.y;
+    r.body_moved.position_m[2] = pose.translation.z;
+    to_quaternion(pose.rotation, r.body_moved.orientation_wxyz);
+    publish_event(r);
 }
 
 void HapticLoop::publish_device_state(ipc::DeviceState next) noexcept {

@@ -3,10 +3,12 @@
 //   swap_at_tick_boundary   new collision world / force profile from their Handoffs
 //   read_device             Device::try_read (the one bounded blocking call, lockstep only)
 //   compute_kinematics      device frame -> world tool pose (orientation sensed or planned)
+//   move_held_body          the grab button's body follows the tool (body_grab.hpp)
 //   collide_and_force       kerf_physics ForceModel::step on the collision world
 //   apply_safety            ForceSafety (stale, faults, homing, ramp, clamp, slew) + timing
 //   write_device            Device::try_write
-//   publish                 heartbeat, LatestState, a TelemetrySample, events (rings + journal)
+//   publish                 heartbeat, LatestState, a TelemetrySample, events (rings + journal:
+//                           cut events, BodyMoved of a held body)
 //
 // Every member called from tick() is noexcept and allocates nothing, takes no lock and logs only
 // through RtLog. Timing (sleeping to absolute deadlines) is the runner's business
@@ -22,6 +24,7 @@
 #include "firmware_host/safety/force_safety.hpp"
 #include "rt_core/ipc/producer.hpp"
 #include "rt_core/loop/blade_pose.hpp"
+#include "rt_core/loop/body_grab.hpp"
 #include "rt_core/loop/device_reconnector.hpp"
 #include "rt_core/loop/handoff.hpp"
 #include "rt_core/loop/latency_histogram.hpp"
@@ -41,6 +44,7 @@ struct LoopSettings {
     physics::Vec3 device_origin_in_world_m;  ///< world point the device origin maps to
     double motion_scale = 1.0;               ///< world metres per device metre
     BladePlan blade;                         ///< fallback orientation and button steps
+    GrabPlan grab;                           ///< the button that holds and moves a body
     bool degraded_realtime = false;          ///< reported in every sample's loop_flags
     bool lockstep = false;  ///< paced by the emulator: tick work includes its answer, no misses
 };
@@ -150,6 +154,8 @@ public:
     const physics::PhysicsOutput& last_physics() const noexcept { return physics_out_; }
     /// The blade's orientation source and pose this tick.
     const BladePose& blade() const noexcept { return blade_; }
+    /// The body the hand holds, if any.
+    const BodyGrab& grab() const noexcept { return grab_; }
     /// The tool position of the last tick, world frame, m.
     const physics::Vec3& tool_position_m() const noexcept { return tool_.pose.position_m; }
     bool in_safe_state() const noexcept { return safe_state_; }
@@ -165,6 +171,7 @@ private:
     void swap_at_tick_boundary() noexcept;
     void read_device() noexcept;
     void compute_kinematics() noexcept;
+    void move_held_body() noexcept;
     void collide_and_force() noexcept;
     void apply_safety(const TickTiming& timing) noexcept;
     void write_device() noexcept;
@@ -176,6 +183,7 @@ private:
     void track_timing(const TickTiming& timing) noexcept;
     void track_device_state() noexcept;
     void publish_cut_events() noexcept;
+    void publish_body_move() noexcept;
     void publish_device_state(ipc::DeviceState next) noexcept;
     void publish_event(ipc::EventRecord& record) noexcept;
 
@@ -187,6 +195,9 @@ private:
     physics::CollisionWorld collision_;
     firmware_host::ForceSafety safety_;
     BladePose blade_;
+    BodyGrab grab_;
+    BodyMove body_move_;              ///< this tick's pose of the held body ...
+    bool body_move_pending_ = false;  ///< ... to publish as BodyMoved
     Handoff<WorldSnapshot> world_handoff_;
     Handoff<ProfileUpdate> profile_handoff_;
     WorldSnapshot* world_ = nullptr;

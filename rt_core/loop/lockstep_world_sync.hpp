@@ -5,7 +5,11 @@
 // mesh is swapped in exactly two ticks after every cut end, however loaded the machine: without
 // this, the loop ran on in the pre-cut world for as many ticks as the display took, and under
 // load the blade met the old surface again (spurious cut begins, a different mesh hash).
-// Lockstep only: the real-time loop never waits for another process.
+// With `await_first_world`, the first read also waits (bounded) for kerf-display's first world
+// (generation 1), so the loop never ticks on kerf-rt's own scene mesh (one body) while a display
+// is coming: without it, the display's first world stayed gated until the first cut ended and
+// every later world came one cut late (cut 1 applied to the scene's single body, cut 2 to the
+// world before cut 1). Lockstep only: the real-time loop never waits for another process.
 #pragma once
 
 #include <atomic>
@@ -23,9 +27,13 @@ public:
     explicit LockstepWorldSync(firmware_host::Device& inner,
                                std::uint32_t wait_limit_ms = 10'000) noexcept
         : inner_(inner), wait_limit_ms_(wait_limit_ms) {}
+    /// Before the loop runs: the first read waits for the display's first world.
+    void await_first_world(bool on) noexcept { await_first_ = on; }
     /// Before the loop runs: the loop followed, the builder's gate (`release`, which this
     /// advances) and its offered generation. All outlive this device.
-    void attach(const HapticLoop& loop, std::atomic<std::uint64_t>& release,
+    /// Waits keep the loop's heartbeat fresh (HapticLoop::keep_alive), so a display that is
+    /// attaching sees a live producer.
+    void attach(HapticLoop& loop, std::atomic<std::uint64_t>& release,
                 const std::atomic<std::uint64_t>& offered) noexcept {
         loop_ = &loop, release_ = &release, offered_ = &offered;
     }
@@ -39,7 +47,7 @@ public:
     const firmware_host::DeviceCounters& counters() const noexcept override {
         return inner_.counters();
     }
-    /// Cut ends after which the world came within the limit / did not.
+    /// Waits (the first world, cut ends) that the world ended within the limit / did not.
     std::uint64_t synced() const noexcept { return synced_; }
     std::uint64_t timed_out() const noexcept { return timed_out_; }
 
@@ -48,8 +56,11 @@ private:
     std::uint32_t wait_limit_ms_;
     std::atomic<std::uint64_t>* release_ = nullptr;
     const std::atomic<std::uint64_t>* offered_ = nullptr;
-    const HapticLoop* loop_ = nullptr;
+    HapticLoop* loop_ = nullptr;
     std::uint64_t synced_ = 0, timed_out_ = 0;
+    bool await_first_ = false;
+
+    void wait_for(std::uint64_t generation) noexcept;
 };
 
 }  // namespace kerf::rt

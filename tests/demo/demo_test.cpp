@@ -90,6 +90,32 @@ fs::path temp_out(const std::string& stem) {
 /// The demo needs kerf-rt built beside it (the real-time process; it lands with its own issue).
 bool have_rt() { return access((std::string(KERF_BIN_DIR) + "/kerf-rt").c_str(), X_OK) == 0; }
 
+/// The two limbs freed the head (one more body: the first metatarsal's 2 pieces), the head is
+/// the smaller piece and a plausible one, and the hand's grab moved it (BodyMoved, applied).
+void expect_head_freed_and_shifted(const std::string& report) {
+    const auto doc = nlohmann::json::parse(report, nullptr, false);
+    ASSERT_FALSE(doc.is_discarded()) << report;
+    EXPECT_EQ(doc.value("bodies_after", 0), doc.value("bodies_before", 0) + 1) << report;
+    EXPECT_GT(doc.value("body_moves", 0), 10) << report;  // one per 0.1 mm of a 4 mm shift
+    ASSERT_TRUE(doc.contains("pieces") && doc["pieces"].size() == 2u) << report;
+    const auto& shaft = doc["pieces"][0];
+    const auto& head = doc["pieces"][1];
+    EXPECT_EQ(head.value("parent", -2), shaft.value("body", -1)) << report;
+    EXPECT_EQ(head.value("severed_by_cut", 0), 2) << report;  // freed when the second limb ended
+    const double head_mm3 = head.value("volume_mm3", 0.0);
+    const double shaft_mm3 = shaft.value("volume_mm3", 0.0);
+    // The head: the distal fifth of the bone and the chevron's wedges, about 3,000 mm^3 of the
+    // metatarsal's 10,600; never a crumb, never most of the bone.
+    EXPECT_GT(head_mm3, 0.15 * (head_mm3 + shaft_mm3)) << report;
+    EXPECT_LT(head_mm3, 0.5 * (head_mm3 + shaft_mm3)) << report;
+    // The head moved 4 mm laterally (towards the second ray: -x), the shaft stayed.
+    ASSERT_EQ(head["position_mm"].size(), 3u) << report;
+    EXPECT_NEAR(head["position_mm"][0].get<double>(), -4.0, 0.3) << report;
+    EXPECT_NEAR(head["position_mm"][1].get<double>(), 0.0, 0.3) << report;
+    EXPECT_NEAR(head["position_mm"][2].get<double>(), 0.0, 0.3) << report;
+    EXPECT_EQ(shaft["position_mm"][0].get<double>(), 0.0) << report;
+}
+
 std::string run_lockstep(const std::string& stem) {
     const fs::path out = temp_out(stem);
     const pid_t pid = start_demo({"--lockstep", "--triangles", "20000", "--json", "-o", out},
@@ -103,13 +129,16 @@ std::string run_lockstep(const std::string& stem) {
         EXPECT_TRUE(fs::exists(out / png) && fs::file_size(out / png) > 10'000u) << png;
     EXPECT_TRUE(fs::exists(out / "session.journal"));
     EXPECT_EQ(value(report, "hashes_equal"), "true") << report;
-    EXPECT_EQ(value(report, "cuts_completed"), "2") << report;
+    // A true chevron: both limbs withdrawn inside the bone, none cut through.
+    EXPECT_EQ(value(report, "cuts_completed"), "0") << report;
+    EXPECT_EQ(value(report, "cuts_ended_otherwise"), "2") << report;
     EXPECT_EQ(value(report, "ticks"), std::to_string(std::stol(value(report, "surgery_s")) * 1000))
         << report;
     EXPECT_EQ(value(report, "cut_begins"), "2") << report;  // one per limb, none spurious
     EXPECT_EQ(value(report, "refused"), "0") << report;
     EXPECT_EQ(value(report, "safe_state_entries"), "0") << report;
     EXPECT_NE(value(report, "force_peak_n"), "0") << report;
+    expect_head_freed_and_shifted(report);
     // --json prints exactly the report, one document.
     EXPECT_EQ(log, report) << log;
     EXPECT_FALSE(nlohmann::json::parse(log, nullptr, false).is_discarded()) << log;
@@ -120,7 +149,7 @@ std::string run_lockstep(const std::string& stem) {
     return hash;
 }
 
-TEST(KerfDemo, LockstepRunsCutThreePiecesAndGiveTheSameHash) {
+TEST(KerfDemo, LockstepRunsFreeAndShiftTheHeadAndGiveTheSameHash) {
     if (!have_rt()) GTEST_SKIP() << "no kerf-rt in " << KERF_BIN_DIR;
     const std::string a = run_lockstep("kdemo-test-a");
     const std::string b = run_lockstep("kdemo-test-b");
@@ -131,7 +160,7 @@ TEST(KerfDemo, LockstepRunsCutThreePiecesAndGiveTheSameHash) {
 TEST(KerfDemo, CtrlCMidRunStopsEverythingAndLeavesNothing) {
     if (!have_rt()) GTEST_SKIP() << "no kerf-rt in " << KERF_BIN_DIR;
     const fs::path out = temp_out("kdemo-test-int");
-    // Real time: the surgery takes 30 s, so the signal lands while the saw is in use.
+    // Real time: the surgery takes 49 s, so the signal lands while the saw is in use.
     const pid_t pid = start_demo({"--triangles", "20000", "-o", out}, out.string() + ".log");
     std::this_thread::sleep_for(std::chrono::seconds(8));
     kill(pid, SIGINT);

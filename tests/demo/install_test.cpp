@@ -66,7 +66,8 @@ TEST(KerfInstall, InstalledDemoRunsFromAnotherFolderOnInstalledData) {
     ASSERT_FALSE(report.is_discarded()) << log;
     EXPECT_EQ(report["config"], (prefix / "share/kerf/kerf.toml").string()) << log;
     EXPECT_EQ(report["hashes_equal"], true) << log;
-    EXPECT_EQ(report["cuts_completed"], 2) << log;
+    EXPECT_EQ(report["cuts_ended_otherwise"], 2) << log;  // the chevron's two withdrawn limbs
+    EXPECT_EQ(report["bodies_after"], report["bodies_before"].get<int>() + 1) << log;
     EXPECT_TRUE(fs::is_regular_file(elsewhere / "out/3-after.png"));
     // `kerf devices` matches against the installed device profiles.
     EXPECT_EQ(run_in(elsewhere, {(prefix / "bin/kerf").string(), "devices"}, root / "dev.log"), 0);

@@ -1,8 +1,10 @@
 // `kerf demo` — the README's main job: the simulator end to end, as real processes on one
-// shared-memory session. kerf-hapsim plays a scripted surgeon's hand (demo_script.*: a V
-// osteotomy of the built-in foot's first metatarsal, generated from the scene's geometry and
-// kerf-rt's device -> world mapping), kerf-rt runs the 1 kHz loop and cuts, kerf-display (headless,
-// or --window) applies the cuts and publishes the collision mesh. Afterwards the journal kerf-rt
+// shared-memory session. kerf-hapsim plays a scripted surgeon's hand (demo_script.*: a chevron
+// osteotomy of the built-in foot's first metatarsal — two limbs fed just past their apex inside
+// the bone, each withdrawn along its kerf — then the freed head taken and shifted laterally,
+// generated from the scene's geometry and kerf-rt's device -> world mapping), kerf-rt runs the
+// 1 kHz loop, cuts and moves the held head (BodyMoved), kerf-display (headless, or --window)
+// applies the cuts and the move and publishes the collision mesh. Afterwards the journal kerf-rt
 // left is replayed here through CutSession (demo_replay.*): hash, pieces, volumes and the
 // pictures (before, mid-cut, after); the display's own hash must equal the replay's.
 //
@@ -175,18 +177,22 @@ void run_demo(const DemoOptions& o) {
     if (!foot) fail("--triangles: " + foot.error());
     auto scene = display::build_scene_mesh(*cfg);
     if (!scene) fail("scene: " + scene.error());
-    auto script = make_demo_script(foot->first_metatarsal(),
-                                   foot->bones[std::min<std::size_t>(2, foot->bones.size() - 1)],
-                                   device_origin(*scene));
+    const mesh::BoneInfo* m2 = nullptr;  // the second metatarsal: the lateral neighbour
+    for (const mesh::BoneInfo& b : foot->bones)
+        if (b.ray == 2 && b.kind == mesh::BoneKind::kMetatarsal) m2 = &b;
+    if (!m2) fail("the built-in foot has no second metatarsal");
+    auto script = make_demo_script(foot->first_metatarsal(), *m2, device_origin(*scene));
     if (!script) fail("hand script: " + script.error());
     scene = Err{std::string()};
     const fs::path hand = work.path() / "hand.csv";
     if (!write_file(hand, script->csv)) fail("cannot write " + hand.string());
     const double duration_s = std::ceil(script->duration_s + 1.0);
     if (!o.json)
-        std::cout << "kerf demo: V osteotomy of the first metatarsal (" << script->tilt_deg.size()
-                  << " limbs at +-" << script->tilt_deg.front() << " degrees, feed "
-                  << script->feed_speed_m_s * 1e3 << " mm/s), " << duration_s << " s of surgery, "
+        std::cout << "kerf demo: chevron osteotomy of the first metatarsal ("
+                  << script->tilt_deg.size() << " limbs at +-" << script->half_angle_deg
+                  << " degrees to its axis, feed " << script->feed_speed_m_s * 1e3
+                  << " mm/s), the head shifted " << script->shift_m.norm() * 1e3
+                  << " mm laterally; " << duration_s << " s of surgery, "
                   << (o.lockstep ? "lockstep" : "real time") << ", work folder "
                   << work.path().string() << std::endl;
 
@@ -241,7 +247,10 @@ void run_demo(const DemoOptions& o) {
                                         trace.string(),
                                         "--record",
                                         (work.path() / "input.rec").string()};
-    if (o.lockstep) rt_args.push_back("--lockstep");
+    if (o.lockstep) {  // deterministic: the display's world from the first tick on
+        rt_args.push_back("--lockstep");
+        rt_args.push_back("--await-display");
+    }
     const fs::path rt_log = logs / "kerf-rt.log";
     auto rt = sup.add({{"kerf-rt", rt_args, rt_log, {}}, Policy::kMayFinish},
                       [&] { return slurp(rt_log).find("kerf-rt: session") != std::string::npos; });
@@ -335,7 +344,16 @@ void run_demo(const DemoOptions& o) {
     const ForceFigures forces = read_forces(trace);
     const bool hashes_equal = display_hash == hash_hex(replay->hash);
     nlohmann::json pieces_mm3 = nlohmann::json::array();
-    for (const ReplayPiece& p : replay->pieces) pieces_mm3.push_back(p.volume_m3 * 1e9);
+    nlohmann::json pieces = nlohmann::json::array();
+    for (const ReplayPiece& p : replay->pieces) {
+        pieces_mm3.push_back(p.volume_m3 * 1e9);
+        pieces.push_back({{"body", p.body},
+                          {"parent", p.parent == 0xFFFFFFFFu ? -1 : std::int64_t(p.parent)},
+                          {"severed_by_cut", p.severed_by_cut},
+                          {"volume_mm3", p.volume_m3 * 1e9},
+                          {"position_mm",
+                           {p.position_m[0] * 1e3, p.position_m[1] * 1e3, p.position_m[2] * 1e3}}});
+    }
     const nlohmann::json report = {
         {"lockstep", o.lockstep},
         {"triangles", o.triangles},
@@ -351,6 +369,9 @@ void run_demo(const DemoOptions& o) {
         {"cut_progress", replay->cut_progress},
         {"cuts_completed", replay->cut_ends_completed},
         {"cuts_ended_otherwise", replay->cut_ends_other},
+        {"body_moves", replay->body_moves},
+        {"bodies_before", replay->bodies_before},
+        {"bodies_after", replay->bodies_after},
         {"applied", replay->applied},
         {"refused", replay->refused},
         {"force_peak_n", forces.peak_n},
@@ -358,6 +379,7 @@ void run_demo(const DemoOptions& o) {
         {"force_ticks", forces.pushing},
         {"display_restarts", display_restarts},
         {"pieces_mm3", pieces_mm3},
+        {"pieces", pieces},
         {"hash", hash_hex(replay->hash)},
         {"display_hash", display_hash},
         {"hashes_equal", hashes_equal},
@@ -372,19 +394,29 @@ void run_demo(const DemoOptions& o) {
         std::printf("  loop:    %s", rt_text.empty() ? "(no kerf-rt summary)\n" : rt_text.c_str());
         std::printf(
             "  events:  %llu (%llu cut begins, %llu progress, %llu cuts completed, %llu "
-            "ended otherwise); replay applied %llu, refused %llu\n",
+            "ended otherwise, %llu body moves); replay applied %llu, refused %llu\n",
             (unsigned long long)replay->events, (unsigned long long)replay->cut_begins,
             (unsigned long long)replay->cut_progress,
             (unsigned long long)replay->cut_ends_completed,
-            (unsigned long long)replay->cut_ends_other, (unsigned long long)replay->applied,
-            (unsigned long long)replay->refused);
+            (unsigned long long)replay->cut_ends_other, (unsigned long long)replay->body_moves,
+            (unsigned long long)replay->applied, (unsigned long long)replay->refused);
         std::printf("  forces:  peak %.2f N, mean %.2f N over %llu of %llu ticks\n", forces.peak_n,
                     forces.mean_n, (unsigned long long)forces.pushing,
                     (unsigned long long)forces.ticks);
-        std::printf("  pieces:  ");
-        for (const ReplayPiece& p : replay->pieces)
-            std::printf("body %u %.1f mm^3%s  ", p.body, p.volume_m3 * 1e9,
-                        p.severed_by_cut ? " (severed)" : "");
+        std::printf("  bodies:  %zu -> %zu\n  pieces:  ", replay->bodies_before,
+                    replay->bodies_after);
+        for (const ReplayPiece& p : replay->pieces) {
+            std::printf("body %u %.1f mm^3", p.body, p.volume_m3 * 1e9);
+            if (p.severed_by_cut) std::printf(" (severed by cut %u)", p.severed_by_cut);
+            const double moved_mm =
+                std::sqrt(p.position_m[0] * p.position_m[0] + p.position_m[1] * p.position_m[1] +
+                          p.position_m[2] * p.position_m[2]) *
+                1e3;
+            if (moved_mm > 0)
+                std::printf(" moved (%.2f %.2f %.2f) mm", p.position_m[0] * 1e3,
+                            p.position_m[1] * 1e3, p.position_m[2] * 1e3);
+            std::printf("   ");
+        }
         std::printf("\n  hash:    %s (journal replay), display %s: %s\n",
                     hash_hex(replay->hash).c_str(), display_hash.c_str(),
                     hashes_equal ? "equal" : "DIFFERENT");
@@ -402,8 +434,9 @@ void add_demo_command(CLI::App& app) {
     auto opts = std::make_shared<DemoOptions>();
     CLI::App* demo = app.add_subcommand(
         "demo",
-        "The main job: kerf-hapsim's scripted hand cuts a V osteotomy of the first metatarsal "
-        "through kerf-rt while kerf-display shows it; pictures and a report");
+        "The main job: kerf-hapsim's scripted hand cuts a chevron osteotomy of the first "
+        "metatarsal through kerf-rt and shifts the freed head while kerf-display shows it; "
+        "pictures and a report");
     demo->add_option("--triangles", opts->triangles, "approximate triangle count of the foot")
         ->capture_default_str()
         ->check(CLI::Range(std::size_t{10'000}, std::size_t{4'000'000}));

@@ -110,6 +110,7 @@ Result<ReplayResult, std::string> replay_journal(const config::Config& config,
         if (auto opened = pictures.open(); !opened) return Err{opened.error()};
     }
     ReplayResult out;
+    out.bodies_before = session.bodies().size();
     std::size_t next_shot = 0;
     const auto take_due = [&]() -> Result<bool, std::string> {
         while (next_shot < shots.size() && shots[next_shot].events <= out.events) {
@@ -143,6 +144,9 @@ Result<ReplayResult, std::string> replay_journal(const config::Config& config,
                     ++out.cut_ends_other;
                 if (!out.first_cut_end_sequence) out.first_cut_end_sequence = seq + 1;
                 break;
+            case ipc::EventType::kBodyMoved:
+                ++out.body_moves;
+                break;
             default:
                 break;
         }
@@ -157,6 +161,7 @@ Result<ReplayResult, std::string> replay_journal(const config::Config& config,
     out.refused = c.refused;
     out.ignored = c.ignored;
     out.hash = session.hash();
+    out.bodies_after = session.bodies().size();
     const auto volumes = body_volumes(session);
     std::vector<bool> wanted(session.bodies().size(), false);
     for (const cut::SessionBody& b : session.bodies()) {
@@ -167,8 +172,9 @@ Result<ReplayResult, std::string> replay_journal(const config::Config& config,
     for (const cut::SessionBody& b : session.bodies()) {
         if (!wanted[b.id]) continue;
         const auto it = volumes.find(b.id);
-        out.pieces.push_back(
-            {b.id, b.parent, b.severed_by_cut, it == volumes.end() ? 0 : it->second});
+        ReplayPiece piece{b.id, b.parent, b.severed_by_cut, it == volumes.end() ? 0 : it->second};
+        for (int i = 0; i < 3; ++i) piece.position_m[i] = b.pose.position_m[i];
+        out.pieces.push_back(piece);
     }
     return out;
 }

@@ -23,14 +23,17 @@ struct ReplayPiece {
     std::uint32_t parent = 0xFFFFFFFFu;  ///< body it was severed from, or none
     std::uint32_t severed_by_cut = 0;    ///< 0 for scene bodies
     double volume_m3 = 0;
+    double position_m[3] = {0, 0, 0};  ///< its pose's translation (moved by BodyMoved), m
 };
 
 /// What the journal held and what replaying it made.
 struct ReplayResult {
     std::uint64_t events = 0;
     std::uint64_t cut_begins = 0, cut_progress = 0, cut_ends_completed = 0, cut_ends_other = 0;
+    std::uint64_t body_moves = 0;  ///< BodyMoved records
     std::uint64_t applied = 0, refused = 0, ignored = 0;
-    std::uint64_t first_cut_end_sequence = 0;  ///< 0 when no cut ended
+    std::size_t bodies_before = 0, bodies_after = 0;  ///< the scene's, and after every event
+    std::uint64_t first_cut_end_sequence = 0;         ///< 0 when no cut ended
     std::uint64_t hash = 0;
     std::vector<ReplayPiece> pieces;  ///< the cut bone's pieces: severed bodies and their parents
     std::vector<std::string> shots;   ///< PNGs written
