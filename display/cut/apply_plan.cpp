@@ -247,78 +247,69 @@ bool separate_loop(TriMesh& m, const std::vector<VertexHandle>& r,
 bool add_cap(TriMesh& m, const SectionPlan& plan, const std::vector<VertexHandle>& vertex,
              bool reversed, RimEdges& rim, std::vector<FaceHandle>& faces) {
     const std::size_t n = plan.cap_triangles.size();
-    // Slot 3t + k of this side: edge from corner k to corner k + 1 of triangle t as built here.
-    auto corner = [&](std::size_t t, int k) {
+    // Per slot 3t + k of this side (the edge from corner k to corner k + 1 of triangle t as built
+    // here): its first point and the slot across it. A plan slot 3t + e is slot 3t + (2 - e) here
+    // when reversed, corners (a, c, b).
+    std::vector<std::uint32_t> from(3 * n), across(3 * n);
+    for (std::size_t t = 0; t < n; ++t) {
         const Triangle& tri = plan.cap_triangles[t];
-        if (reversed) k = (3 - k) % 3;  // (a, c, b)
-        return k == 0 ? tri.a : (k == 1 ? tri.b : tri.c);
-    };
-    // A plan slot 3t + e (corner e -> e + 1) is slot 3t + (2 - e) here when reversed.
-    auto side_slot = [&](std::uint32_t plan_slot) {
-        return reversed ? plan_slot - plan_slot % 3 + (2 - plan_slot % 3) : plan_slot;
-    };
-    auto across = [&](std::uint32_t slot) {
-        const std::uint32_t o = plan.cap_neighbours[side_slot(slot)];
-        return o == kNoCapNeighbour ? o : side_slot(o);
-    };
+        from[3 * t] = tri.a;
+        from[3 * t + 1] = reversed ? tri.c : tri.b;
+        from[3 * t + 2] = reversed ? tri.b : tri.c;
+        for (std::uint32_t e = 0; e < 3; ++e) {
+            std::uint32_t o = plan.cap_neighbours[3 * t + e];
+            if (reversed && o != kNoCapNeighbour) o = o - o % 3 + (2 - o % 3);
+            across[3 * t + (reversed ? 2 - e : e)] = o;
+        }
+    }
+    auto to = [&](std::uint32_t slot) { return from[slot % 3 == 2 ? slot - 2 : slot + 1]; };
     std::vector<HalfedgeHandle> he(3 * n);
     std::vector<char> on_rim(3 * n, 0);
-    std::vector<std::uint32_t> inner;  // the lower slot of each inner edge
     std::size_t rim_used = 0;
-    for (std::size_t t = 0; t < n; ++t)
-        for (int k = 0; k < 3; ++k) {
-            const VertexHandle u = vertex[corner(t, k)], v = vertex[corner(t, (k + 1) % 3)];
-            // A rim edge u -> v is u's own halfedge: separate_loop made every rim vertex's
-            // halfedge its outgoing boundary halfedge (rim vertices are never on a boundary of
-            // the input: the walk refuses those), so no search.
-            const HalfedgeHandle b = m.halfedge_handle(u);
-            if (b.is_valid() && m.is_boundary(b) && m.to_vertex_handle(b) == v) {
-                he[3 * t + k] = b;
-                on_rim[3 * t + k] = 1;
-                ++rim_used;
-            }
+    for (std::uint32_t slot = 0; slot < 3 * n; ++slot) {
+        // A rim edge u -> v is u's own halfedge: separate_loop made every rim vertex's halfedge
+        // its outgoing boundary halfedge (rim vertices are never on a boundary of the input: the
+        // walk refuses those), so no search.
+        const HalfedgeHandle b = m.halfedge_handle(vertex[from[slot]]);
+        if (b.is_valid() && m.is_boundary(b) && m.to_vertex_handle(b) == vertex[to(slot)]) {
+            he[slot] = b;
+            on_rim[slot] = 1;
+            ++rim_used;
         }
+    }
     if (rim_used != rim.size()) return false;  // every rim edge once
+    std::vector<std::uint32_t> inner;          // the lower slot of each inner edge
+    inner.reserve(3 * n / 2);
     for (std::uint32_t slot = 0; slot < 3 * n; ++slot) {
         if (on_rim[slot]) continue;
-        const std::uint32_t o = across(slot);
-        if (o == kNoCapNeighbour || on_rim[o]) return false;
-        // The two uses must run opposite ways.
-        if (corner(o / 3, static_cast<int>(o % 3)) !=
-                corner(slot / 3, static_cast<int>(slot % 3 + 1) % 3) ||
-            across(o) != slot)
-            return false;
+        const std::uint32_t o = across[slot];
+        if (o == kNoCapNeighbour || on_rim[o] || across[o] != slot) return false;
+        if (from[o] != to(slot) || to(o) != from[slot]) return false;  // must run opposite ways
         if (slot < o) inner.push_back(slot);
     }
-    // Order of the new edges: by (lower, higher) vertex handle of the edge. Points ranked by
-    // their handle, then two stable counting passes (higher rank, then lower rank) over the
-    // edges in slot order.
+    // Order of the new edges: by (lower, higher) vertex handle. The points are ranked by their
+    // handle, then two stable counting passes (higher rank, then lower rank) over the edges in
+    // slot order give what a sort by (handles, slot) gave.
     std::vector<std::pair<int, std::uint32_t>> by_handle;
     by_handle.reserve(plan.points.size());
-    std::vector<char> used(plan.points.size(), 0);
-    for (const Triangle& t : plan.cap_triangles) used[t.a] = used[t.b] = used[t.c] = 1;
+    std::vector<std::uint32_t> rank(plan.points.size(), kNoCapNeighbour);
+    for (const std::uint32_t p : from) rank[p] = 0;
     for (std::uint32_t p = 0; p < plan.points.size(); ++p)
-        if (used[p]) by_handle.emplace_back(vertex[p].idx(), p);
+        if (rank[p] == 0) by_handle.emplace_back(vertex[p].idx(), p);
     if (!std::is_sorted(by_handle.begin(), by_handle.end()))
         std::sort(by_handle.begin(), by_handle.end());
-    std::vector<std::uint32_t> rank(plan.points.size(), 0);
     for (std::uint32_t r = 0; r < by_handle.size(); ++r) rank[by_handle[r].second] = r;
-    auto ranks = [&](std::uint32_t slot, std::uint32_t& lo, std::uint32_t& hi) {
-        const std::uint32_t a = rank[corner(slot / 3, static_cast<int>(slot % 3))];
-        const std::uint32_t b = rank[corner(slot / 3, static_cast<int>(slot % 3 + 1) % 3)];
-        lo = std::min(a, b), hi = std::max(a, b);
-    };
+    std::vector<std::uint32_t> lo(3 * n), hi(3 * n);
+    for (const std::uint32_t slot : inner) {
+        const std::uint32_t a = rank[from[slot]], b = rank[to(slot)];
+        lo[slot] = std::min(a, b), hi[slot] = std::max(a, b);
+    }
     std::vector<std::uint32_t> count(by_handle.size() + 1), sorted(inner.size());
-    for (int pass = 0; pass < 2; ++pass) {
+    for (const std::vector<std::uint32_t>* key : {&hi, &lo}) {
         std::fill(count.begin(), count.end(), 0u);
-        auto key = [&](std::uint32_t slot) {
-            std::uint32_t lo = 0, hi = 0;
-            ranks(slot, lo, hi);
-            return pass == 0 ? hi : lo;
-        };
-        for (const std::uint32_t slot : inner) ++count[key(slot) + 1];
+        for (const std::uint32_t slot : inner) ++count[(*key)[slot] + 1];
         for (std::size_t k = 1; k < count.size(); ++k) count[k] += count[k - 1];
-        for (const std::uint32_t slot : inner) sorted[count[key(slot)]++] = slot;
+        for (const std::uint32_t slot : inner) sorted[count[(*key)[slot]]++] = slot;
         inner.swap(sorted);
     }
     // Every edge and face allocated in one resize, handed out in the order OpenMesh's
@@ -327,18 +318,16 @@ bool add_cap(TriMesh& m, const SectionPlan& plan, const std::vector<VertexHandle
     m.resize(m.n_vertices(), ne + inner.size(), nf + n);
     for (std::size_t i = 0; i < inner.size(); ++i) {
         const std::uint32_t a = inner[i];
-        const VertexHandle u = vertex[corner(a / 3, static_cast<int>(a % 3))];
-        const VertexHandle v = vertex[corner(a / 3, static_cast<int>(a % 3 + 1) % 3)];
-        he[a] = make_edge(m, EdgeHandle(ne + static_cast<int>(i)), u, v);
-        he[across(a)] = m.opposite_halfedge_handle(he[a]);
+        he[a] = make_edge(m, EdgeHandle(ne + static_cast<int>(i)), vertex[from[a]], vertex[to(a)]);
+        he[across[a]] = m.opposite_halfedge_handle(he[a]);
     }
     for (std::size_t t = 0; t < n; ++t) {
         const FaceHandle f(nf + static_cast<int>(t));
         m.set_halfedge_handle(f, he[3 * t]);
-        for (int k = 0; k < 3; ++k) {
+        for (std::size_t k = 0; k < 3; ++k) {
             m.set_face_handle(he[3 * t + k], f);
             m.set_next_halfedge_handle(he[3 * t + k], he[3 * t + (k + 1) % 3]);
-            m.set_halfedge_handle(vertex[corner(t, k)], he[3 * t + k]);
+            m.set_halfedge_handle(vertex[from[3 * t + k]], he[3 * t + k]);
         }
         faces.push_back(f);
     }

@@ -179,23 +179,25 @@ GroupResult try_triangulate_group(ContextState& s, const Plane& plane,
         return GroupResult::kOk;
     }
     // Put the left-out points back: the triangle on kept edge (u, w) becomes a fan from its apex.
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> by_edge;
-    by_edge.reserve(3 * tris.size());
-    auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t{a} << 32) | b; };
+    // The triangle holding each gap's edge u -> w, found through the gap starting at u (a kept
+    // point starts at most one gap): the lowest such triangle, as a sorted edge list gave.
+    constexpr std::uint32_t kNone = ~std::uint32_t{0};
+    std::vector<std::uint32_t>& gap_at = s.cap_scratch;
+    gap_at.assign(plan.points.size(), kNone);
+    for (std::uint32_t k = 0; k < gaps.size(); ++k) gap_at[gaps[k].u] = k;
+    std::vector<std::uint32_t> owner(gaps.size(), kNone);
+    auto note = [&](std::uint32_t x, std::uint32_t y, std::uint32_t tri, bool replace) {
+        const std::uint32_t k = gap_at[x];
+        if (k != kNone && gaps[k].w == y && (replace || owner[k] == kNone)) owner[k] = tri;
+    };
     for (std::uint32_t i = 0; i < tris.size(); ++i) {
         const Triangle& t = tris[i];
-        by_edge.emplace_back(key(t.a, t.b), i), by_edge.emplace_back(key(t.b, t.c), i),
-            by_edge.emplace_back(key(t.c, t.a), i);
+        note(t.a, t.b, i, false), note(t.b, t.c, i, false), note(t.c, t.a, i, false);
     }
-    std::sort(by_edge.begin(), by_edge.end());
-    auto find = [&](std::uint64_t k) {
-        auto it = std::lower_bound(by_edge.begin(), by_edge.end(), std::make_pair(k, 0u));
-        return it != by_edge.end() && it->first == k ? it : by_edge.end();
-    };
-    for (const Gap& g : gaps) {
-        const auto it = find(key(g.u, g.w));
-        if (it == by_edge.end()) return GroupResult::kFailed;
-        const std::uint32_t ti = it->second;
+    for (std::uint32_t k = 0; k < gaps.size(); ++k) {
+        const Gap& g = gaps[k];
+        if (owner[k] == kNone) return GroupResult::kFailed;
+        const std::uint32_t ti = owner[k];
         Triangle t = tris[ti];
         while (t.a != g.u) t = Triangle{t.b, t.c, t.a};
         if (t.b != g.w) return GroupResult::kFailed;
@@ -213,8 +215,8 @@ GroupResult try_triangulate_group(ContextState& s, const Plane& plane,
             for (std::uint32_t q = 0; q < g.count; ++q) forced[removed[g.first + q]] = 1;
             return GroupResult::kRetry;
         }
-        const auto wx = find(key(g.w, apex));
-        if (wx != by_edge.end()) wx->second = static_cast<std::uint32_t>(tris.size() - 1);
+        // The fan's last triangle now holds w -> x (a later gap's edge when x follows w).
+        note(g.w, apex, static_cast<std::uint32_t>(tris.size() - 1), true);
     }
     out.insert(out.end(), tris.begin(), tris.end());
     return GroupResult::kOk;
@@ -309,11 +311,15 @@ private:
 template <class Good>
 void delaunay_flips(const SectionPlan& plan, std::vector<Triangle>& tris, CapAdjacency& adj,
                     const Good& good) {
-    std::vector<char> touched;
+    // A pass looks only at the triangles flipped in the pass before and their neighbours: every
+    // other triangle had each of its edges tested in that pass against the same two triangles
+    // (an edge it skipped for a flipped neighbour has that neighbour now), so it cannot flip.
+    std::vector<char> touched, active(tris.size(), 1);
     for (int pass = 0; pass < 8; ++pass) {
         touched.assign(tris.size(), 0);
         bool flipped = false;
         for (std::uint32_t i = 0; i < tris.size(); ++i) {
+            if (!active[i]) continue;
             for (int r = 0; r < 3 && !touched[i]; ++r) {
                 // Triangle i read from corner r: (a, b, c); edge c -> a is slot 3i + (r + 2) % 3,
                 // and the neighbour holds a -> c with apex d.
@@ -345,6 +351,14 @@ void delaunay_flips(const SectionPlan& plan, std::vector<Triangle>& tris, CapAdj
             }
         }
         if (!flipped) return;
+        std::fill(active.begin(), active.end(), 0);
+        for (std::uint32_t i = 0; i < tris.size(); ++i) {
+            if (!touched[i]) continue;
+            active[i] = 1;
+            for (std::uint32_t e = 0; e < 3; ++e)
+                if (const std::uint32_t o = adj.across(3 * i + e); o != kNoCapNeighbour)
+                    active[o / 3] = 1;
+        }
     }
 }
 

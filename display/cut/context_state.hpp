@@ -63,7 +63,8 @@ struct ContextState {
     std::vector<std::int32_t> snap_candidates;  ///< what the last plan's checks would snap
     SectionPlan plan;
     Triangulator triangulator;
-    std::vector<std::uint32_t> heap;  ///< seed search scratch
+    std::vector<std::uint32_t> heap;         ///< seed search scratch
+    std::vector<std::uint32_t> cap_scratch;  ///< per plan point, for the caps (cap_plan.cpp)
 };
 
 }  // namespace kerf::cut::detail
