@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <type_traits>
 
 #include "display/cut/context_state.hpp"
@@ -65,10 +66,7 @@ void ContextState::rebuild() {
     cap_faces.clear();
     for (auto f : mesh.faces())
         if (mesh.property(cap, f) != kCapNone) cap_faces.push_back(f);
-    std::fill_n(&mesh.property(v_stamp).data_vector()[0], mesh.n_vertices(), 0u);
-    std::fill_n(&mesh.property(e_stamp).data_vector()[0], mesh.n_edges(), 0u);
-    std::fill_n(&mesh.property(f_stamp).data_vector()[0], mesh.n_faces(), 0u);
-    generation = 1;
+    clear_stamps();
     // Headroom for the cuts to come, reserved and made resident now (no cut reallocates or
     // page-faults); idle time keeps it up with grow_step().
     reserved_vertices = mesh.n_vertices();
@@ -83,6 +81,14 @@ std::size_t ContextState::headroom_faces(std::size_t min_spare_faces) const {
 }
 
 bool ContextState::grow_step(std::size_t min_spare_faces) {
+    if (generation > std::numeric_limits<Stamp>::max() - kStampReserve) {
+        clear_stamps();
+        return true;
+    }
+    return grow_kind(min_spare_faces);
+}
+
+bool ContextState::grow_kind(std::size_t min_spare_faces) {
     const std::size_t hf = headroom_faces(min_spare_faces);
     const std::size_t nv = mesh.n_vertices(), ne = mesh.n_edges(), nf = mesh.n_faces();
     const std::size_t want[4] = {nv + hf / 2, ne + 2 * hf, nf + hf, hf};
@@ -147,15 +153,19 @@ void ContextState::ensure_capacity(std::size_t vertices, std::size_t edges, std:
     if (room) return;
     ++growths_in_cuts;
     const std::size_t need = std::max({vertices, edges, faces});
-    while (grow_step(need)) {
+    while (grow_kind(need)) {
     }
 }
 
 void ContextState::next_generation() {
     if (++generation != 0) return;
-    std::fill_n(&mesh.property(v_stamp).data_vector()[0], mesh.n_vertices(), 0u);
-    std::fill_n(&mesh.property(e_stamp).data_vector()[0], mesh.n_edges(), 0u);
-    std::fill_n(&mesh.property(f_stamp).data_vector()[0], mesh.n_faces(), 0u);
+    clear_stamps();
+}
+
+void ContextState::clear_stamps() {
+    std::fill_n(&mesh.property(v_stamp).data_vector()[0], mesh.n_vertices(), Stamp{0});
+    std::fill_n(&mesh.property(e_stamp).data_vector()[0], mesh.n_edges(), Stamp{0});
+    std::fill_n(&mesh.property(f_stamp).data_vector()[0], mesh.n_faces(), Stamp{0});
     generation = 1;
 }
 

@@ -3,8 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
+#include "display/cut/context_state.hpp"
+#include "display/cut/mesh_hash.hpp"
 #include "display/mesh/shapes.hpp"
 #include "tests/cut/cut_test_util.hpp"
 #include "tests/cut/mesh_checks.hpp"
@@ -277,6 +280,39 @@ TEST(CutContext, SteadyCuttingWithIdleStepsNeverGrowsCapacityInsideACut) {
         }
         expect_closed_2_manifold(m);
     }
+}
+
+// The context's generation stamps are 16 bits (issue 10 item 10): they wrap every 65,535
+// generations. A wrap inside a cut clears them and changes nothing (the same meshes as a fresh
+// context); idle time clears them before fewer than kStampReserve generations are left, so
+// steady cutting with idle steps never meets the O(mesh) clearing inside a cut.
+TEST(CutContext, StampsWrappingInsideACutOrClearedInIdleTimeChangeNoResult) {
+    using Stamp = kerf::cut::detail::ContextState::Stamp;
+    constexpr Stamp kMax = std::numeric_limits<Stamp>::max();
+    auto cut_all = [](CutContext& ctx, bool near_wrap) {
+        CrossSection cs;
+        for (int i = 0; i < 12; ++i) {
+            if (near_wrap) ctx.state().generation = static_cast<Stamp>(kMax - (i % 4));
+            const double z = 0.05 * (0.05 + 0.9 * (i + 0.5) / 12) + 1.234e-6;
+            const Seed seed{Vec3(0.01, 0, z), mesh::FaceHandle(), -1.0};
+            EXPECT_TRUE(slice_by_plane(ctx, plane_of(Vec3(0, 0, z), Vec3(0, 0, 1)), seed, cs).ok());
+        }
+    };
+    auto fresh = mesh::make_hollow_tube(0.05, 0.01, 0.006, 64, 40);
+    auto wrapped = fresh;
+    CutContext fresh_ctx(fresh), wrapped_ctx(wrapped);
+    cut_all(fresh_ctx, false);
+    cut_all(wrapped_ctx, true);
+    EXPECT_EQ(mesh_hash(wrapped), mesh_hash(fresh));
+    expect_closed_2_manifold(wrapped);
+
+    auto& state = wrapped_ctx.state();
+    state.generation =
+        static_cast<Stamp>(kMax - kerf::cut::detail::ContextState::kStampReserve + 1);
+    EXPECT_TRUE(wrapped_ctx.grow_step());  // the idle step clears the stamps
+    EXPECT_EQ(state.generation, 1);
+    const auto v = mesh::VertexHandle(0);
+    EXPECT_EQ(wrapped.property(state.v_stamp, v), 0);
 }
 
 }  // namespace
