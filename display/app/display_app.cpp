@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <csignal>
 #include <ctime>
@@ -54,6 +55,7 @@ struct Measures {
     render::UploadStats last_upload;
     std::uint64_t uploads = 0;
     std::uint64_t restarts = 0;  ///< frames begun again to take an edit that came mid-issue
+    std::uint64_t joins = 0;     ///< edits that came mid-issue and joined the frame in flight
 };
 
 double median(std::vector<double> v) {
@@ -130,7 +132,7 @@ void write_status(const std::string& path, const FollowerStatus& s, const Measur
           << ", \"whole_buffer_bytes\": " << m.whole_buffer_bytes
           << ", \"frame_median_ms\": " << median(m.frame_ms)
           << ", \"issue_median_ms\": " << median(m.issue_ms)
-          << ", \"frame_restarts\": " << m.restarts
+          << ", \"frame_restarts\": " << m.restarts << ", \"frame_joins\": " << m.joins
           << ", \"latency_samples_ms\": " << json_array(m.latency_ms)
           << ", \"upload_bytes_samples\": " << json_array(m.upload_bytes)
           << ", \"edit_ms\": " << json_array(s.edit_ms) << ", \"hud\": " << json_string(hud)
@@ -171,7 +173,8 @@ struct FrameInput {
     std::uint64_t drawn_event_ns = 0;  ///< newest event in the edits this frame uploads (0: none)
     bool cut_ended = false;            ///< a cut completed since the previous frame
     std::uint32_t triangles = 0;
-    std::uint64_t edits = 0;  ///< hand-overs included in this frame
+    std::uint64_t edits = 0;                                  ///< hand-overs included in this frame
+    std::array<glm::dmat4, render::kMaxBodies> transforms{};  ///< body slots the frame draws with
 };
 
 /// What the last frame showed, for --on-demand: redraw only when it is out of date.
@@ -219,6 +222,7 @@ FrameInput take_handover(Handover& h, egl::EglOutput& output, render::Renderer& 
         const auto& t = h.sync.transforms();
         for (int b = 0; b < render::kMaxBodies; ++b)
             renderer.set_body_transform(b, t[std::size_t(b)]);
+        in.transforms = t;
         in.triangles = rm->triangle_count();
     }
     in.drawn_event_ns = std::exchange(h.newest_event_ns, 0);
@@ -228,30 +232,55 @@ FrameInput take_handover(Handover& h, egl::EglOutput& output, render::Renderer& 
     return in;
 }
 
+/// Mid-frame, under the hand-over lock: the newest edit joins the frame in flight when it changes
+/// nothing the frame has drawn (Renderer::join_frame) and moved no body; true if it did.
+bool join_newest_edit(Handover& h, render::Renderer& renderer, Measures& m, FrameInput& in,
+                      std::uint64_t& cuts_seen) {
+    const std::lock_guard lock(h.mutex);
+    auto& rm = h.sync.mesh();
+    if (!rm || h.sync.transforms() != in.transforms) return false;
+    render::UploadStats up;
+    if (!renderer.join_frame(*rm, up)) return false;
+    m.last_upload = up;
+    ++m.uploads;
+    ++m.joins;
+    in.drawn_event_ns = std::max(in.drawn_event_ns, std::exchange(h.newest_event_ns, 0));
+    in.edits = h.edits.load(std::memory_order_relaxed);
+    in.cut_ended = in.cut_ended || h.cuts_completed > cuts_seen;
+    cuts_seen = h.cuts_completed;
+    in.triangles = rm->triangle_count();
+    return true;
+}
+
 /// Uploads the newest edit and issues the bone's draw calls. An edit handed over while they are
 /// being issued (the frame's upload point already passed) would otherwise wait for the whole
-/// frame and then one more: the frame is begun again once to take it — not twice in a row, so
-/// a stream of edits (CutProgress every few ms) cannot starve frames.
+/// frame and then one more: it joins the frame in flight when it touches nothing drawn yet (the
+/// chunks a cut edits are drawn last, so the next edits of that cut usually can), else the frame
+/// is begun again once to take it — not twice in a row, so a stream of edits (CutProgress every
+/// few ms) cannot starve frames.
 FrameInput begin_frame_with_newest_edit(Handover& h, egl::EglOutput& output,
                                         render::Renderer& renderer, Measures& m,
                                         std::optional<render::Camera>& camera,
                                         std::uint64_t& cuts_seen, bool& restarted_last) {
     FrameInput in = take_handover(h, output, renderer, m, camera, cuts_seen);
-    const auto newer_edit = [&] { return h.edits.load(std::memory_order_acquire) != in.edits; };
-    if (restarted_last) {
-        restarted_last = false;
-        renderer.begin_frame(*camera);
-        return in;
-    }
-    if (renderer.begin_frame(*camera, newer_edit)) return in;
+    bool may_restart = !restarted_last;
+    restarted_last = false;
+    const auto between_chunks = [&] {
+        if (h.edits.load(std::memory_order_acquire) == in.edits) return false;
+        if (join_newest_edit(h, renderer, m, in, cuts_seen)) return false;
+        return may_restart;
+    };
+    if (renderer.begin_frame(*camera, between_chunks)) return in;
     ++m.restarts;
     restarted_last = true;
+    may_restart = false;  // edits may still join the frame begun again
     const FrameInput again = take_handover(h, output, renderer, m, camera, cuts_seen);
-    renderer.begin_frame(*camera);
     in.drawn_event_ns = std::max(in.drawn_event_ns, again.drawn_event_ns);
     in.cut_ended = in.cut_ended || again.cut_ended;
     in.triangles = again.triangles;
+    in.transforms = again.transforms;
     in.edits = again.edits;
+    renderer.begin_frame(*camera, between_chunks);
     return in;
 }
 

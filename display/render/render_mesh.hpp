@@ -124,6 +124,8 @@ public:
     std::span<const std::uint32_t> indices() const noexcept { return indices_; }
     /// Triangles to draw (face slots in use, deleted ones degenerate).
     std::uint32_t triangle_count() const noexcept { return face_count_; }
+    /// Mesh vertices in use (deleted ones included): [0, vertex_count()) of the vertex array.
+    std::uint32_t vertex_count() const noexcept { return vertex_count_; }
     std::uint32_t vertex_capacity() const noexcept { return vertex_capacity_; }
     std::uint32_t face_capacity() const noexcept { return face_capacity_; }
     /// Cap corners in use (3 per cap face).

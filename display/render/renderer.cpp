@@ -137,6 +137,7 @@ struct Renderer::State {
     GLuint mesh_vao = 0, mesh_vbo = 0, mesh_ibo = 0;
     std::uint64_t vbo_capacity_bytes = 0, ibo_capacity_bytes = 0;
     std::uint32_t triangles = 0;
+    ChunkIssue issue;  ///< the bone's draw order and what the frame in flight has issued
     GLuint blade_vao = 0, blade_vbo = 0, guide_vao = 0, guide_vbo = 0;
     GLsizei blade_vertices = 0, guide_vertices = 0;
     GLuint text_vao = 0, text_vbo = 0, text_ibo = 0;
@@ -331,6 +332,7 @@ UploadStats Renderer::upload(RenderMesh& mesh) {
         u.reallocated = true;
         mesh.clear_realloc();
     } else {
+        s.issue.note_edits(mesh);
         for (const auto& r : mesh.dirty_vertices().ranges()) {
             glBufferSubData(GL_ARRAY_BUFFER,
                             static_cast<GLintptr>(std::uint64_t{r.first} * sizeof(RenderVertex)),
@@ -351,10 +353,17 @@ UploadStats Renderer::upload(RenderMesh& mesh) {
     mesh.dirty_vertices().clear();
     mesh.dirty_indices().clear();
     s.triangles = mesh.triangle_count();
+    s.issue.uploaded(mesh);
     s.totals.bytes += u.bytes;
     s.totals.calls += u.calls;
     s.totals.reallocated = s.totals.reallocated || u.reallocated;
     return u;
+}
+
+bool Renderer::join_frame(RenderMesh& mesh, UploadStats& stats) {
+    if (!s_->issue.can_join(mesh)) return false;
+    stats = upload(mesh);
+    return true;
 }
 
 void Renderer::set_body_transform(int body, const glm::dmat4& body_to_world) noexcept {
@@ -391,13 +400,15 @@ bool Renderer::begin_frame(const Camera& camera, const std::function<bool()>& ab
         glUniformMatrix4fv(s.u_view_proj, 1, GL_FALSE, glm::value_ptr(s.view_proj));
         glUniform3fv(s.u_eye, 1, glm::value_ptr(s.eye));
         glUniform1f(s.u_pore_scale, 800.0f);  // ~1.25 mm trabecular cells
-        glBindVertexArray(s.mesh_vao);
-        for (std::uint32_t first = 0; first < s.triangles; first += kBoneChunkTriangles) {
-            if (first > 0 && abandon && abandon()) {
+        s.issue.begin();
+        std::uint32_t first = 0, count = 0;
+        for (bool started = false;; started = true) {
+            if (started && abandon && abandon()) {
                 glBindVertexArray(0);
                 return false;
             }
-            const std::uint32_t count = std::min(kBoneChunkTriangles, s.triangles - first);
+            if (!s.issue.next(first, count)) break;
+            glBindVertexArray(s.mesh_vao);  // again: a join_frame() upload unbinds it
             glDrawElements(
                 GL_TRIANGLES, static_cast<GLsizei>(count * 3), GL_UNSIGNED_INT,
                 reinterpret_cast<const void*>(std::uintptr_t{first} * 3 * sizeof(std::uint32_t)));

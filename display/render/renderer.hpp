@@ -27,6 +27,7 @@
 
 #include "config/base/result.hpp"
 #include "display/render/camera.hpp"
+#include "display/render/chunk_issue.hpp"
 #include "display/render/hud.hpp"
 #include "display/render/render_mesh.hpp"
 #include "rt_core/ipc/records.hpp"
@@ -75,9 +76,6 @@ struct UploadStats {
     bool reallocated = false;  ///< buffers were (re)created at the mesh's capacity
 };
 
-/// Triangles per draw call of the mesh when begin_frame() may be abandoned between them.
-inline constexpr std::uint32_t kBoneChunkTriangles = 1u << 15;
-
 class Renderer {
 public:
     /// Compiles the shaders and makes the FBO and buffers. Needs a current OpenGL ES 3 context.
@@ -103,11 +101,17 @@ public:
 
     /// Binds the FBO, clears it and draws the mesh (and the planned-cut guide) from `camera`.
     void begin_frame(const Camera& camera);
-    /// The same, but asks `abandon` between chunks of kBoneChunkTriangles of the mesh; when it
-    /// says true, stops there and returns false: upload the newer edit and begin again (what was
-    /// issued is overdrawn by the new clear). Lets a frame whose draw calls are still being
-    /// issued (on llvmpipe: vertex work and binning) take an edit that arrived meanwhile.
+    /// The same, but calls `abandon` between chunks of kBoneChunkTriangles of the mesh (issued in
+    /// ChunkIssue's order: chunks edited lately last). There an edit that arrived meanwhile can
+    /// join the frame (join_frame()); if it cannot and `abandon` says true, this stops and returns
+    /// false: upload the edit and begin again (what was issued is overdrawn by the new clear).
+    /// Lets a frame whose draw calls are still being issued (on llvmpipe: vertex work and
+    /// binning) show an edit that arrived meanwhile.
     bool begin_frame(const Camera& camera, const std::function<bool()>& abandon);
+    /// From begin_frame()'s `abandon`: uploads `mesh`'s pending edit into the frame being issued
+    /// when it changes nothing the frame has drawn (ChunkIssue::can_join); the rest of the frame
+    /// draws it. False: nothing uploaded. Body transforms must not have changed.
+    bool join_frame(RenderMesh& mesh, UploadStats& stats);
     /// Draws the blade at `pose` (sample it as late as possible: right before this call).
     void draw_blade(const BladePose& pose);
     /// Draws the HUD text over everything.

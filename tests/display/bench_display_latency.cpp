@@ -190,6 +190,7 @@ static int program_main(int argc, char** argv) {
     const Summary edit = summarize(json_numbers(s, "edit_ms"));
     const Summary up = summarize(json_numbers(s, "upload_bytes_samples"));
     const double frame = json_number(s, "frame_median_ms");
+    const double joins = json_number(s, "frame_joins"), restarts = json_number(s, "frame_restarts");
     const double whole = json_number(s, "whole_buffer_bytes");
     std::printf(
         "scene: built-in foot, %zu triangles target; %d CutBegin events; producer on CPU %s, "
@@ -205,6 +206,11 @@ static int program_main(int argc, char** argv) {
                 lat.median, lat.min, lat.max);
     std::printf("(event -> pixels - cut) / frame       %8.2f frames (median)\n",
                 (lat.median - edit.median) / frame);
+    std::printf("edits that came mid-frame             %8.0f joined the frame, %.0f restarted it\n",
+                joins, restarts);
+    std::printf("event -> pixels, each edit (ms):     ");
+    for (const double v : json_numbers(s, "latency_samples_ms")) std::printf(" %.0f", v);
+    std::printf("\n");
     std::printf(
         "bytes uploaded by that frame          %8.0f  (min %.0f, max %.0f); whole buffers "
         "%.0f bytes: %.4f of a full upload\n",

@@ -83,11 +83,70 @@ TEST_F(RendererTest, AnAbandonedFrameBegunAgainDrawsWhatAnUninterruptedOneDraws)
     EXPECT_EQ(asked, 1) << "asked between chunks, stopped at the first yes";
     asked = 0;
     EXPECT_TRUE(renderer_->begin_frame(s.camera, [&] { return ++asked < 0; }));
-    EXPECT_EQ(asked, int((s.render.triangle_count() - 1) / kBoneChunkTriangles))
-        << "asked once between every two chunks";
+    EXPECT_EQ(asked,
+              int((s.render.triangle_count() + kBoneChunkTriangles - 1) / kBoneChunkTriangles))
+        << "asked once after every chunk";
     renderer_->draw_blade(s.blade);
     renderer_->finish_frame();
     EXPECT_EQ(renderer_->read_pixels(), uninterrupted);
+}
+
+/// A frame of `s` with nothing pending: clear, bone, blade, finish; its pixels.
+std::vector<std::uint8_t> fresh_frame(Renderer& r, testing::Scene& s) {
+    r.begin_frame(s.camera);
+    r.draw_blade(s.blade);
+    r.finish_frame();
+    return r.read_pixels();
+}
+
+TEST_F(RendererTest, AnEditJoiningTheFrameInFlightDrawsWhatAFrameBegunAfterItDraws) {
+    auto s = testing::make_scene(SceneKind::kUncut, 100000);
+    s.planned.reset();
+    ASSERT_GT(s.render.triangle_count(), 2 * kBoneChunkTriangles);
+    renderer_->upload(s.render);
+    const auto before = fresh_frame(*renderer_, s);
+    cut::CutContext ctx(s.mesh);
+    const auto cut_at = [&](double z) {  // a cut through, its kerf opened: visible
+        cut::CrossSection cs;
+        const auto plane = *cut::Plane::make({0.0, 0.0, z}, {0.0, 0.15, 1.0});
+        EXPECT_TRUE(cut::slice_by_plane(ctx, plane, cs).ok());
+        auto sep = cut::Separator::make(ctx, cs, 2 * testing::kKerf);
+        ASSERT_TRUE(sep);
+        sep->sweep_all();
+        s.mesh.update_normals();
+        s.render.update_after_edit(s.mesh, sep->moved_vertices());
+    };
+    // After the first chunk (the start of the tube) an edit arrives near the far end: it touches
+    // nothing drawn yet, so it joins the frame, and the frame shows it.
+    int asked = 0, joined = 0;
+    UploadStats up;
+    EXPECT_TRUE(renderer_->begin_frame(s.camera, [&] {
+        if (++asked == 1) {
+            cut_at(0.9 * testing::kLength);
+            joined += renderer_->join_frame(s.render, up) ? 1 : 0;
+        }
+        return false;
+    }));
+    renderer_->draw_blade(s.blade);
+    renderer_->finish_frame();
+    const auto with_join = renderer_->read_pixels();
+    EXPECT_EQ(joined, 1) << "the edit touched no issued triangle: it should have joined";
+    EXPECT_GT(up.bytes, 0u);
+    EXPECT_NE(with_join, before) << "the edit changed nothing on screen";
+    EXPECT_EQ(with_join, fresh_frame(*renderer_, s)) << "the joined frame differs";
+
+    // An edit of the part already drawn (near the start) cannot join: the frame begins again.
+    asked = 0;
+    bool refused = false;
+    EXPECT_FALSE(renderer_->begin_frame(s.camera, [&] {
+        if (++asked > 1) return false;
+        cut_at(0.05 * testing::kLength);
+        refused = !renderer_->join_frame(s.render, up);
+        return refused;
+    }));
+    EXPECT_TRUE(refused);
+    renderer_->upload(s.render);
+    EXPECT_NE(fresh_frame(*renderer_, s), with_join) << "the second cut changed nothing?";
 }
 
 TEST_F(RendererTest, UploadsOnlyDirtyRangesAfterACut) {
