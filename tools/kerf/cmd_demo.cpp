@@ -214,21 +214,12 @@ void run_demo(const DemoOptions& o) {
         sup.add({{"kerf-hapsim", hapsim_args, logs / "hapsim.log", {}}, Policy::kMayFinish},
                 [&] { return fs::exists(sock); });
     if (!hapsim) fail(hapsim.error().message());
-    std::vector<std::string> display_args = {(bin / "kerf-display").string(),
-                                             "--config",
-                                             toml.string(),
-                                             "--session",
-                                             session,
-                                             "--mode",
-                                             o.window ? "window" : "headless",
-                                             "--status",
-                                             status.string(),
-                                             "--hash",
-                                             "--screenshot",
-                                             (out / "display-last-frame.png").string()};
+    const std::vector<std::string> display_argv =
+        display_args(bin, {toml, session, status, o.window ? "window" : "headless", true,
+                           out / "display-last-frame.png"});
     const fs::path display_log = logs / "kerf-display.log";
     auto display = sup.add(
-        {{"kerf-display", display_args, display_log, {}}, Policy::kRestart},
+        {{"kerf-display", display_argv, display_log, {}}, Policy::kRestart},
         [&] { return number_after(slurp(status), "\"frames\": ") >= 1; },
         std::chrono::seconds(120));  // scene built, first frame drawn
     if (!display) fail(display.error().message());

@@ -81,16 +81,8 @@ void run_replay(const ReplayOptions& o) {
         if (!started) fail("session follower: " + started.error());
         follower = std::move(*started);
     } else {
-        std::vector<std::string> args = {(bin / "kerf-display").string(),
-                                         "--config",
-                                         toml.string(),
-                                         "--session",
-                                         session,
-                                         "--mode",
-                                         "headless",
-                                         "--status",
-                                         status.string(),
-                                         "--hash"};
+        const std::vector<std::string> args =
+            display_args(bin, {toml, session, status, "headless", true, {}});
         auto display = sup.add(
             {{"kerf-display", args, display_log, {}}, Policy::kRestart},
             [&] { return number_after(slurp(status), "\"frames\": ") >= 1; },

@@ -177,17 +177,13 @@ void run_kiosk(const RunOptions& o) {
                          [&] { return fs::exists(sock); });
         if (!h) fail(h.error().message());
     }
-    std::vector<std::string> display_args = {(bin / "kerf-display").string(),
-                                             "--config",
-                                             toml.string(),
-                                             "--session",
-                                             session,
-                                             "--status",
-                                             status.string()};
-    if (o.window) display_args.insert(display_args.end(), {"--mode", "window"});
+    // The display mode is kerf.toml's (a kiosk's KMS) unless --window; no hash: a kiosk runs for
+    // days and the hash is for tests.
+    const std::vector<std::string> display_argv =
+        display_args(bin, {toml, session, status, o.window ? "window" : "", false, {}});
     const fs::path display_log = work / "kerf-display.log";
     auto display = sup.add(
-        {{"kerf-display", display_args, display_log, {}}, Policy::kRestart},
+        {{"kerf-display", display_argv, display_log, {}}, Policy::kRestart},
         [&] { return number_after(slurp(status), "\"frames\": ") >= 1; },
         std::chrono::seconds(120));
     if (!display) fail(display.error().message() + "\n" + slurp(display_log));

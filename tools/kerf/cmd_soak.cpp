@@ -17,6 +17,7 @@
 
 #include "config/data_dir.hpp"
 #include "tools/kerf/commands.hpp"
+#include "tools/kerf/session_files.hpp"
 #include "tools/kerf/soak_report.hpp"
 #include "tools/kerf/soak_round.hpp"
 #include "tools/supervise/child_process.hpp"
@@ -79,24 +80,6 @@ std::vector<std::string> shared_meshes(const SoakOptions& o) {
     return out;
 }
 
-/// The temporary work folder, removed with everything in it at the end.
-struct WorkDir {
-    fs::path path;
-    WorkDir() {
-        std::string templ =
-            (fs::temp_directory_path() / ("kerf-soak-" + std::to_string(getpid()) + "-XXXXXX"))
-                .string();
-        if (!mkdtemp(templ.data())) fail("cannot create a temporary folder in /tmp");
-        path = templ;
-    }
-    ~WorkDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    WorkDir(const WorkDir&) = delete;
-    WorkDir& operator=(const WorkDir&) = delete;
-};
-
 void run_soak(const SoakOptions& o) {
     const auto duration = parse_duration(o.duration);
     if (!duration) fail("--duration: " + duration.error(), kExitUsage);
@@ -111,8 +94,9 @@ void run_soak(const SoakOptions& o) {
     const fs::path out = fs::absolute(o.out_dir);
     const std::vector<std::string> meshes = shared_meshes(o);
 
-    supervise::Supervisor guard;  // Ctrl-C is a stop request from here on
-    WorkDir work;
+    supervise::Supervisor guard;               // Ctrl-C is a stop request from here on
+    auto work = WorkDir::create("kerf-soak");  // removed with everything in it at the end
+    if (!work) fail(work.error());
     const auto t0 = std::chrono::steady_clock::now();
     const auto elapsed = [&] {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -144,7 +128,7 @@ void run_soak(const SoakOptions& o) {
         spec.device_rotation = device_rotation;
         spec.host_rotation = host_rotation;
         spec.config = config_file;
-        spec.work = work.path / ("round-" + std::to_string(i));
+        spec.work = work->path() / ("round-" + std::to_string(i));
         spec.display_rss_limit_mb = o.display_rss_limit_mb;
         spec.rt_growth_limit_pct = o.rt_growth_limit_pct;
         if (!o.quiet) {
@@ -165,7 +149,7 @@ void run_soak(const SoakOptions& o) {
         fs::remove_all(spec.work, ec);  // the journal and logs are kept in the result
     }
     run.wall_s = elapsed();
-    if (auto ok = write_soak_outputs(run, out, work.path / "plots"); !ok)
+    if (auto ok = write_soak_outputs(run, out, work->path() / "plots"); !ok)
         fail("output: " + ok.error());
     std::cout << soak_summary(run, out);
     if (!run.failures.empty()) throw CLI::RuntimeError(kExitFailure);

@@ -104,6 +104,17 @@ JournalPrune prune_journals(const fs::path& dir, const JournalBound& bound,
     return out;
 }
 
+std::vector<std::string> display_args(const fs::path& bin, const DisplayLaunch& launch) {
+    std::vector<std::string> args = {(bin / "kerf-display").string(), "--config",
+                                     launch.config.string(), "--session", launch.session};
+    if (!launch.mode.empty()) args.insert(args.end(), {"--mode", launch.mode});
+    args.insert(args.end(), {"--status", launch.status.string()});
+    if (launch.hash) args.push_back("--hash");
+    if (!launch.screenshot.empty())
+        args.insert(args.end(), {"--screenshot", launch.screenshot.string()});
+    return args;
+}
+
 Result<WorkDir, std::string> WorkDir::create(const std::string& stem) {
     std::string templ =
         (fs::temp_directory_path() / (stem + "-" + std::to_string(getpid()) + "-XXXXXX")).string();

@@ -1,6 +1,6 @@
 // Small file helpers shared by the `kerf` commands that run the simulator's processes (demo,
-// replay, run): reading and atomically writing text files, editing a copied kerf.toml, a
-// temporary work folder, and reading kerf-display's status file.
+// replay, run, soak): reading and atomically writing text files, editing a copied kerf.toml, a
+// temporary work folder, kerf-display's command line and reading its status file.
 #pragma once
 
 #include <cstdint>
@@ -42,6 +42,19 @@ struct JournalPrune {
 /// (the running session's).
 JournalPrune prune_journals(const std::filesystem::path& dir, const JournalBound& bound,
                             std::filesystem::file_time_type keep_since);
+
+/// How a kerf command starts kerf-display.
+struct DisplayLaunch {
+    std::filesystem::path config;      ///< the session's kerf.toml
+    std::string session;               ///< segment name
+    std::filesystem::path status;      ///< the status file (JSON) the commands poll
+    std::string mode;                  ///< "headless", "window", or "" (kerf.toml's [display] mode)
+    bool hash = true;                  ///< --hash: the status carries the mesh hash
+    std::filesystem::path screenshot;  ///< --screenshot of the last frame; empty: none
+};
+/// kerf-display's argument vector, the executable taken from `bin`.
+std::vector<std::string> display_args(const std::filesystem::path& bin,
+                                      const DisplayLaunch& launch);
 
 /// A temporary folder /tmp/STEM-PID-XXXXXX, removed with everything in it on destruction.
 class WorkDir {

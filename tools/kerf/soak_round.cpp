@@ -22,6 +22,7 @@
 #include "display/mesh/foot_generator.hpp"
 #include "rt_core/ipc/journal_reader.hpp"
 #include "tools/kerf/demo_replay.hpp"
+#include "tools/kerf/session_files.hpp"
 #include "tools/kerf/soak_scribbler.hpp"
 #include "tools/supervise/supervisor.hpp"
 
@@ -32,39 +33,6 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 using supervise::Policy;
 using supervise::Supervisor;
-
-std::string read_text(const fs::path& p) {
-    std::ifstream f(p);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
-
-/// `key = value` for every line that sets `key` (comments dropped).
-std::string with_key(const std::string& toml, const std::string& key, const std::string& value) {
-    std::istringstream in(toml);
-    std::string line, out;
-    while (std::getline(in, line)) {
-        const auto first = line.find_first_not_of(' ');
-        if (first != std::string::npos && line.compare(first, key.size() + 1, key + " ") == 0)
-            line = key + " = " + value;
-        out += line + "\n";
-    }
-    return out;
-}
-
-/// A number after `key` in `text`, or -1.
-double number_after(const std::string& text, const std::string& key) {
-    const auto at = text.find(key);
-    return at == std::string::npos ? -1 : std::strtod(text.c_str() + at + key.size(), nullptr);
-}
-
-std::string json_string(const std::string& text, const std::string& key) {
-    const auto at = text.find("\"" + key + "\": \"");
-    if (at == std::string::npos) return {};
-    const auto start = at + key.size() + 5;
-    return text.substr(start, text.find('"', start) - start);
-}
 
 std::uint64_t monotonic_ns() {
     timespec ts{};
@@ -81,17 +49,17 @@ Result<fs::path, std::string> prepare_config(const RoundSpec& s, const std::stri
     if (!fs::exists(dst)) fs::copy(s.config.parent_path(), dst, fs::copy_options::recursive, ec);
     if (ec) return Err{"copy of " + s.config.parent_path().string() + ": " + ec.message()};
     const bool foot = s.scene == "builtin_foot";
-    std::string toml = read_text(s.config);
-    toml = with_key(toml, "session_name", "\"" + session + "\"");
-    toml = with_key(toml, "dir", "\"" + (s.work / "journal").string() + "\"");
-    toml = with_key(toml, "scene", foot ? "\"builtin_foot\"" : "\"soak_mesh\"");
-    toml = with_key(toml, "device", "\"simulated\"");
-    toml = with_key(toml, "shared", "\"" + s.work.string() + "\"");
+    std::string toml = slurp(s.config);
+    toml = set_key(toml, "session_name", "\"" + session + "\"");
+    toml = set_key(toml, "dir", "\"" + (s.work / "journal").string() + "\"");
+    toml = set_key(toml, "scene", foot ? "\"builtin_foot\"" : "\"soak_mesh\"");
+    toml = set_key(toml, "device", "\"simulated\"");
+    toml = set_key(toml, "shared", "\"" + s.work.string() + "\"");
     std::string scene;
     if (foot) {
-        scene = read_text(dst / "scenes" / "builtin_foot.toml");
-        scene = with_key(scene, "target_triangles", std::to_string(s.triangles));
-        scene = with_key(scene, "seed", std::to_string(s.seed));
+        scene = slurp(dst / "scenes" / "builtin_foot.toml");
+        scene = set_key(scene, "target_triangles", std::to_string(s.triangles));
+        scene = set_key(scene, "seed", std::to_string(s.seed));
     } else {
         const mesh::Point c = centre.value_or(mesh::Point{0, 0, 0});
         char t[160];
@@ -362,22 +330,14 @@ Result<RoundResult, std::string> run_round(const RoundSpec& spec, bool quiet) {
         return ok();
     };
     if (!wait_for([&] { return fs::exists(sock); }, 30))
-        return Err{"kerf-hapsim did not listen: " + read_text(hapsim_log)};
-    const std::vector<std::string> display_args = {(bin / "kerf-display").string(),
-                                                   "--config",
-                                                   toml->string(),
-                                                   "--session",
-                                                   session,
-                                                   "--mode",
-                                                   "headless",
-                                                   "--status",
-                                                   status.string(),
-                                                   "--hash"};
+        return Err{"kerf-hapsim did not listen: " + slurp(hapsim_log)};
+    const std::vector<std::string> display_argv =
+        display_args(bin, {*toml, session, status, "headless", true, {}});
     auto display = sup.add(
-        {{"kerf-display", display_args, display_log, {}}, Policy::kRestart},
-        [&] { return number_after(read_text(status), "\"frames\": ") >= 1; },
+        {{"kerf-display", display_argv, display_log, {}}, Policy::kRestart},
+        [&] { return number_after(slurp(status), "\"frames\": ") >= 1; },
         std::chrono::seconds(180));
-    if (!display) return Err{display.error().message() + "\n" + read_text(display_log)};
+    if (!display) return Err{display.error().message() + "\n" + slurp(display_log)};
     const std::vector<std::string> rt_args = {(bin / "kerf-rt").string(),
                                               "--config",
                                               toml->string(),
@@ -389,10 +349,9 @@ Result<RoundResult, std::string> run_round(const RoundSpec& spec, bool quiet) {
                                               session,
                                               "--histogram",
                                               hist.string()};
-    auto rt = sup.add({{"kerf-rt", rt_args, rt_log, {}}, Policy::kMayFinish}, [&] {
-        return read_text(rt_log).find("kerf-rt: session") != std::string::npos;
-    });
-    if (!rt) return Err{rt.error().message() + "\n" + read_text(rt_log)};
+    auto rt = sup.add({{"kerf-rt", rt_args, rt_log, {}}, Policy::kMayFinish},
+                      [&] { return slurp(rt_log).find("kerf-rt: session") != std::string::npos; });
+    if (!rt) return Err{rt.error().message() + "\n" + slurp(rt_log)};
     Result<std::unique_ptr<SessionMonitor>, std::string> monitor = Err{std::string()};
     wait_for(
         [&] {
@@ -502,7 +461,7 @@ Result<RoundResult, std::string> run_round(const RoundSpec& spec, bool quiet) {
         }
         if (!quiet && t - last_print >= 5) {
             last_print = t;
-            const std::string st = read_text(status);
+            const std::string st = slurp(status);
             std::printf("  round %d  %5.0f / %.0f s: %zu faults injected, display applied %.0f\n",
                         spec.index, t, script->duration_s, r.injected.size(),
                         number_after(st, "\"applied\": "));
@@ -521,7 +480,7 @@ Result<RoundResult, std::string> run_round(const RoundSpec& spec, bool quiet) {
     // journal's last events.
     std::string st;
     const auto display_at = [&](std::uint64_t n) {
-        st = read_text(status);
+        st = slurp(status);
         return number_after(st, "\"next_sequence\": ") >= double(n) &&
                st.find("\"hash_valid\": true") != std::string::npos &&
                number_after(st, "\"hash_sequence\": ") >= double(n);
@@ -553,7 +512,7 @@ Result<RoundResult, std::string> run_round(const RoundSpec& spec, bool quiet) {
     r.wall_s = now_s();
 
     // The checks.
-    const std::string rt_text = read_text(rt_log);
+    const std::string rt_text = slurp(rt_log);
     read_rt_summary(rt_text, r);
     read_histogram(hist, r);
     if (rt_text.find("FAULT: check") != std::string::npos)
@@ -646,8 +605,8 @@ Result<RoundResult, std::string> run_round(const RoundSpec& spec, bool quiet) {
                                                        {"kerf-hapsim.log", hapsim_log},
                                                        {"display-status.json", status},
                                                        {"kerf-rt-histogram.csv", hist}})
-        r.keep.emplace_back(name, read_text(path));
-    if (!journal.empty()) r.keep.emplace_back("session.kjournal", read_text(journal));
+        r.keep.emplace_back(name, slurp(path));
+    if (!journal.empty()) r.keep.emplace_back("session.kjournal", slurp(journal));
     return r;
 }
 
