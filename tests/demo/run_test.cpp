@@ -39,6 +39,31 @@ std::vector<pid_t> pids_of(const std::string& program, const std::string& mark) 
     return out;
 }
 
+/// Waits (at most 20 s) until every process of `pids` has finished exiting: gone, or a zombie
+/// whose threads have all exited. A SIGKILLed process's leader turns zombie first; its files
+/// (kerf-rt's listening session socket) are closed only when its last thread has exited, which
+/// under load takes a while after kill() returned (a listener still there: "live session").
+bool wait_gone(const std::vector<pid_t>& pids) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    for (const pid_t p : pids) {
+        const fs::path stat = fs::path("/proc") / std::to_string(p) / "stat";
+        while (true) {
+            const std::string st = slurp(stat);
+            std::size_t threads = 0;
+            std::error_code ec;
+            for (auto it = fs::directory_iterator(stat.parent_path() / "task", ec);
+                 !ec && it != fs::directory_iterator(); it.increment(ec))
+                ++threads;
+            const bool dead =
+                st.find(") Z") != std::string::npos || st.find(") X") != std::string::npos;
+            if (st.empty() || (dead && threads <= 1)) break;
+            if (std::chrono::steady_clock::now() > until) return false;
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+    }
+    return true;
+}
+
 class KerfRun : public ::testing::Test {
 protected:
     void SetUp() override {
@@ -180,9 +205,11 @@ TEST_F(KerfRun, ASessionLeftByAKilledRunIsRemovedAtStart) {
     kill(run, SIGKILL);
     waitpid(run, nullptr, 0);
     pid_ = -1;
+    std::vector<pid_t> children;
     for (const char* p : {"kerf-rt", "kerf-display", "kerf-hapsim"})
-        for (pid_t c : pids_of(p, mark(run))) kill(c, SIGKILL);
-    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+        for (pid_t c : pids_of(p, mark(run))) children.push_back(c);
+    for (const pid_t c : children) kill(c, SIGKILL);
+    ASSERT_TRUE(wait_gone(children)) << "the killed children did not exit within 20 s";
     ASSERT_TRUE(session_socket_exists()) << "the killed run left no socket to clean";
     bool work_left = false;
     std::error_code ec;
