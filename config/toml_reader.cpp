@@ -256,7 +256,7 @@ Result<std::string, ConfigError> read_text_file(const std::string& path) {
         ConfigError e;
         e.kind = ConfigErrorKind::kIo;
         e.source = path;
-        e.note = bytes.error().message;
+        e.note = bytes.error().what;
         return Err{e};
     }
     return std::string(reinterpret_cast<const char*>(bytes->data()), bytes->size());

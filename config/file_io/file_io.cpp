@@ -11,6 +11,22 @@
 #include <cstring>
 
 namespace kerf::files {
+
+std::string_view to_string(FileErrc code) noexcept {
+    switch (code) {
+        case FileErrc::kNotFound:
+            return "not_found";
+        case FileErrc::kNotRegular:
+            return "not_regular";
+        case FileErrc::kTooLarge:
+            return "too_large";
+        case FileErrc::kIsInput:
+            return "is_input";
+        case FileErrc::kIo:
+            return "io";
+    }
+    return "unknown";
+}
 namespace {
 
 std::string kind_of(mode_t mode) {
@@ -54,23 +70,25 @@ Result<std::vector<std::byte>, FileError> read_regular_file(const std::filesyste
     const int fd = ::open(p.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
     if (fd < 0) {
         const int e = errno;
-        if (e == ENOENT) return Err{FileError{p, "no such file"}};
-        return Err{FileError{p, "cannot open: " + errno_text(e)}};
+        if (e == ENOENT) return Err{FileError{FileErrc::kNotFound, p, "no such file"}};
+        return Err{FileError{FileErrc::kIo, p, "cannot open: " + errno_text(e)}};
     }
     struct stat st {};
     if (fstat(fd, &st) != 0) {
         const int e = errno;
         ::close(fd);
-        return Err{FileError{p, "cannot stat: " + errno_text(e)}};
+        return Err{FileError{FileErrc::kIo, p, "cannot stat: " + errno_text(e)}};
     }
     if (!S_ISREG(st.st_mode)) {
         ::close(fd);
-        return Err{FileError{p, "is " + kind_of(st.st_mode) + ", not a regular file; refused"}};
+        return Err{FileError{FileErrc::kNotRegular, p,
+                             "is " + kind_of(st.st_mode) + ", not a regular file; refused"}};
     }
     if (std::uint64_t(st.st_size) > max_bytes) {
         ::close(fd);
-        return Err{FileError{p, "is " + std::to_string(st.st_size) + " bytes, more than the " +
-                                    std::to_string(max_bytes) + "-byte limit for an input"}};
+        return Err{FileError{FileErrc::kTooLarge, p,
+                             "is " + std::to_string(st.st_size) + " bytes, more than the " +
+                                 std::to_string(max_bytes) + "-byte limit for an input"}};
     }
     std::vector<std::byte> bytes(std::size_t(st.st_size));
     std::size_t got = 0;
@@ -82,8 +100,9 @@ Result<std::vector<std::byte>, FileError> read_regular_file(const std::filesyste
                 const ssize_t more = ::read(fd, &probe, 1);
                 ::close(fd);
                 if (more > 0) {
-                    return Err{FileError{p, "grew past the " + std::to_string(max_bytes) +
-                                                "-byte limit while being read"}};
+                    return Err{FileError{FileErrc::kTooLarge, p,
+                                         "grew past the " + std::to_string(max_bytes) +
+                                             "-byte limit while being read"}};
                 }
                 return bytes;
             }
@@ -94,7 +113,7 @@ Result<std::vector<std::byte>, FileError> read_regular_file(const std::filesyste
         if (n < 0) {
             const int e = errno;
             ::close(fd);
-            return Err{FileError{p, "read failed: " + errno_text(e)}};
+            return Err{FileError{FileErrc::kIo, p, "read failed: " + errno_text(e)}};
         }
         if (n == 0) break;
         got += std::size_t(n);
@@ -127,14 +146,16 @@ Status<FileError> AtomicFileSet::refuse_inputs(
         const auto& t = entries_[i].target;
         for (const auto& in : inputs) {
             if (same_file(t, in)) {
-                return Err{FileError{t.string(), "is the input " + in.string() +
-                                                     "; refusing to overwrite it (choose another "
-                                                     "output name)"}};
+                return Err{FileError{FileErrc::kIsInput, t.string(),
+                                     "is the input " + in.string() +
+                                         "; refusing to overwrite it (choose another "
+                                         "output name)"}};
             }
         }
         for (std::size_t j = 0; j < i; ++j) {
             if (t == entries_[j].target || same_file(t, entries_[j].target)) {
-                return Err{FileError{t.string(), "is named twice in one output set"}};
+                return Err{
+                    FileError{FileErrc::kIsInput, t.string(), "is named twice in one output set"}};
             }
         }
     }
@@ -152,12 +173,12 @@ Status<FileError> AtomicFileSet::commit() {
     for (const auto& e : entries_) {
         struct stat st {};
         if (lstat(e.target.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISLNK(st.st_mode)) {
-            return Err{FileError{e.target.string(),
+            return Err{FileError{FileErrc::kNotRegular, e.target.string(),
                                  "exists and is " + kind_of(st.st_mode) + "; nothing written"}};
         }
         if (lstat(e.target.c_str(), &st) == 0 && S_ISLNK(st.st_mode) &&
             (stat(e.target.c_str(), &st) != 0 || !S_ISREG(st.st_mode))) {
-            return Err{FileError{e.target.string(),
+            return Err{FileError{FileErrc::kNotRegular, e.target.string(),
                                  "is a link to something that is not a regular file; nothing "
                                  "written"}};
         }
@@ -170,15 +191,16 @@ Status<FileError> AtomicFileSet::commit() {
             const int err = errno;
             e.temp.clear();
             remove_temps();
-            return Err{FileError{e.target.string(), "cannot create a temporary file next to it: " +
-                                                        errno_text(err) + "; nothing written"}};
+            return Err{FileError{FileErrc::kIo, e.target.string(),
+                                 "cannot create a temporary file next to it: " + errno_text(err) +
+                                     "; nothing written"}};
         }
         const bool ok = write_all(fd, e.contents.data(), e.contents.size()) && fsync(fd) == 0;
         const int err = errno;
         ::close(fd);
         if (!ok) {
             remove_temps();
-            return Err{FileError{e.target.string(),
+            return Err{FileError{FileErrc::kIo, e.target.string(),
                                  "write failed: " + errno_text(err) + "; nothing written"}};
         }
     }
@@ -187,10 +209,10 @@ Status<FileError> AtomicFileSet::commit() {
         if (std::rename(e.temp.c_str(), e.target.c_str()) != 0) {
             const int err = errno;
             remove_temps();
-            return Err{FileError{e.target.string(), "rename failed: " + errno_text(err) + " (" +
-                                                        std::to_string(i) + " of " +
-                                                        std::to_string(entries_.size()) +
-                                                        " files were already in place)"}};
+            return Err{FileError{FileErrc::kIo, e.target.string(),
+                                 "rename failed: " + errno_text(err) + " (" + std::to_string(i) +
+                                     " of " + std::to_string(entries_.size()) +
+                                     " files were already in place)"}};
         }
         e.temp.clear();
     }

@@ -19,17 +19,24 @@
 #include <string>
 #include <vector>
 
+#include "config/base/error.hpp"
 #include "config/base/result.hpp"
 
 namespace kerf::files {
 
-/// Why a read or write failed: the path and a sentence a user can act on.
-struct FileError {
-    std::string path;
-    std::string message;
-    /// "<path>: <message>".
-    std::string to_string() const { return path + ": " + message; }
+/// Why a read or write was refused or failed.
+enum class FileErrc : std::uint8_t {
+    kNotFound,    ///< no such file
+    kNotRegular,  ///< a directory, FIFO, socket, device, or a link to one: refused
+    kTooLarge,    ///< more bytes than the caller's cap
+    kIsInput,     ///< an output that is one of the inputs, or named twice in one set
+    kIo,          ///< open, stat, read, write, fsync or rename failed (errno text in what)
 };
+/// Stable snake_case name ("not_regular").
+std::string_view to_string(FileErrc code) noexcept;
+
+/// A file failure (kerf::Error): where is the path, what a sentence a user can act on.
+using FileError = Error<FileErrc>;
 
 /// Default cap on one input file: 2 GiB (a 20-million-triangle binary STL is 1 GB).
 inline constexpr std::uint64_t kDefaultMaxInputBytes = 2ull << 30;

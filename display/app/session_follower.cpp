@@ -74,7 +74,7 @@ bool SessionFollower::Impl::try_attach() {
             .role(ipc::ConsumerRole::kDisplay)  // the reserved slot: tools cannot take it
             .attach();
     if (!attached) {
-        local.waiting_for = attached.error().message;
+        local.waiting_for = attached.error().message();
         return false;
     }
     consumer.emplace(std::move(*attached));
@@ -135,7 +135,7 @@ void SessionFollower::Impl::publish() {
     const auto published = writer.publish(*collision);
     if (!published) {
         ++local.publish_failures;
-        local.last_error = "collision mesh refused: " + published.error().message;
+        local.last_error = "collision mesh refused: " + published.error().message();
         return;
     }
     ++local.publishes;

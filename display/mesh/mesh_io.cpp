@@ -19,7 +19,7 @@ Result<std::vector<std::byte>, MeshError> read_file(const std::filesystem::path&
     // Regular files only, never blocking on a FIFO, never more than the cap (a link to /dev/zero
     // is a character device: refused before a byte is read).
     auto bytes = files::read_regular_file(path, files::kDefaultMaxInputBytes);
-    if (!bytes) return Err{io_error(path, bytes.error().message)};
+    if (!bytes) return Err{io_error(path, bytes.error().what)};
     return std::move(*bytes);
 }
 
@@ -129,7 +129,7 @@ Status<MeshError> save_mesh(const TriMesh& mesh, const std::filesystem::path& pa
     }
     // Temp file in the target folder, then rename: a failed write never damages an old file.
     auto written = files::write_file_atomically(path, serialize_mesh(mesh, *format, units));
-    if (!written) return Err{io_error(path, written.error().message)};
+    if (!written) return Err{io_error(path, written.error().what)};
     return {};
 }
 

@@ -9,9 +9,9 @@
 #include <cstdint>
 #include <string_view>
 
-namespace kerf::firmware_host {
+#include "firmware_host/vec3.hpp"
 
-using Vec3d = std::array<double, 3>;
+namespace kerf::firmware_host {
 
 /// What one read produced (hidapi-style status: ok, timeout, disconnected, malformed).
 enum class DeviceStatus : std::uint8_t {
@@ -40,8 +40,8 @@ struct DeviceFlags {
 struct DeviceSample {
     std::uint64_t count = 0;            ///< fresh samples since open (host-side, never wraps)
     std::uint32_t device_sequence = 0;  ///< the device's own sequence, when it has one
-    Vec3d position_m{};
-    Vec3d velocity_m_per_s{};  ///< reported, or differenced by the host
+    Vec3 position_m{};
+    Vec3 velocity_m_per_s{};  ///< reported, or differenced by the host
     std::uint32_t buttons = 0;
     DeviceFlags flags;
     std::uint32_t command_lag = 0;  ///< host commands sent but not yet seen by the device
@@ -51,7 +51,7 @@ struct DeviceSample {
 
 /// One command, SI units, device frame. The caller's safety layer has already shaped it.
 struct DeviceCommand {
-    Vec3d force_n{};
+    Vec3 force_n{};
     bool enable = false;  ///< amplifiers on; false sends zero force with amplifiers off
     std::uint8_t leds = 0;
 };

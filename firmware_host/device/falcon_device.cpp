@@ -22,27 +22,28 @@ Result<std::unique_ptr<FalconDevice>, TransportError> FalconDevice::open(
     if (!options.firmware_path.empty()) {
         auto image = falcon::read_firmware_image(options.firmware_path);
         if (!image)
-            return Err{TransportError{"read falcon firmware", options.firmware_path,
-                                      image.error().message()}};
+            return Err{transport_error(TransportErrc::kFirmware, options.firmware_path,
+                                       "read falcon firmware", image.error().what)};
         if (auto s = falcon::load_firmware(*dev->link_, *image, options.load); !s) {
-            return Err{
-                TransportError{"load falcon firmware", options.firmware_path, s.error().message()}};
+            return Err{transport_error(TransportErrc::kFirmware, options.firmware_path,
+                                       "load falcon firmware", s.error().what)};
         }
     } else if (auto s = falcon::send_requests(*dev->link_, falcon::normal_mode_requests(),
                                               kSetupTimeoutMs);
                s != LinkStatus::kOk) {
-        return Err{TransportError{"set falcon normal mode", "ftdi", std::string(to_string(s))}};
+        return Err{transport_error(TransportErrc::kSystem, "ftdi", "set falcon normal mode",
+                                   to_string(s))};
     }
     // Normal-mode check: one zero command must be answered by a well-formed packet.
     (void)dev->try_write(DeviceCommand{});
     DeviceSample sample;
     const auto s = dev->try_read(sample, options.probe_timeout_ms * 1000U);
     if (s != DeviceStatus::kOk) {
-        return Err{TransportError{
-            "check falcon firmware", "normal mode",
+        return Err{transport_error(
+            TransportErrc::kProtocol, "normal mode", "check falcon firmware",
             std::string(to_string(s)) + (options.firmware_path.empty()
                                              ? " (firmware not loaded? pass a firmware image)"
-                                             : "")}};
+                                             : ""))};
     }
     return dev;
 }
@@ -78,9 +79,9 @@ int FalconDevice::consume(std::span<const std::byte> payload, bool& malformed) n
 }
 
 bool FalconDevice::to_sample(DeviceSample& out) noexcept {
-    falcon::Vec3 theta{};
+    Vec3 theta{};
     for (int i = 0; i < 3; ++i) theta[i] = kinematics_.angle_rad(report_.encoder[i]);
-    falcon::Vec3 p{};
+    Vec3 p{};
     if (kinematics_.forward(theta, position_, p) != falcon::KinematicsStatus::kOk) return false;
     out.count = ++fresh_count_;
     for (int i = 0; i < 3; ++i) {
@@ -133,7 +134,7 @@ DeviceStatus FalconDevice::try_write(const DeviceCommand& command) noexcept {
     cmd.homing_mode = !homed;
     enabled_ = command.enable && homed && have_position_;
     if (enabled_) {
-        falcon::Vec3 torque{};
+        Vec3 torque{};
         if (kinematics_.torques(theta_, position_, command.force_n, torque) ==
             falcon::KinematicsStatus::kOk) {
             bool clamped = false;

@@ -39,7 +39,7 @@ public:
     /// The last decoded packet (encoder counts, homed flags, buttons).
     const falcon::FalconReport& last_report() const noexcept { return report_; }
     /// Arm angles of the last sample (rad).
-    const falcon::Vec3& joint_angles() const noexcept { return theta_; }
+    const Vec3& joint_angles() const noexcept { return theta_; }
 
 private:
     FalconDevice(std::unique_ptr<UsbLink> link, const FalconOptions& options) noexcept;
@@ -53,8 +53,8 @@ private:
     falcon::DeltaKinematics kinematics_;
     DeviceCounters counters_;
     falcon::FalconReport report_;
-    falcon::Vec3 theta_{};
-    falcon::Vec3 position_{0.0, 0.0, 0.11};
+    Vec3 theta_{};
+    Vec3 position_{0.0, 0.0, 0.11};
     bool have_position_ = false;
     bool enabled_ = false;
     std::uint64_t fresh_count_ = 0;

@@ -47,8 +47,9 @@ KerfHidDevice::KerfHidDevice(std::unique_ptr<ReportTransport> transport,
 
 namespace {
 
-TransportError open_error(std::string what, std::string_view why) {
-    return TransportError{std::move(what), "kerf hid device", std::string(why)};
+TransportError open_error(std::string_view action, std::string_view why,
+                          TransportErrc code = TransportErrc::kProtocol) {
+    return transport_error(code, "kerf hid device", action, why);
 }
 
 // Gets feature report `id` and decodes it into `out`; the error names the report.
@@ -59,7 +60,7 @@ std::optional<TransportError> get_decoded(ReportTransport& t, ReportId id, const
     std::size_t n = 0;
     if (auto s = t.get_feature(static_cast<std::uint8_t>(id), buf, n, timeout_ms);
         s != LinkStatus::kOk) {
-        return open_error(std::string("get ") + name, to_string(s));
+        return open_error(std::string("get ") + name, to_string(s), TransportErrc::kSystem);
     }
     if (auto c = decode(std::span<const std::byte>(buf).first(n), out); c != CodecStatus::kOk) {
         return open_error(std::string("decode ") + name, to_string(c));
@@ -100,10 +101,12 @@ Result<std::unique_ptr<KerfHidDevice>, TransportError> KerfHidDevice::open(
     if (auto e = dev->check_identity()) return Err{*e};
     std::array<std::byte, kReportSize> buf{};
     if (encode_config(ConfigReport{true, options.watchdog_ms}, buf) != CodecStatus::kOk) {
-        return Err{open_error("encode configuration report 0x20", "watchdog_ms outside 1..1000")};
+        return Err{open_error("encode configuration report 0x20", "watchdog_ms outside 1..1000",
+                              TransportErrc::kConfig)};
     }
     if (auto s = t.set_feature(buf, timeout); s != LinkStatus::kOk) {
-        return Err{open_error("set configuration report 0x20", to_string(s))};
+        return Err{
+            open_error("set configuration report 0x20", to_string(s), TransportErrc::kSystem)};
     }
     return dev;
 }

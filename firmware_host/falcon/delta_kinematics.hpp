@@ -13,9 +13,10 @@
 #include <cstdint>
 #include <string_view>
 
+#include "firmware_host/vec3.hpp"
+
 namespace kerf::firmware_host::falcon {
 
-using Vec3 = std::array<double, 3>;
 using Mat3 = std::array<Vec3, 3>;  ///< row-major: m[row][col]
 
 /// Geometry and scaling; filled from config::DeviceProfile by the device adapter.

@@ -26,63 +26,92 @@ bool is_handshake_reply(std::span<const std::byte> got) noexcept {
 
 }  // namespace
 
-std::string_view to_string(FirmwareErrorCode code) noexcept {
+std::string_view to_string(FirmwareErrc code) noexcept {
     switch (code) {
-        case FirmwareErrorCode::kImageUnreadable:
+        case FirmwareErrc::kImageUnreadable:
+            return "image_unreadable";
+        case FirmwareErrc::kImageEmpty:
+            return "image_empty";
+        case FirmwareErrc::kImageTooLarge:
+            return "image_too_large";
+        case FirmwareErrc::kSetupFailed:
+            return "setup_failed";
+        case FirmwareErrc::kHandshakeFailed:
+            return "handshake_failed";
+        case FirmwareErrc::kProbeFailed:
+            return "probe_failed";
+        case FirmwareErrc::kEchoMismatch:
+            return "echo_mismatch";
+        case FirmwareErrc::kEchoTimeout:
+            return "echo_timeout";
+        case FirmwareErrc::kWriteFailed:
+            return "write_failed";
+        case FirmwareErrc::kNormalModeFailed:
+            return "normal_mode_failed";
+    }
+    return "unknown";
+}
+
+namespace {
+
+std::string_view sentence(FirmwareErrc code) noexcept {
+    switch (code) {
+        case FirmwareErrc::kImageUnreadable:
             return "cannot read the firmware image";
-        case FirmwareErrorCode::kImageEmpty:
+        case FirmwareErrc::kImageEmpty:
             return "the firmware image is empty";
-        case FirmwareErrorCode::kImageTooLarge:
+        case FirmwareErrc::kImageTooLarge:
             return "the firmware image is larger than 1 MiB";
-        case FirmwareErrorCode::kSetupFailed:
+        case FirmwareErrc::kSetupFailed:
             return "FTDI set-up request failed";
-        case FirmwareErrorCode::kHandshakeFailed:
+        case FirmwareErrc::kHandshakeFailed:
             return "boot loader did not answer the handshake";
-        case FirmwareErrorCode::kProbeFailed:
+        case FirmwareErrc::kProbeFailed:
             return "boot loader did not answer the baud probe";
-        case FirmwareErrorCode::kEchoMismatch:
+        case FirmwareErrc::kEchoMismatch:
             return "firmware chunk echoed back different bytes";
-        case FirmwareErrorCode::kEchoTimeout:
+        case FirmwareErrc::kEchoTimeout:
             return "firmware chunk echo did not arrive";
-        case FirmwareErrorCode::kWriteFailed:
+        case FirmwareErrc::kWriteFailed:
             return "bulk write failed";
-        case FirmwareErrorCode::kNormalModeFailed:
+        case FirmwareErrc::kNormalModeFailed:
             return "switching to normal mode failed";
     }
     return "unknown firmware error";
 }
 
-std::string FirmwareError::message() const {
-    std::string m = "falcon firmware: ";
-    m += to_string(code);
-    if (!path.empty()) m += ": " + path;
-    if (!detail.empty()) m += ": " + detail;
-    if (code == FirmwareErrorCode::kEchoMismatch || code == FirmwareErrorCode::kEchoTimeout ||
-        code == FirmwareErrorCode::kWriteFailed) {
-        m += ": at image offset " + std::to_string(offset);
+}  // namespace
+
+FirmwareError firmware_error(FirmwareErrc code, std::string path, std::size_t offset,
+                             LinkStatus link, int attempts) {
+    FirmwareError e;
+    e.code = code;
+    e.offset = offset;
+    e.link = link;
+    e.attempts = attempts;
+    e.where = path.empty() ? std::string("falcon firmware") : std::move(path);
+    e.what = sentence(code);
+    if (code == FirmwareErrc::kEchoMismatch || code == FirmwareErrc::kEchoTimeout ||
+        code == FirmwareErrc::kWriteFailed) {
+        e.what += ": at image offset " + std::to_string(offset);
     }
-    if (link != LinkStatus::kOk) m += ": " + std::string(to_string(link));
-    if (attempts > 0) m += " (after " + std::to_string(attempts) + " load attempts)";
-    return m;
+    if (link != LinkStatus::kOk) e.what += ": " + std::string(to_string(link));
+    if (attempts > 0) e.what += " (after " + std::to_string(attempts) + " load attempts)";
+    return e;
 }
 
 Result<std::vector<std::byte>, FirmwareError> read_firmware_image(const std::filesystem::path& p) {
-    auto error = [&p](FirmwareErrorCode code) {
-        FirmwareError e;
-        e.code = code;
-        e.path = p.string();
-        return Err{e};
-    };
+    auto error = [&p](FirmwareErrc code) { return Err{firmware_error(code, p.string())}; };
     // A regular file only (never a FIFO, a directory or /dev/zero behind a link), read up to one
     // byte past the cap so that "too large" is told apart from "unreadable".
     auto bytes = files::read_regular_file(p, kMaxFirmwareImageBytes + 1);
     if (!bytes) {
-        auto e = error(FirmwareErrorCode::kImageUnreadable);
-        e.value.detail = bytes.error().message;
+        auto e = error(FirmwareErrc::kImageUnreadable);
+        e.value.what += ": " + bytes.error().what;
         return e;
     }
-    if (bytes->empty()) return error(FirmwareErrorCode::kImageEmpty);
-    if (bytes->size() > kMaxFirmwareImageBytes) return error(FirmwareErrorCode::kImageTooLarge);
+    if (bytes->empty()) return error(FirmwareErrc::kImageEmpty);
+    if (bytes->size() > kMaxFirmwareImageBytes) return error(FirmwareErrc::kImageTooLarge);
     return std::move(*bytes);
 }
 
@@ -110,17 +139,20 @@ FirmwareLoader::FirmwareLoader(UsbLink& link, std::span<const std::byte> image,
                                FirmwareLoadOptions options)
     : link_(link), image_(image), options_(options) {}
 
-FirmwareLoader::State FirmwareLoader::fail(FirmwareErrorCode code, LinkStatus link) noexcept {
-    error_.code = code;
-    error_.link = link;
-    error_.offset = offset_;
-    error_.attempts = attempt_;
+FirmwareLoader::State FirmwareLoader::fail(FirmwareErrc code, LinkStatus link) noexcept {
+    failed_code_ = code;
+    failed_link_ = link;
+    failed_offset_ = offset_;
+    failed_attempts_ = attempt_;
     return state_ = State::kFailed;
 }
 
+FirmwareError FirmwareLoader::error() const {
+    return firmware_error(failed_code_, {}, failed_offset_, failed_link_, failed_attempts_);
+}
+
 // A failure inside one load attempt: start over from firmware mode while attempts remain.
-FirmwareLoader::State FirmwareLoader::fail_attempt(FirmwareErrorCode code,
-                                                   LinkStatus link) noexcept {
+FirmwareLoader::State FirmwareLoader::fail_attempt(FirmwareErrc code, LinkStatus link) noexcept {
     if (link == LinkStatus::kDisconnected || attempt_ >= options_.load_attempts)
         return fail(code, link);
     ++attempt_;
@@ -133,14 +165,14 @@ FirmwareLoader::State FirmwareLoader::step() noexcept {
     switch (state_) {
         case State::kFirmwareMode: {
             const auto s = send_requests(link_, firmware_mode_requests(), timeout);
-            if (s != LinkStatus::kOk) return fail(FirmwareErrorCode::kSetupFailed, s);
+            if (s != LinkStatus::kOk) return fail(FirmwareErrc::kSetupFailed, s);
             return state_ = State::kHandshake;
         }
         case State::kHandshake:
             return do_handshake();
         case State::kLoadBaud: {
             const auto s = send_requests(link_, firmware_load_requests(), timeout);
-            if (s != LinkStatus::kOk) return fail(FirmwareErrorCode::kSetupFailed, s);
+            if (s != LinkStatus::kOk) return fail(FirmwareErrc::kSetupFailed, s);
             return state_ = State::kProbe;
         }
         case State::kProbe:
@@ -149,7 +181,7 @@ FirmwareLoader::State FirmwareLoader::step() noexcept {
             return do_chunk();
         case State::kNormalMode: {
             const auto s = send_requests(link_, normal_mode_requests(), timeout);
-            if (s != LinkStatus::kOk) return fail(FirmwareErrorCode::kNormalModeFailed, s);
+            if (s != LinkStatus::kOk) return fail(FirmwareErrc::kNormalModeFailed, s);
             return state_ = State::kDone;
         }
         case State::kDone:
@@ -164,20 +196,20 @@ FirmwareLoader::State FirmwareLoader::do_handshake() noexcept {
     LinkStatus last = LinkStatus::kOk;
     for (int i = 0; i < options_.handshake_tries; ++i) {
         last = link_.bulk_write(kHandshake, options_.transfer_timeout_ms);
-        if (last != LinkStatus::kOk) return fail(FirmwareErrorCode::kWriteFailed, last);
+        if (last != LinkStatus::kOk) return fail(FirmwareErrc::kWriteFailed, last);
         const auto n = read_payload(link_, reply, 5, options_.transfer_timeout_ms, last);
         if (is_handshake_reply(std::span(reply).first(n))) return state_ = State::kLoadBaud;
         if (last == LinkStatus::kDisconnected) break;
     }
-    return fail_attempt(FirmwareErrorCode::kHandshakeFailed, last);
+    return fail_attempt(FirmwareErrc::kHandshakeFailed, last);
 }
 
 FirmwareLoader::State FirmwareLoader::do_probe() noexcept {
     auto last = link_.bulk_write(std::span(&kProbe, 1), options_.transfer_timeout_ms);
-    if (last != LinkStatus::kOk) return fail(FirmwareErrorCode::kWriteFailed, last);
+    if (last != LinkStatus::kOk) return fail(FirmwareErrc::kWriteFailed, last);
     std::array<std::byte, 1> reply{};
     const auto n = read_payload(link_, reply, 1, options_.transfer_timeout_ms, last);
-    if (n != 1 || reply[0] != kProbe) return fail_attempt(FirmwareErrorCode::kProbeFailed, last);
+    if (n != 1 || reply[0] != kProbe) return fail_attempt(FirmwareErrc::kProbeFailed, last);
     return state_ = State::kChunk;
 }
 
@@ -186,13 +218,12 @@ FirmwareLoader::State FirmwareLoader::do_chunk() noexcept {
     const auto chunk =
         image_.subspan(offset_, std::min(kFirmwareChunkSize, image_.size() - offset_));
     auto last = link_.bulk_write(chunk, options_.transfer_timeout_ms);
-    if (last != LinkStatus::kOk) return fail_attempt(FirmwareErrorCode::kWriteFailed, last);
+    if (last != LinkStatus::kOk) return fail_attempt(FirmwareErrc::kWriteFailed, last);
     std::array<std::byte, kFirmwareChunkSize> echo{};
     const auto n = read_payload(link_, echo, chunk.size(), options_.transfer_timeout_ms, last);
-    if (n != chunk.size()) return fail_attempt(FirmwareErrorCode::kEchoTimeout, last);
+    if (n != chunk.size()) return fail_attempt(FirmwareErrc::kEchoTimeout, last);
     if (!std::equal(chunk.begin(), chunk.end(), echo.begin())) {
-        error_.offset = offset_;
-        return fail_attempt(FirmwareErrorCode::kEchoMismatch, LinkStatus::kOk);
+        return fail_attempt(FirmwareErrc::kEchoMismatch, LinkStatus::kOk);
     }
     offset_ += chunk.size();
     return state_;
@@ -201,9 +232,7 @@ FirmwareLoader::State FirmwareLoader::do_chunk() noexcept {
 Status<FirmwareError> load_firmware(UsbLink& link, std::span<const std::byte> image,
                                     const FirmwareLoadOptions& options) {
     if (image.empty()) {
-        FirmwareError e;
-        e.code = FirmwareErrorCode::kImageEmpty;
-        return Err{e};
+        return Err{firmware_error(FirmwareErrc::kImageEmpty)};
     }
     FirmwareLoader loader(link, image, options);
     // Bounded: each step is bounded and the chunk count and attempts are finite.

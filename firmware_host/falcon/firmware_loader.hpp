@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "config/base/error.hpp"
 #include "config/base/result.hpp"
 #include "firmware_host/transport/usb_link.hpp"
 
@@ -21,10 +22,11 @@ namespace kerf::firmware_host::falcon {
 inline constexpr std::size_t kFirmwareChunkSize = 62;  ///< 64-byte packet minus 2 status bytes
 inline constexpr std::size_t kMaxFirmwareImageBytes = 1U << 20;
 
-enum class FirmwareErrorCode : std::uint8_t {
-    kImageUnreadable,
-    kImageEmpty,
-    kImageTooLarge,
+/// Why a firmware image could not be read or loaded.
+enum class FirmwareErrc : std::uint8_t {
+    kImageUnreadable,   ///< missing, a directory, or a read failed
+    kImageEmpty,        ///< no bytes
+    kImageTooLarge,     ///< over kMaxFirmwareImageBytes
     kSetupFailed,       ///< an FTDI control request failed
     kHandshakeFailed,   ///< no `0A 44 2C 0D` answer to `0A 43 0D`
     kProbeFailed,       ///< no `41` answer to `41` at the load baud rate
@@ -33,17 +35,21 @@ enum class FirmwareErrorCode : std::uint8_t {
     kWriteFailed,       ///< a bulk OUT failed
     kNormalModeFailed,  ///< switching to the 1 kHz serial set-up failed
 };
-std::string_view to_string(FirmwareErrorCode code) noexcept;
+/// Stable snake_case name ("echo_mismatch").
+std::string_view to_string(FirmwareErrc code) noexcept;
 
-struct FirmwareError {
-    FirmwareErrorCode code = FirmwareErrorCode::kSetupFailed;
+/// A failed read or load (kerf::Error): where is the image path, or "falcon firmware"; what is
+/// the sentence with the failing chunk's offset, the transfer status and the attempts made,
+/// which are also kept as numbers.
+struct FirmwareError : Error<FirmwareErrc> {
     std::size_t offset = 0;             ///< image offset of the failing chunk
     LinkStatus link = LinkStatus::kOk;  ///< the transfer status behind it, if any
     int attempts = 0;                   ///< whole-load attempts made
-    std::string path;                   ///< image path, when the file was the problem
-    std::string detail;                 ///< why the file was refused (e.g. "is a FIFO ...")
-    std::string message() const;        ///< one sentence: what, where, why
 };
+
+/// Builds a FirmwareError and its where/what text from the parts.
+FirmwareError firmware_error(FirmwareErrc code, std::string path = {}, std::size_t offset = 0,
+                             LinkStatus link = LinkStatus::kOk, int attempts = 0);
 
 /// Reads and size-checks an image file.
 Result<std::vector<std::byte>, FirmwareError> read_firmware_image(const std::filesystem::path& p);
@@ -73,11 +79,11 @@ public:
     State state() const noexcept { return state_; }
     std::size_t bytes_loaded() const noexcept { return offset_; }
     int attempts() const noexcept { return attempt_; }
-    const FirmwareError& error() const noexcept { return error_; }  ///< valid in kFailed
+    FirmwareError error() const;  ///< valid in kFailed
 
 private:
-    State fail_attempt(FirmwareErrorCode code, LinkStatus link) noexcept;
-    State fail(FirmwareErrorCode code, LinkStatus link) noexcept;
+    State fail_attempt(FirmwareErrc code, LinkStatus link) noexcept;
+    State fail(FirmwareErrc code, LinkStatus link) noexcept;
     State do_handshake() noexcept;
     State do_probe() noexcept;
     State do_chunk() noexcept;
@@ -88,7 +94,10 @@ private:
     State state_ = State::kFirmwareMode;
     std::size_t offset_ = 0;
     int attempt_ = 1;
-    FirmwareError error_;
+    FirmwareErrc failed_code_ = FirmwareErrc::kSetupFailed;  ///< valid in kFailed, with:
+    LinkStatus failed_link_ = LinkStatus::kOk;
+    std::size_t failed_offset_ = 0;
+    int failed_attempts_ = 0;
 };
 
 /// Runs the state machine to kDone or kFailed.

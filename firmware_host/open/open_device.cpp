@@ -108,8 +108,8 @@ Result<std::unique_ptr<Device>, TransportError> open_device(const config::Device
     if (path.empty()) {
         auto expanded = config::expand_path(p.emulator.socket_path, {});
         if (!expanded)
-            return Err{TransportError{"expand emulator socket path", p.emulator.socket_path,
-                                      expanded.error().message()}};
+            return Err{transport_error(TransportErrc::kConfig, p.emulator.socket_path,
+                                       "expand emulator socket path", expanded.error().message())};
         path = expanded->string();
     }
     auto socket = SeqpacketSocket::connect(path);

@@ -6,11 +6,11 @@
 namespace kerf::firmware_host {
 namespace {
 
-double norm(const Vec3d& v) noexcept { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+double norm(const Vec3& v) noexcept { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 
-Vec3d scaled(const Vec3d& v, double s) noexcept { return {v[0] * s, v[1] * s, v[2] * s}; }
+Vec3 scaled(const Vec3& v, double s) noexcept { return {v[0] * s, v[1] * s, v[2] * s}; }
 
-bool finite(const Vec3d& v) noexcept {
+bool finite(const Vec3& v) noexcept {
     return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
 }
 
@@ -66,7 +66,7 @@ std::uint32_t ForceSafety::hard_faults(const SafetyInput& in) noexcept {
     return r;
 }
 
-Vec3d ForceSafety::step(const SafetyInput& in) noexcept {
+Vec3 ForceSafety::step(const SafetyInput& in) noexcept {
     reasons_ = hard_faults(in);
     if (reasons_ != 0) {  // safe state: zero now (no slew on the way down), re-engage later
         engaged_ = false;
@@ -87,8 +87,8 @@ Vec3d ForceSafety::step(const SafetyInput& in) noexcept {
 }
 
 // Peak clamp, continuous limit, ramp-in, then slew from the last output: each keeps direction.
-Vec3d ForceSafety::shape(const Vec3d& desired) noexcept {
-    Vec3d f = desired;
+Vec3 ForceSafety::shape(const Vec3& desired) noexcept {
+    Vec3 f = desired;
     double mag = norm(f);
     const double peak = std::max(0.0, limits_.peak_force_n);
     if (mag > peak) {
@@ -108,7 +108,7 @@ Vec3d ForceSafety::shape(const Vec3d& desired) noexcept {
         f = scaled(f, ramp_);
         reasons_ |= kReasonRamping;
     }
-    const Vec3d delta = {f[0] - last_[0], f[1] - last_[1], f[2] - last_[2]};
+    const Vec3 delta = {f[0] - last_[0], f[1] - last_[1], f[2] - last_[2]};
     const double max_step = std::max(0.0, limits_.max_slew_n_per_s * limits_.period_s);
     const double step = norm(delta);
     if (step > max_step) {
@@ -119,7 +119,7 @@ Vec3d ForceSafety::shape(const Vec3d& desired) noexcept {
     return f;
 }
 
-Vec3d ForceSafety::finish(const Vec3d& out) noexcept {
+Vec3 ForceSafety::finish(const Vec3& out) noexcept {
     const double alpha = limits_.thermal_time_constant_s > 0
                              ? std::min(1.0, limits_.period_s / limits_.thermal_time_constant_s)
                              : 1.0;

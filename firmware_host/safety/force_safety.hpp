@@ -47,7 +47,7 @@ std::string_view to_string(SafetyReason reason) noexcept;  ///< name of one bit
 
 /// What the loop knows this tick.
 struct SafetyInput {
-    Vec3d desired_force_n{};
+    Vec3 desired_force_n{};
     DeviceStatus read_status = DeviceStatus::kNoData;  ///< this tick's Device::try_read result
     DeviceFlags flags;                                 ///< from the newest sample
 };
@@ -57,7 +57,7 @@ public:
     explicit ForceSafety(const SafetyLimits& limits) noexcept : limits_(limits) {}
 
     /// The force to command this tick. noexcept, no allocation, constant time.
-    Vec3d step(const SafetyInput& in) noexcept;
+    Vec3 step(const SafetyInput& in) noexcept;
 
     bool engaged() const noexcept { return engaged_; }
     std::uint32_t reasons() const noexcept {
@@ -70,11 +70,11 @@ public:
 
 private:
     std::uint32_t hard_faults(const SafetyInput& in) noexcept;
-    Vec3d shape(const Vec3d& desired) noexcept;
-    Vec3d finish(const Vec3d& out) noexcept;
+    Vec3 shape(const Vec3& desired) noexcept;
+    Vec3 finish(const Vec3& out) noexcept;
 
     SafetyLimits limits_;
-    Vec3d last_{};
+    Vec3 last_{};
     double thermal_n2_ = 0;
     double ramp_ = 0;
     bool engaged_ = false;

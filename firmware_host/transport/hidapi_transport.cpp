@@ -25,7 +25,8 @@ std::string ids(std::uint16_t vid, std::uint16_t pid) {
 
 bool init_hidapi(TransportError& error) {
     if (hid_init() == 0) return true;
-    error = {"start hidapi", "hid_init", narrow(hid_error(nullptr))};
+    error = transport_error(TransportErrc::kSystem, "hid_init", "start hidapi",
+                            narrow(hid_error(nullptr)));
     return false;
 }
 
@@ -65,13 +66,15 @@ Result<std::unique_ptr<HidapiTransport>, TransportError> HidapiTransport::open(
     if (device == nullptr) {
         const auto found = enumerate_hid(spec.vendor_id, spec.product_id);
         const bool none = found && found->empty() && spec.path.empty();
-        return Err{TransportError{"open HID device", where,
-                                  none ? "no such device connected"
-                                       : "cannot open (permissions? install config/udev rules)"}};
+        return Err{none ? transport_error(TransportErrc::kNotConnected, where, "open HID device",
+                                          "no such device connected")
+                        : transport_error(TransportErrc::kNoPermission, where, "open HID device",
+                                          "cannot open (permissions? install config/udev rules)")};
     }
     if (hid_set_nonblocking(device, 1) != 0) {
         hid_close(device);
-        return Err{TransportError{"open HID device", where, "cannot set non-blocking mode"}};
+        return Err{transport_error(TransportErrc::kSystem, where, "open HID device",
+                                   "cannot set non-blocking mode")};
     }
     return std::unique_ptr<HidapiTransport>(new HidapiTransport(device));
 }

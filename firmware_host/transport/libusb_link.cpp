@@ -89,7 +89,8 @@ Result<std::vector<UsbDeviceInfo>, TransportError> enumerate_usb(std::uint16_t v
                                                                  std::uint16_t product_id) {
     libusb_context* ctx = nullptr;
     if (const int rc = libusb_init(&ctx); rc != 0) {
-        return Err{TransportError{"start libusb", "libusb_init", libusb_strerror(rc)}};
+        return Err{transport_error(TransportErrc::kSystem, "libusb_init", "start libusb",
+                                   libusb_strerror(rc))};
     }
     libusb_device** list = nullptr;
     const auto count = libusb_get_device_list(ctx, &list);
@@ -115,8 +116,8 @@ Result<std::vector<UsbDeviceInfo>, TransportError> enumerate_usb(std::uint16_t v
     if (count >= 0) libusb_free_device_list(list, 1);
     libusb_exit(ctx);
     if (count < 0) {
-        return Err{TransportError{"list USB devices", ids(vendor_id, product_id),
-                                  libusb_strerror(static_cast<int>(count))}};
+        return Err{transport_error(TransportErrc::kSystem, ids(vendor_id, product_id),
+                                   "list USB devices", libusb_strerror(static_cast<int>(count)))};
     }
     return out;
 }
@@ -132,12 +133,13 @@ Result<UsbDeviceInfo, TransportError> find_accessible(const UsbOpenSpec& spec,
         return spec.serial.empty() || d.serial == spec.serial;
     });
     if (it == found->end()) {
-        return Err{TransportError{"open USB device", where, "no such device connected"}};
+        return Err{transport_error(TransportErrc::kNotConnected, where, "open USB device",
+                                   "no such device connected")};
     }
     if (!it->accessible) {
         return Err{
-            TransportError{"open USB device", where,
-                           "permission denied (install config/udev rules, join group plugdev)"}};
+            transport_error(TransportErrc::kNoPermission, where, "open USB device",
+                            "permission denied (install config/udev rules, join group plugdev)")};
     }
     return *it;
 }
@@ -188,11 +190,12 @@ Result<std::unique_ptr<LibusbLink>, TransportError> LibusbLink::open(const UsbOp
     if (!device) return Err{device.error()};
     std::unique_ptr<LibusbLink> link(new LibusbLink());
     if (int rc = link->open_handle(device->bus, device->address); rc != 0) {
-        return Err{TransportError{"open USB device", where, libusb_strerror(rc)}};
+        return Err{
+            transport_error(TransportErrc::kSystem, where, "open USB device", libusb_strerror(rc))};
     }
     if (int rc = link->prepare(spec); rc != 0) {
-        return Err{
-            TransportError{"claim interface 0 and set up transfers", where, libusb_strerror(rc)}};
+        return Err{transport_error(TransportErrc::kSystem, where,
+                                   "claim interface 0 and set up transfers", libusb_strerror(rc))};
     }
     return link;
 }

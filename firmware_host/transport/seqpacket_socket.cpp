@@ -14,8 +14,11 @@
 namespace kerf::firmware_host {
 namespace {
 
-Err<TransportError> os_error(std::string what, std::string where, int err) {
-    return Err{TransportError{std::move(what), std::move(where), std::strerror(err)}};
+// A failed system call: nothing there (ENOENT, ECONNREFUSED) is kNotConnected, the rest kSystem.
+Err<TransportError> os_error(std::string_view action, std::string where, int err) {
+    const bool absent = err == ENOENT || err == ECONNREFUSED;
+    return Err{transport_error(absent ? TransportErrc::kNotConnected : TransportErrc::kSystem,
+                               std::move(where), action, std::strerror(err))};
 }
 
 bool fill_address(const std::string& path, sockaddr_un& addr) noexcept {
@@ -49,7 +52,8 @@ bool wait_readable(int fd, std::uint32_t timeout_us) noexcept {
 Result<SeqpacketSocket, TransportError> SeqpacketSocket::connect(const std::string& path) {
     sockaddr_un addr{};
     if (!fill_address(path, addr)) {
-        return Err{TransportError{"connect to emulator socket", path, "path empty or too long"}};
+        return Err{transport_error(TransportErrc::kBadPath, path, "connect to emulator socket",
+                                   "path empty or too long")};
     }
     const int fd = ::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0);
     if (fd < 0) return os_error("create socket", path, errno);
@@ -122,13 +126,14 @@ LinkStatus SeqpacketSocket::receive(std::span<std::byte> buffer, std::size_t& re
 Result<SeqpacketListener, TransportError> SeqpacketListener::listen(const std::string& path) {
     sockaddr_un addr{};
     if (!fill_address(path, addr)) {
-        return Err{TransportError{"listen on emulator socket", path, "path empty or too long"}};
+        return Err{transport_error(TransportErrc::kBadPath, path, "listen on emulator socket",
+                                   "path empty or too long")};
     }
     struct stat st {};
     if (::lstat(path.c_str(), &st) == 0) {
         if (!S_ISSOCK(st.st_mode)) {
-            return Err{TransportError{"listen on emulator socket", path,
-                                      "a file that is not a socket is in the way"}};
+            return Err{transport_error(TransportErrc::kBadPath, path, "listen on emulator socket",
+                                       "a file that is not a socket is in the way")};
         }
         // A socket with a live listener belongs to a running process: never take it over. Only
         // a stale one (connect refused: its emulator died) is replaced.
@@ -138,13 +143,13 @@ Result<SeqpacketListener, TransportError> SeqpacketListener::listen(const std::s
         const int err = rc == 0 ? 0 : errno;
         ::close(probe);
         if (err != ECONNREFUSED) {
-            return Err{TransportError{
-                "listen on emulator socket", path,
+            return Err{transport_error(
+                TransportErrc::kBadPath, path, "listen on emulator socket",
                 err == 0 || err == EAGAIN || err == EINPROGRESS || err == EPROTOTYPE
                     ? "another process is listening on this socket (a running kerf-hapsim?); "
                       "refused to take it over: stop that process or choose another path"
                     : std::string("cannot tell whether another process listens on it (") +
-                          std::strerror(err) + "); refused"}};
+                          std::strerror(err) + "); refused")};
         }
         ::unlink(path.c_str());  // stale socket from an emulator that died
     }

@@ -22,17 +22,21 @@ Result<std::unique_ptr<UsbHotplugMonitor>, TransportError> UsbHotplugMonitor::cr
     std::snprintf(where, sizeof where, "usb %04x:%04x", vendor_id, product_id);
     std::unique_ptr<UsbHotplugMonitor> m(new UsbHotplugMonitor());
     if (int rc = libusb_init(&m->ctx_); rc != 0) {
-        return Err{TransportError{"start libusb", where, libusb_strerror(rc)}};
+        return Err{
+            transport_error(TransportErrc::kSystem, where, "start libusb", libusb_strerror(rc))};
     }
     if (libusb_has_capability(LIBUSB_CAP_HAS_HOTPLUG) == 0) {
-        return Err{TransportError{"watch hotplug", where, "this libusb has no hotplug support"}};
+        return Err{transport_error(TransportErrc::kUnsupported, where, "watch hotplug",
+                                   "this libusb has no hotplug support")};
     }
     const auto events = static_cast<libusb_hotplug_event>(LIBUSB_HOTPLUG_EVENT_DEVICE_ARRIVED |
                                                           LIBUSB_HOTPLUG_EVENT_DEVICE_LEFT);
     const int rc = libusb_hotplug_register_callback(m->ctx_, events, LIBUSB_HOTPLUG_ENUMERATE,
                                                     vendor_id, product_id, LIBUSB_HOTPLUG_MATCH_ANY,
                                                     Callbacks::on_event, m.get(), &m->handle_);
-    if (rc != 0) return Err{TransportError{"watch hotplug", where, libusb_strerror(rc)}};
+    if (rc != 0)
+        return Err{
+            transport_error(TransportErrc::kSystem, where, "watch hotplug", libusb_strerror(rc))};
     m->registered_ = true;
     return m;
 }

@@ -199,7 +199,7 @@ int run_rt_process(const RtOptions& o) {
     producer_builder.segment_name(session).journal_dir(cfg->journal_dir.string());
     if (!cfg->main.shm.group.empty()) producer_builder.group(cfg->main.shm.group);
     auto producer = producer_builder.create();
-    if (!producer) return fail(producer.error().message);
+    if (!producer) return fail(producer.error().message());
 
     LoopSettings settings;
     settings.period_ns = rts.period_ns;

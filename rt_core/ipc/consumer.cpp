@@ -30,7 +30,7 @@ bool slot_holder_gone(const SlotControl& control) noexcept {
     return now > beat && now - beat > kSlotHungAfter_ns;
 }
 
-const char* to_string(ConsumerRole role) noexcept {
+std::string_view to_string(ConsumerRole role) noexcept {
     switch (role) {
         case ConsumerRole::kDisplay:
             return "display";
@@ -78,13 +78,13 @@ Result<std::uint32_t, IpcError> claim_slot(SegmentLayout& layout, std::int32_t p
                    std::to_string(claim_pid(layout.slots[i].control.claim_word.load()));
     }
     if (role != ConsumerRole::kTool) {
-        return Err{make_error(IpcErrc::kNoFreeSlot, std::string("the ") + to_string(role) +
-                                                        " slot is held by a live " +
-                                                        to_string(role) + " (" + holders + ")")};
+        return Err{IpcError{IpcErrc::kNoFreeSlot, "",
+                            "the " + std::string(to_string(role)) + " slot is held by a live " +
+                                std::string(to_string(role)) + " (" + holders + ")"}};
     }
-    return Err{make_error(IpcErrc::kNoFreeSlot,
-                          "all " + std::to_string(last - first) + " tool slots are held (" +
-                              holders + "); the display and monitor slots are reserved")};
+    return Err{IpcError{IpcErrc::kNoFreeSlot, "",
+                        "all " + std::to_string(last - first) + " tool slots are held (" + holders +
+                            "); the display and monitor slots are reserved"}};
 }
 
 void release_slot(SegmentLayout& layout, std::uint32_t slot, std::uint64_t word) noexcept {
@@ -179,14 +179,15 @@ struct Consumer::Impl {
         // Only the descriptor the producer served: a path read from the segment is never opened.
         const int served = segment.journal_fd();
         const std::string label = journal_path_of(seg().header);
-        auto opened = served < 0
-                          ? Result<JournalReader, IpcError>(Err{make_error(
-                                IpcErrc::kJournal, "the producer served no journal descriptor")})
-                          : JournalReader::adopt(fcntl(served, F_DUPFD_CLOEXEC, 0), label,
-                                                 seg().header.session_id);
+        auto opened =
+            served < 0
+                ? Result<JournalReader, IpcError>(Err{IpcError{
+                      IpcErrc::kJournal, "journal " + label, "the producer served no descriptor"}})
+                : JournalReader::adopt(fcntl(served, F_DUPFD_CLOEXEC, 0), label,
+                                       seg().header.session_id);
         if (!opened) {
             if (!journal_error_logged) {
-                spdlog::warn("kerf ipc: segment {}: {}", segment.name(), opened.error().message);
+                spdlog::warn("kerf ipc: segment {}: {}", segment.name(), opened.error().message());
                 journal_error_logged = true;
             }
             return false;
@@ -341,16 +342,15 @@ Result<Consumer, IpcError> ConsumerBuilder::attach() const {
     const std::string where = "segment " + name_;
     const auto state = impl->seg().header.state.load(std::memory_order_acquire);
     if (state != std::uint32_t(SegmentState::kRunning)) {
-        return Err{
-            make_error(IpcErrc::kProducerGone,
-                       where + ": state " + to_string(SegmentState(state)) + ", expected running")};
+        return Err{IpcError{
+            IpcErrc::kProducerGone, where,
+            "state " + std::string(to_string(SegmentState(state))) + ", expected running"}};
     }
     const ProducerHealth health = kerf::ipc::producer_health(impl->seg(), stale_after_ns_);
     if (health != ProducerHealth::kAlive) {
-        return Err{
-            make_error(IpcErrc::kProducerGone, where + ": producer pid " +
-                                                   std::to_string(impl->seg().header.producer_pid) +
-                                                   " is " + to_string(health))};
+        return Err{IpcError{IpcErrc::kProducerGone, where,
+                            "producer pid " + std::to_string(impl->seg().header.producer_pid) +
+                                " is " + std::string(to_string(health))}};
     }
     impl->telemetry_wanted = telemetry_;
     impl->role = role_;
@@ -359,7 +359,9 @@ Result<Consumer, IpcError> ConsumerBuilder::attach() const {
                          ? impl->seg().producer.next_event_sequence.load(std::memory_order_acquire)
                          : from_;
     if (auto claimed = impl->claim(); !claimed) {
-        return Err{make_error(claimed.error().code, where + ": " + claimed.error().message)};
+        IpcError e = claimed.error();
+        e.where = where;
+        return Err{std::move(e)};
     }
     return Consumer(std::move(impl));
 }

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include "config/base/result.hpp"
 #include "rt_core/ipc/ipc_error.hpp"
@@ -34,7 +35,7 @@ enum class ConsumerRole : std::uint8_t {
     kMonitor,  ///< soak monitor: slot kMonitorSlot only
     kTool,     ///< anything else (default): the remaining slots
 };
-const char* to_string(ConsumerRole role) noexcept;
+std::string_view to_string(ConsumerRole role) noexcept;
 inline constexpr std::uint32_t kDisplaySlot = 0;
 inline constexpr std::uint32_t kMonitorSlot = 1;
 inline constexpr std::uint32_t kFirstToolSlot = 2;  ///< tools share kFirstToolSlot..kSlotCount-1

@@ -5,7 +5,7 @@
 
 namespace kerf::ipc {
 
-const char* to_string(IpcErrc code) noexcept {
+std::string_view to_string(IpcErrc code) noexcept {
     switch (code) {
         case IpcErrc::kOsError:
             return "os_error";
@@ -31,12 +31,8 @@ const char* to_string(IpcErrc code) noexcept {
     return "unknown";
 }
 
-IpcError make_error(IpcErrc code, std::string message) {
-    return IpcError{code, std::move(message)};
-}
-
-IpcError os_error(const std::string& what, int errno_value) {
-    return IpcError{IpcErrc::kOsError, what + ": " + std::strerror(errno_value)};
+IpcError os_error(std::string where, const std::string& what, int errno_value) {
+    return IpcError{IpcErrc::kOsError, std::move(where), what + ": " + std::strerror(errno_value)};
 }
 
 }  // namespace kerf::ipc

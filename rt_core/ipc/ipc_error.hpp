@@ -1,15 +1,18 @@
-// kerf::ipc::IpcError — why a shared-memory operation failed: a code for programs and a message
-// for people that names what and where ("segment /kerf.demo: header: layout version 3, expected
-// 1").
+// kerf::ipc::IpcError — why a shared-memory operation failed: a code for programs, where (the
+// segment, session, journal or folder) and what differs or failed, printed by message() as
+// "segment kerf.demo: header: layout version 3, expected 1 (bad_header)".
 #pragma once
 
 #include <string>
+#include <string_view>
+
+#include "config/base/error.hpp"
 
 namespace kerf::ipc {
 
 /// What went wrong, coarse enough for a caller to branch on.
 enum class IpcErrc {
-    kOsError,       ///< a system call failed (message carries errno text)
+    kOsError,       ///< a system call failed (what carries errno text)
     kNotFound,      ///< no segment or journal by that name
     kInUse,         ///< a live producer already owns the segment
     kBadHeader,     ///< a header field differs from what this build expects
@@ -21,19 +24,13 @@ enum class IpcErrc {
     kUntrusted,     ///< owner, mode or peer of a segment/session is not one this user may trust
 };
 
-/// Stable lower-case name of an error code ("in_use").
-const char* to_string(IpcErrc code) noexcept;
+/// Stable snake_case name of an error code ("in_use").
+std::string_view to_string(IpcErrc code) noexcept;
 
-/// An error value: a code plus a human sentence saying what differs or failed, and where.
-struct IpcError {
-    IpcErrc code = IpcErrc::kOsError;
-    std::string message;
-};
+/// An ipc failure: code, where, what (kerf::Error).
+using IpcError = Error<IpcErrc>;
 
-/// Builds an IpcError from a code and message; for the `return Err{make_error(...)}` idiom.
-IpcError make_error(IpcErrc code, std::string message);
-
-/// Builds a kOsError whose message is "<what>: <strerror(errno_value)>".
-IpcError os_error(const std::string& what, int errno_value);
+/// A kOsError whose what is "<what>: <strerror(errno_value)>".
+IpcError os_error(std::string where, const std::string& what, int errno_value);
 
 }  // namespace kerf::ipc

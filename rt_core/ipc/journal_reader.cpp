@@ -18,13 +18,12 @@ Result<JournalReader, IpcError> JournalReader::open(const std::string& path,
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK);
     if (fd < 0) {
         const int e = errno;
-        if (e == ENOENT)
-            return Err{make_error(IpcErrc::kNotFound, "journal " + path + ": missing")};
+        if (e == ENOENT) return Err{IpcError{IpcErrc::kNotFound, "journal " + path, "missing"}};
         if (e == ELOOP) {
             return Err{
-                make_error(IpcErrc::kJournal, "journal " + path + ": is a symbolic link; refused")};
+                IpcError{IpcErrc::kJournal, "journal " + path, "is a symbolic link; refused"}};
         }
-        return Err{os_error("journal " + path + ": open", e)};
+        return Err{os_error("journal " + path, "open", e)};
     }
     // A journal found by path is trusted only if this user (or root) wrote it: a file another
     // user planted, or one anyone may rewrite, is refused before a byte is read.
@@ -41,7 +40,7 @@ Result<JournalReader, IpcError> JournalReader::open(const std::string& path,
         }
         if (!why.empty()) {
             ::close(fd);
-            return Err{make_error(IpcErrc::kJournal, "journal " + path + ": " + why)};
+            return Err{IpcError{IpcErrc::kJournal, "journal " + path, why}};
         }
     }
     return adopt(fd, path, expected_session_id);
@@ -52,8 +51,7 @@ Result<JournalReader, IpcError> JournalReader::adopt(int fd, const std::string& 
     struct stat st {};
     if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
         if (fd >= 0) ::close(fd);
-        return Err{
-            make_error(IpcErrc::kJournal, "journal " + path + ": not a regular file; refused")};
+        return Err{IpcError{IpcErrc::kJournal, "journal " + path, "not a regular file; refused"}};
     }
     JournalFileHeader h{};
     const ssize_t n = ::pread(fd, &h, sizeof h, 0);
@@ -74,7 +72,7 @@ Result<JournalReader, IpcError> JournalReader::adopt(int fd, const std::string& 
     }
     if (!why.empty()) {
         ::close(fd);
-        return Err{make_error(IpcErrc::kJournal, "journal " + path + ": " + why)};
+        return Err{IpcError{IpcErrc::kJournal, "journal " + path, why}};
     }
     return JournalReader(fd, path, h);
 }

@@ -44,15 +44,16 @@ bool write_all(int fd, const void* data, std::size_t bytes) noexcept {
 Result<std::unique_ptr<JournalWriter>, IpcError> JournalWriter::create(
     SegmentLayout& segment, std::uint64_t flush_period_ns, mode_t mode, gid_t group) {
     const std::string path = journal_path_of(segment.header);
-    if (path.empty()) return Err{make_error(IpcErrc::kJournal, "journal path unset in header")};
+    if (path.empty())
+        return Err{IpcError{IpcErrc::kJournal, "segment header", "journal path unset"}};
     const int fd =
         ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_APPEND | O_NOFOLLOW, mode);
-    if (fd < 0) return Err{os_error("journal " + path + ": open", errno)};
+    if (fd < 0) return Err{os_error("journal " + path, "open", errno)};
     if (fchmod(fd, mode) != 0 || (group != gid_t(-1) && fchown(fd, uid_t(-1), group) != 0)) {
         const int e = errno;
         ::close(fd);
         ::unlink(path.c_str());
-        return Err{os_error("journal " + path + ": chmod/chown", e)};
+        return Err{os_error("journal " + path, "chmod/chown", e)};
     }
     JournalFileHeader h{};
     h.magic = kJournalMagic;
@@ -64,7 +65,7 @@ Result<std::unique_ptr<JournalWriter>, IpcError> JournalWriter::create(
     if (!write_all(fd, &h, sizeof h)) {
         const int e = errno;
         ::close(fd);
-        return Err{os_error("journal " + path + ": write header", e)};
+        return Err{os_error("journal " + path, "write header", e)};
     }
     return std::unique_ptr<JournalWriter>(new JournalWriter(segment, fd, flush_period_ns));
 }

@@ -13,6 +13,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <string_view>
 
 #include "rt_core/ipc/mesh_layout.hpp"
 #include "rt_core/ipc/records.hpp"
@@ -30,7 +31,7 @@ inline constexpr std::size_t kJournalPathBytes = 128;
 
 /// Segment life, in the header's state word.
 enum class SegmentState : std::uint32_t { kStarting = 1, kRunning = 2, kStopped = 3 };
-const char* to_string(SegmentState state) noexcept;
+std::string_view to_string(SegmentState state) noexcept;
 
 /// Written once by the producer before state becomes kRunning. 256 bytes.
 struct SegmentHeader {

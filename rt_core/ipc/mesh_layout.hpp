@@ -15,6 +15,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string_view>
 
 #include "rt_core/ipc/spsc_ring.hpp"
 
@@ -34,7 +35,7 @@ enum class TriangleMaterial : std::uint8_t {
     kCutSurface = 2,  ///< a cap or kerf face a cut exposed (shaded and felt as cancellous)
 };
 inline constexpr std::uint8_t kTriangleMaterialCount = 3;
-const char* to_string(TriangleMaterial material) noexcept;
+std::string_view to_string(TriangleMaterial material) noexcept;
 
 /// One body's slice of the vertex and index arrays.
 struct MeshBodyEntry {

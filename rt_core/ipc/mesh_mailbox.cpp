@@ -91,7 +91,7 @@ std::uint64_t hash_words(std::uint64_t h, const void* data, std::size_t bytes) n
 
 }  // namespace
 
-const char* to_string(TriangleMaterial material) noexcept {
+std::string_view to_string(TriangleMaterial material) noexcept {
     switch (material) {
         case TriangleMaterial::kCortical:
             return "cortical";
@@ -118,7 +118,7 @@ CollisionMesh::CollisionMesh()
       indices(kMeshMaxIndices + 2),
       materials(kMeshMaxTriangles + 8) {}
 
-const char* to_string(MeshFault fault) noexcept {
+std::string_view to_string(MeshFault fault) noexcept {
     switch (fault) {
         case MeshFault::kNone:
             return "none";
@@ -177,8 +177,8 @@ Result<std::uint64_t, IpcError> MeshMailboxWriter::publish(const CollisionMesh& 
     std::string where;
     const MeshFault fault = validate_mesh(mesh, where);
     if (fault != MeshFault::kNone) {
-        return Err{make_error(IpcErrc::kBadArgument,
-                              std::string("collision mesh: ") + to_string(fault) + ": " + where)};
+        return Err{IpcError{IpcErrc::kBadArgument, "collision mesh",
+                            std::string(to_string(fault)) + ": " + where}};
     }
     MeshMailbox& box = segment_.mailbox;
     const auto latest = box.latest.value.load(std::memory_order_acquire);

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "config/base/result.hpp"
@@ -48,7 +49,7 @@ enum class MeshFault : std::uint8_t {
     kBadMaterial,  ///< a triangle's material is not a TriangleMaterial
     kBadHash,      ///< content differs from what the writer hashed (scribbled after publish)
 };
-const char* to_string(MeshFault fault) noexcept;
+std::string_view to_string(MeshFault fault) noexcept;
 
 /// Checks a mesh completely: counts within capacity, body ranges inside the arrays, every index
 /// inside its body, coordinates finite and within kMeshMaxCoordinate_m, transforms rigid,

@@ -163,7 +163,7 @@ Result<Producer, IpcError> ProducerBuilder::create() const {
     impl->journal = std::move(*journal);
     const int reader = impl->journal->reopen_read_only();
     if (reader < 0) {
-        return Err{os_error("journal " + journal_path_of(s.header) + ": reopen to serve", errno)};
+        return Err{os_error("journal " + journal_path_of(s.header), "reopen to serve", errno)};
     }
     impl->segment.serve_journal(reader);
     s.producer.heartbeat_ns.store(monotonic_ns(), std::memory_order_release);

@@ -89,7 +89,7 @@ RecordFault validate_payload(const EventRecord& r) noexcept {
 
 }  // namespace
 
-const char* to_string(RecordFault fault) noexcept {
+std::string_view to_string(RecordFault fault) noexcept {
     switch (fault) {
         case RecordFault::kNone:
             return "none";
@@ -105,7 +105,7 @@ const char* to_string(RecordFault fault) noexcept {
     return "unknown";
 }
 
-const char* to_string(EventType type) noexcept {
+std::string_view to_string(EventType type) noexcept {
     switch (type) {
         case EventType::kCutBegin:
             return "cut_begin";
@@ -127,7 +127,7 @@ const char* to_string(EventType type) noexcept {
     return "unknown";
 }
 
-const char* to_string(DeviceState state) noexcept {
+std::string_view to_string(DeviceState state) noexcept {
     switch (state) {
         case DeviceState::kDisconnected:
             return "disconnected";

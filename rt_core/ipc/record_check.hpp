@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string_view>
 
 #include "rt_core/ipc/records.hpp"
 
@@ -16,7 +17,7 @@ enum class RecordFault : std::uint8_t {
     kNotFinite,    ///< a float field is NaN or infinite
     kOutOfRange,   ///< an enum, unit vector, size or name is out of its range
 };
-const char* to_string(RecordFault fault) noexcept;
+std::string_view to_string(RecordFault fault) noexcept;
 
 /// 32-bit checksum of a 128-byte record, computed with header.checksum taken as 0. ~10 ns.
 /// noexcept, allocation-free: safe on the real-time thread.

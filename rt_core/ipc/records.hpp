@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string_view>
 #include <type_traits>
 
 namespace kerf::ipc {
@@ -22,7 +23,7 @@ enum class EventType : std::uint16_t {
     kSessionReset = 7,        ///< scene reloaded: consumers drop derived state
     kTelemetry = 100,         ///< a per-tick TelemetrySample (telemetry rings only)
 };
-const char* to_string(EventType type) noexcept;
+std::string_view to_string(EventType type) noexcept;
 
 enum class CutEndReason : std::uint32_t { kNone = 0, kCompleted = 1, kWithdrawn = 2, kAborted = 3 };
 enum class DeviceState : std::uint32_t {
@@ -32,7 +33,7 @@ enum class DeviceState : std::uint32_t {
     kFault = 3,
     kSafeStop = 4
 };
-const char* to_string(DeviceState state) noexcept;
+std::string_view to_string(DeviceState state) noexcept;
 
 /// First 24 bytes of every record.
 struct RecordHeader {

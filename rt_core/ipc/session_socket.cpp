@@ -69,28 +69,27 @@ bool peer_credentials(int fd, ucred& cred) {
 // Creates `path` as a folder (or accepts an existing one of ours) with exactly `mode` and group.
 Status<IpcError> ensure_dir(const std::string& path, mode_t mode, gid_t group, bool set_group) {
     if (mkdir(path.c_str(), mode) != 0 && errno != EEXIST) {
-        return Err{os_error("runtime folder " + path + ": mkdir", errno)};
+        return Err{os_error("runtime folder " + path, "mkdir", errno)};
     }
     const int fd = open(path.c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
     if (fd < 0) {
-        return Err{make_error(IpcErrc::kUntrusted,
-                              "runtime folder " + path +
-                                  ": not a folder (or a symbolic link): " + std::strerror(errno))};
+        return Err{
+            IpcError{IpcErrc::kUntrusted, "runtime folder " + path,
+                     std::string("not a folder (or a symbolic link): ") + std::strerror(errno)}};
     }
     struct stat st {};
     fstat(fd, &st);
     if (st.st_uid != geteuid()) {
         close(fd);
-        return Err{make_error(IpcErrc::kUntrusted, "runtime folder " + path + " is owned by uid " +
-                                                       std::to_string(st.st_uid) +
-                                                       ", not by this user (uid " +
-                                                       std::to_string(geteuid()) + ")")};
+        return Err{IpcError{IpcErrc::kUntrusted, "runtime folder " + path,
+                            "owned by uid " + std::to_string(st.st_uid) +
+                                ", not by this user (uid " + std::to_string(geteuid()) + ")"}};
     }
     bool ok = fchmod(fd, mode) == 0;
     if (set_group) ok = ok && fchown(fd, uid_t(-1), group) == 0;
     const int e = errno;
     close(fd);
-    if (!ok) return Err{os_error("runtime folder " + path + ": chmod/chown", e)};
+    if (!ok) return Err{os_error("runtime folder " + path, "chmod/chown", e)};
     return {};
 }
 
@@ -145,8 +144,8 @@ Result<std::unique_ptr<SessionServer>, IpcError> SessionServer::start(
     s->socket_path_ = session_socket_of(runtime_dir, name);
     const std::string where = "session " + name;
     if (runtime_dir.empty() || runtime_dir[0] != '/') {
-        return Err{make_error(IpcErrc::kBadArgument,
-                              where + ": runtime folder '" + runtime_dir + "' must be absolute")};
+        return Err{IpcError{IpcErrc::kBadArgument, where,
+                            "runtime folder '" + runtime_dir + "' must be absolute"}};
     }
     // The runtime folder only lists session names; each session's folder guards its socket.
     if (auto ok = ensure_dir(runtime_dir, 0755, 0, false); !ok) return Err{ok.error()};
@@ -156,14 +155,14 @@ Result<std::unique_ptr<SessionServer>, IpcError> SessionServer::start(
     }
     sockaddr_un addr;
     if (!fill_address(addr, s->socket_path_)) {
-        return Err{make_error(IpcErrc::kBadArgument,
-                              where + ": socket path " + s->socket_path_ + " is too long")};
+        return Err{IpcError{IpcErrc::kBadArgument, where,
+                            "socket path " + s->socket_path_ + " is too long"}};
     }
     struct stat st {};
     if (lstat(s->socket_path_.c_str(), &st) == 0) {
         if (!S_ISSOCK(st.st_mode)) {
-            return Err{make_error(IpcErrc::kInUse, where + ": " + s->socket_path_ +
-                                                       " exists and is not a socket; remove it")};
+            return Err{IpcError{IpcErrc::kInUse, where,
+                                s->socket_path_ + " exists and is not a socket; remove it"}};
         }
         const int probe = connect_to(s->socket_path_);
         if (probe >= 0) {
@@ -171,33 +170,33 @@ Result<std::unique_ptr<SessionServer>, IpcError> SessionServer::start(
             const bool known = peer_credentials(probe, cred);
             close(probe);
             return Err{
-                make_error(IpcErrc::kInUse,
-                           where + ": a live producer" +
-                               (known ? " (pid " + std::to_string(cred.pid) + ")" : std::string()) +
-                               " serves " + s->socket_path_)};
+                IpcError{IpcErrc::kInUse, where,
+                         "a live producer" +
+                             (known ? " (pid " + std::to_string(cred.pid) + ")" : std::string()) +
+                             " serves " + s->socket_path_}};
         }
         if (probe != -ECONNREFUSED) {
-            return Err{os_error(where + ": probing " + s->socket_path_, -probe)};
+            return Err{os_error(where, "probing " + s->socket_path_, -probe)};
         }
         spdlog::info("kerf ipc: {}: removing the stale socket of a dead session", where);
         unlink(s->socket_path_.c_str());
     }
     s->listen_fd_ = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
-    if (s->listen_fd_ < 0) return Err{os_error(where + ": socket", errno)};
+    if (s->listen_fd_ < 0) return Err{os_error(where, "socket", errno)};
     if (bind(s->listen_fd_, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0) {
         const int e = errno;
         if (e == EADDRINUSE) {
             return Err{
-                make_error(IpcErrc::kInUse, where + ": another producer bound " + s->socket_path_)};
+                IpcError{IpcErrc::kInUse, where, "another producer bound " + s->socket_path_}};
         }
-        return Err{os_error(where + ": bind " + s->socket_path_, e)};
+        return Err{os_error(where, "bind " + s->socket_path_, e)};
     }
     s->bound_ = true;  // from here on the socket is ours to remove
     const mode_t socket_mode = policy.group_allowed ? 0660 : 0600;
     if (chmod(s->socket_path_.c_str(), socket_mode) != 0 ||
         (policy.group_allowed && chown(s->socket_path_.c_str(), uid_t(-1), policy.group) != 0) ||
         listen(s->listen_fd_, 16) != 0 || pipe2(s->wake_, O_CLOEXEC) != 0) {
-        return Err{os_error(where + ": socket setup", errno)};
+        return Err{os_error(where, "socket setup", errno)};
     }
     SessionServer* raw = s.get();
     s->thread_ = std::thread([raw] { raw->run(); });
@@ -280,45 +279,44 @@ Result<SessionFds, IpcError> fetch_session(const std::string& runtime_dir,
     struct stat dst {};
     if (lstat(dir.c_str(), &dst) != 0) {
         if (errno == ENOENT) {
-            return Err{make_error(IpcErrc::kNotFound,
-                                  where + ": no such session (no folder " + dir + ")")};
+            return Err{
+                IpcError{IpcErrc::kNotFound, where, "no such session (no folder " + dir + ")"}};
         }
-        return Err{os_error(where + ": " + dir, errno)};
+        return Err{os_error(where, dir, errno)};
     }
     if (!S_ISDIR(dst.st_mode) || (dst.st_mode & 0002) != 0) {
-        return Err{make_error(IpcErrc::kUntrusted, where + ": " + dir +
-                                                       " is not a private folder (mode " +
-                                                       octal(dst.st_mode) + "); refused")};
+        return Err{
+            IpcError{IpcErrc::kUntrusted, where,
+                     dir + " is not a private folder (mode " + octal(dst.st_mode) + "); refused"}};
     }
     struct stat sst {};
     if (lstat(path.c_str(), &sst) != 0) {
         if (errno == ENOENT) {
-            return Err{make_error(IpcErrc::kNotFound, where + ": no such session (no socket " +
-                                                          path + "; the session has ended)")};
+            return Err{IpcError{IpcErrc::kNotFound, where,
+                                "no such session (no socket " + path + "; the session has ended)"}};
         }
-        return Err{os_error(where + ": " + path, errno)};
+        return Err{os_error(where, path, errno)};
     }
     if (!S_ISSOCK(sst.st_mode)) {
-        return Err{make_error(IpcErrc::kUntrusted, where + ": " + path + " is not a socket")};
+        return Err{IpcError{IpcErrc::kUntrusted, where, path + " is not a socket"}};
     }
     const int fd = connect_to(path);
     if (fd == -ECONNREFUSED) {
-        return Err{make_error(
-            IpcErrc::kProducerGone,
-            where + ": stale socket " + path + ": no process listens (its producer died)")};
+        return Err{IpcError{IpcErrc::kProducerGone, where,
+                            "stale socket " + path + ": no process listens (its producer died)"}};
     }
-    if (fd < 0) return Err{os_error(where + ": connect " + path, -fd)};
+    if (fd < 0) return Err{os_error(where, "connect " + path, -fd)};
     ucred cred{};
     if (!peer_credentials(fd, cred)) {
         close(fd);
-        return Err{os_error(where + ": SO_PEERCRED", errno)};
+        return Err{os_error(where, "SO_PEERCRED", errno)};
     }
     if (cred.uid != dst.st_uid || cred.uid != sst.st_uid) {
         close(fd);
-        return Err{make_error(IpcErrc::kUntrusted,
-                              where + ": served by uid " + std::to_string(cred.uid) +
-                                  " but the folder belongs to uid " + std::to_string(dst.st_uid) +
-                                  " and the socket to uid " + std::to_string(sst.st_uid))};
+        return Err{IpcError{IpcErrc::kUntrusted, where,
+                            "served by uid " + std::to_string(cred.uid) +
+                                " but the folder belongs to uid " + std::to_string(dst.st_uid) +
+                                " and the socket to uid " + std::to_string(sst.st_uid)}};
     }
     timeval timeout{2, 0};
     setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
@@ -351,22 +349,22 @@ Result<SessionFds, IpcError> fetch_session(const std::string& runtime_dir,
         for (int r : received) close(r);
         return Err{std::move(error)};
     };
-    if (n < 0) return fail(os_error(where + ": receiving from " + path, e));
+    if (n < 0) return fail(os_error(where, "receiving from " + path, e));
     if (n != static_cast<ssize_t>(sizeof hello) || hello.magic != kHelloMagic) {
-        return fail(
-            make_error(IpcErrc::kCorrupt, where + ": " + path + " answered " + std::to_string(n) +
-                                              " bytes that are not a Kerf session greeting"));
+        return fail(IpcError{IpcErrc::kCorrupt, where,
+                             path + " answered " + std::to_string(n) +
+                                 " bytes that are not a Kerf session greeting"});
     }
     if (hello.refused != 0) {
-        return fail(make_error(IpcErrc::kUntrusted,
-                               where + ": the producer (pid " + std::to_string(cred.pid) +
-                                   ") refused this user (uid " + std::to_string(geteuid()) + ")"));
+        return fail(IpcError{IpcErrc::kUntrusted, where,
+                             "the producer (pid " + std::to_string(cred.pid) +
+                                 ") refused this user (uid " + std::to_string(geteuid()) + ")"});
     }
     if ((msg.msg_flags & MSG_CTRUNC) != 0 || received.empty() ||
         received.size() != hello.fd_count || received.size() > kMaxFds) {
-        return fail(make_error(IpcErrc::kCorrupt,
-                               where + ": expected " + std::to_string(hello.fd_count) +
-                                   " descriptors, received " + std::to_string(received.size())));
+        return fail(IpcError{IpcErrc::kCorrupt, where,
+                             "expected " + std::to_string(hello.fd_count) +
+                                 " descriptors, received " + std::to_string(received.size())});
     }
     SessionFds out;
     out.segment_fd = received[0];

@@ -42,21 +42,21 @@ Status<IpcError> check_trust(const std::string& where, const struct stat& st, ui
     const std::string mode = "owner uid " + std::to_string(st.st_uid) + ", group " +
                              std::to_string(st.st_gid) + ", mode " + octal(st.st_mode);
     if (st.st_uid != producer_uid) {
-        return Err{make_error(IpcErrc::kUntrusted,
-                              where + ": segment (" + mode + ") was served by uid " +
-                                  std::to_string(producer_uid) + ", not its owner; refused")};
+        return Err{IpcError{IpcErrc::kUntrusted, where,
+                            "segment (" + mode + ") was served by uid " +
+                                std::to_string(producer_uid) + ", not its owner; refused"}};
     }
     if ((st.st_mode & 0007) != 0) {
-        return Err{make_error(IpcErrc::kUntrusted,
-                              where + ": segment (" + mode + ") is open to others; refused")};
+        return Err{IpcError{IpcErrc::kUntrusted, where,
+                            "segment (" + mode + ") is open to others; refused"}};
     }
     const bool mine = st.st_uid == geteuid() || st.st_uid == 0;
     const bool shared = (st.st_mode & 0060) == 0060 && in_my_groups(st.st_gid);
     if (!mine && !shared) {
-        return Err{make_error(IpcErrc::kUntrusted,
-                              where + ": segment (" + mode +
-                                  ") belongs to another user and is not shared with a group of "
-                                  "ours; refused")};
+        return Err{IpcError{IpcErrc::kUntrusted, where,
+                            "segment (" + mode +
+                                ") belongs to another user and is not shared with a group of "
+                                "ours; refused"}};
     }
     return {};
 }
@@ -110,7 +110,7 @@ void diff(std::string& out, const char* field, T got, T want) {
 
 }  // namespace
 
-const char* to_string(ProducerHealth health) noexcept {
+std::string_view to_string(ProducerHealth health) noexcept {
     switch (health) {
         case ProducerHealth::kAlive:
             return "alive";
@@ -124,7 +124,7 @@ const char* to_string(ProducerHealth health) noexcept {
     return "unknown";
 }
 
-const char* to_string(SegmentState state) noexcept {
+std::string_view to_string(SegmentState state) noexcept {
     switch (state) {
         case SegmentState::kStarting:
             return "starting";
@@ -206,7 +206,7 @@ Status<IpcError> check_header(const SegmentHeader& h, std::uint64_t mapped_bytes
     }
     if (journal_path_of(h).empty()) out += std::string(out.empty() ? "" : "; ") + "journal path";
     if (out.empty()) return {};
-    return Err{make_error(IpcErrc::kBadHeader, "header: " + out)};
+    return Err{IpcError{IpcErrc::kBadHeader, "header", out}};
 }
 
 bool valid_session_name(const std::string& name) {
@@ -280,14 +280,14 @@ SegmentBuilder& SegmentBuilder::journal_dir(std::string directory) {
 
 Result<ShmSegment, IpcError> SegmentBuilder::create() const {
     if (!valid_name(name_)) {
-        return Err{make_error(IpcErrc::kBadArgument,
-                              "segment name '" + name_ + "': use 1-64 of [A-Za-z0-9._-]")};
+        return Err{IpcError{IpcErrc::kBadArgument, "segment name '" + name_ + "'",
+                            "use 1-64 of [A-Za-z0-9._-]"}};
     }
     const std::string where = "segment " + name_;
     const std::string runtime = runtime_dir_.empty() ? default_runtime_dir() : runtime_dir_;
     if (!journal_dir_.empty() && (journal_dir_[0] != '/' || journal_dir_.size() > 80)) {
-        return Err{make_error(IpcErrc::kBadArgument, where + ": journal dir '" + journal_dir_ +
-                                                         "' must be absolute, <= 80 chars")};
+        return Err{IpcError{IpcErrc::kBadArgument, where,
+                            "journal dir '" + journal_dir_ + "' must be absolute, <= 80 chars"}};
     }
     PeerPolicy policy;
     policy.owner_uid = geteuid();
@@ -296,18 +296,18 @@ Result<ShmSegment, IpcError> SegmentBuilder::create() const {
     if (!group_name_.empty()) {
         const ::group* g = getgrnam(group_name_.c_str());
         if (g == nullptr) {
-            return Err{make_error(IpcErrc::kBadArgument,
-                                  where + ": group '" + group_name_ + "' does not exist")};
+            return Err{IpcError{IpcErrc::kBadArgument, where,
+                                "group '" + group_name_ + "' does not exist"}};
         }
         policy.group = g->gr_gid;
     }
     const mode_t mode = group_access_ ? 0660 : 0600;
     const int fd = memfd_create(("kerf:" + name_).c_str(), MFD_CLOEXEC | MFD_ALLOW_SEALING);
-    if (fd < 0) return Err{os_error(where + ": memfd_create", errno)};
+    if (fd < 0) return Err{os_error(where, "memfd_create", errno)};
     auto fail = [&](const char* what) -> Result<ShmSegment, IpcError> {
         const int e = errno;
         close(fd);
-        return Err{os_error(where + ": " + what, e)};
+        return Err{os_error(where, what, e)};
     };
     if (fchmod(fd, mode) != 0) return fail("fchmod");
     if (group_access_ && fchown(fd, uid_t(-1), policy.group) != 0) return fail("fchown");
@@ -332,9 +332,9 @@ Result<ShmSegment, IpcError> SegmentBuilder::create() const {
     if (std::strlen(journal) >= kJournalPathBytes) {
         munmap(p, sizeof(SegmentLayout));
         close(fd);
-        return Err{make_error(IpcErrc::kBadArgument,
-                              where + ": journal path " + journal + " is longer than " +
-                                  std::to_string(kJournalPathBytes - 1) + " bytes")};
+        return Err{IpcError{IpcErrc::kBadArgument, where,
+                            std::string("journal path ") + journal + " is longer than " +
+                                std::to_string(kJournalPathBytes - 1) + " bytes"}};
     }
     std::memcpy(layout->header.journal_path, journal, kJournalPathBytes);
     layout->header.state.store(static_cast<std::uint32_t>(SegmentState::kStarting),
@@ -354,7 +354,7 @@ Result<ShmSegment, IpcError> SegmentBuilder::create() const {
 
 Result<ShmSegment, IpcError> SegmentBuilder::open() const {
     if (!valid_name(name_)) {
-        return Err{make_error(IpcErrc::kBadArgument, "segment name '" + name_ + "' is invalid")};
+        return Err{IpcError{IpcErrc::kBadArgument, "segment name '" + name_ + "'", "invalid"}};
     }
     const std::string where = "segment " + name_;
     const std::string runtime = runtime_dir_.empty() ? default_runtime_dir() : runtime_dir_;
@@ -367,28 +367,28 @@ Result<ShmSegment, IpcError> SegmentBuilder::open() const {
         return Err{std::move(error)};
     };
     struct stat st {};
-    if (fstat(fd, &st) != 0) return fail(os_error(where + ": fstat", errno));
+    if (fstat(fd, &st) != 0) return fail(os_error(where, "fstat", errno));
     if (!S_ISREG(st.st_mode) || std::uint64_t(st.st_size) != sizeof(SegmentLayout)) {
-        return fail(make_error(IpcErrc::kBadHeader, where + ": " + std::to_string(st.st_size) +
-                                                        " bytes, expected " +
-                                                        std::to_string(sizeof(SegmentLayout))));
+        return fail(IpcError{IpcErrc::kBadHeader, where,
+                             std::to_string(st.st_size) + " bytes, expected " +
+                                 std::to_string(sizeof(SegmentLayout))});
     }
     const int seals = fcntl(fd, F_GET_SEALS);
     if (seals < 0 || (seals & (F_SEAL_SHRINK | F_SEAL_GROW)) != (F_SEAL_SHRINK | F_SEAL_GROW)) {
-        return fail(make_error(IpcErrc::kUntrusted,
-                               where + ": segment is not sealed against resizing; refused"));
+        return fail(IpcError{IpcErrc::kUntrusted, where,
+                             "segment is not sealed against resizing; refused"});
     }
     if (auto trusted = check_trust(where, st, fds->producer_uid); !trusted) {
         return fail(trusted.error());
     }
     void* p = mmap(nullptr, sizeof(SegmentLayout), PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
-    if (p == MAP_FAILED) return fail(os_error(where + ": mmap", errno));
+    if (p == MAP_FAILED) return fail(os_error(where, "mmap", errno));
     close(fd);
     auto* layout = static_cast<SegmentLayout*>(p);
     auto checked = check_header(layout->header, std::uint64_t(st.st_size));
     std::string why;
     if (!checked) {
-        why = checked.error().message;
+        why = checked.error().where + ": " + checked.error().what;
     } else if (layout->header.producer_pid != fds->producer_pid) {
         why = "header says producer pid " + std::to_string(layout->header.producer_pid) +
               " but pid " + std::to_string(fds->producer_pid) + " serves the session";
@@ -398,7 +398,7 @@ Result<ShmSegment, IpcError> SegmentBuilder::open() const {
     if (!why.empty()) {
         munmap(p, sizeof(SegmentLayout));
         if (fds->journal_fd >= 0) close(fds->journal_fd);
-        return Err{make_error(IpcErrc::kBadHeader, where + ": " + why)};
+        return Err{IpcError{IpcErrc::kBadHeader, where, why}};
     }
     ShmSegment segment(layout, name_, false);
     segment.owner_uid_ = st.st_uid;

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include "config/base/result.hpp"
 #include "rt_core/ipc/ipc_error.hpp"
@@ -26,7 +27,7 @@ enum class ProducerHealth : std::uint8_t {
     kDead,     ///< pid gone (or a zombie): killed or crashed
     kStopped,  ///< producer shut down cleanly (state kStopped)
 };
-const char* to_string(ProducerHealth health) noexcept;
+std::string_view to_string(ProducerHealth health) noexcept;
 
 /// Default heartbeat age after which a producer is reported kStale.
 inline constexpr std::uint64_t kDefaultStaleAfter_ns = 40'000'000;

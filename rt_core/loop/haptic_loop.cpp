@@ -10,7 +10,7 @@ namespace {
 
 using firmware_host::DeviceStatus;
 
-physics::Vec3 to_vec(const firmware_host::Vec3d& v) noexcept { return {v[0], v[1], v[2]}; }
+physics::Vec3 to_vec(const firmware_host::Vec3& v) noexcept { return {v[0], v[1], v[2]}; }
 
 /// Quaternion (w, x, y, z) of a rotation matrix (Shepperd's method).
 void to_quaternion(const physics::Mat3& r, double (&q)[4]) noexcept {
@@ -257,12 +257,12 @@ void HapticLoop::apply_safety(const TickTiming& timing) noexcept {
     in.desired_force_n = {f_device.x, f_device.y, f_device.z};
     in.read_status = read_status_;
     in.flags = sample_.flags;
-    const firmware_host::Vec3d out = safety_.step(in);
+    const firmware_host::Vec3 out = safety_.step(in);
     const bool stale = (safety_.reasons() & firmware_host::kReasonStale) != 0;
     if (stale && !stale_last_ && !device_lost_) ++stats_.stale_episodes;
     stale_last_ = stale;
     const bool zero = safe_state_ || checks_.tripped();
-    command_.force_n = zero ? firmware_host::Vec3d{} : out;
+    command_.force_n = zero ? firmware_host::Vec3{} : out;
     command_.enable = !zero && safety_.engaged();
     track_device_state();
 }

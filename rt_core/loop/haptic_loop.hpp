@@ -150,7 +150,7 @@ public:
     bool waiting_for_device() const noexcept { return device_lost_; }
     const LoopStats& stats() const noexcept { return stats_; }
     /// The force commanded by the last tick, device frame, N.
-    const firmware_host::Vec3d& last_force_n() const noexcept { return command_.force_n; }
+    const firmware_host::Vec3& last_force_n() const noexcept { return command_.force_n; }
     const physics::PhysicsOutput& last_physics() const noexcept { return physics_out_; }
     /// The blade's orientation source and pose this tick.
     const BladePose& blade() const noexcept { return blade_; }

@@ -41,7 +41,7 @@ Result<std::uint64_t, std::string> WorldBuilder::build(const ipc::CollisionMesh&
     std::string where;
     const ipc::MeshFault fault = ipc::validate_mesh(mesh, where);
     if (fault != ipc::MeshFault::kNone) {
-        return Err{std::string("collision mesh: ") + ipc::to_string(fault) + ": " + where};
+        return Err{"collision mesh: " + std::string(ipc::to_string(fault)) + ": " + where};
     }
     const std::uint64_t t0 = now_ns();
     auto world = std::make_unique<WorldSnapshot>();

@@ -74,7 +74,7 @@ static int program_main(int argc, char** argv) {
     auto producer =
         kerf::ipc::ProducerBuilder().segment_name(segment).journal_dir(journal_dir).create();
     if (!producer) {
-        std::fprintf(stderr, "display_test_producer: %s\n", producer.error().message.c_str());
+        std::fprintf(stderr, "display_test_producer: %s\n", producer.error().message().c_str());
         return 1;
     }
     std::signal(SIGTERM, on_signal);

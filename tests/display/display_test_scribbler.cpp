@@ -29,7 +29,7 @@ static int program_main(int argc, char** argv) {
     }
     auto opened = kerf::ipc::SegmentBuilder().name(segment).open();
     if (!opened) {
-        std::fprintf(stderr, "display_test_scribbler: %s\n", opened.error().message.c_str());
+        std::fprintf(stderr, "display_test_scribbler: %s\n", opened.error().message().c_str());
         return 1;
     }
     kerf::ipc::SegmentLayout& seg = opened->layout();

@@ -36,7 +36,7 @@ TEST(SessionFollower, AppliesTheStreamOnItsWorkerToTheSameHashAsCutSession) {
     const std::string dir = mkdtemp(tmpl);
     const std::string name = "kerffollow_" + std::to_string(getpid());
     auto producer = ipc::ProducerBuilder().segment_name(name).journal_dir(dir).create();
-    ASSERT_TRUE(producer.has_value()) << producer.error().message;
+    ASSERT_TRUE(producer.has_value()) << producer.error().message();
     std::uint64_t tick = 0;
     producer->heartbeat(++tick, now_ns());
 

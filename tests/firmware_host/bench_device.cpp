@@ -92,7 +92,7 @@ BENCHMARK(BM_FalconDecodeReport);
 
 void BM_FalconForwardKinematics(benchmark::State& state) {
     const fh::falcon::DeltaKinematics kin{fh::falcon::DeltaGeometry{}};
-    fh::falcon::Vec3 theta{}, p{}, guess = {0, 0, 0.11};
+    fh::Vec3 theta{}, p{}, guess = {0, 0, 0.11};
     (void)kin.inverse({0.01, -0.02, 0.11}, theta);
     for (auto _ : state) {
         benchmark::DoNotOptimize(kin.forward(theta, guess, p));

@@ -84,8 +84,8 @@ struct DeviceLoop {
     DeviceSample sample;
     DeviceStatus status = DeviceStatus::kNoData;
     DeviceStatus write_status = DeviceStatus::kOk;
-    Vec3d desired{};
-    Vec3d out{};
+    Vec3 desired{};
+    Vec3 out{};
     std::uint64_t late_reads = 0;       ///< lockstep reads that had to wait past one 20 ms slice
     std::uint64_t drained = 0;          ///< queued answers drain() read
     std::uint64_t engage_restarts = 0;  ///< test::engage() attempts that had to start over

@@ -99,9 +99,10 @@ TEST(FalconIntegration, MissingFirmwareFileIsAClearError) {
     ASSERT_TRUE(sim.ready());
     auto dev = open_falcon(sim, "/nonexistent/novint.bin");
     ASSERT_FALSE(dev);
-    EXPECT_NE(dev.error().message().find("cannot read the firmware image: /nonexistent/novint.bin"),
-              std::string::npos)
-        << dev.error().message();
+    EXPECT_EQ(dev.error().code, TransportErrc::kFirmware);
+    EXPECT_EQ(dev.error().message(),
+              "/nonexistent/novint.bin: read falcon firmware: cannot read the firmware image: no "
+              "such file (firmware)");
 }
 
 TEST(FalconIntegration, OpeningWithoutFirmwareSaysSo) {
@@ -131,7 +132,7 @@ TEST(FalconIntegration, ScriptedMotionMatchesTheTruthWithinEncoderResolution) {
     ASSERT_TRUE(dev) << dev.error().message();
     falcon::DeltaKinematics kin{falcon::DeltaGeometry{}};
     DeviceLoop loop(**dev);
-    std::vector<Vec3d> seen;
+    std::vector<Vec3> seen;
     std::vector<falcon::Mat3> jac;
     std::vector<bool> homed;
     for (int i = 0; i < 4000; ++i) {
@@ -161,7 +162,7 @@ TEST(FalconIntegration, ScriptedMotionMatchesTheTruthWithinEncoderResolution) {
         std::istringstream(line) >> step >> x >> y >> z;
         const auto& p = seen[i - 1];
         const auto& j = jac[i - 1];
-        const Vec3d truth = {x, y, z};
+        const Vec3 truth = {x, y, z};
         for (int r = 0; r < 3; ++r) {
             const double bound =
                 0.5 * half_count * (std::abs(j[r][0]) + std::abs(j[r][1]) + std::abs(j[r][2]));

@@ -9,7 +9,7 @@
 namespace kerf::firmware_host {
 namespace {
 
-double norm(const Vec3d& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+double norm(const Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 
 SafetyLimits test_limits() {
     SafetyLimits l;
@@ -24,7 +24,7 @@ SafetyLimits test_limits() {
     return l;
 }
 
-SafetyInput good(Vec3d f) {
+SafetyInput good(Vec3 f) {
     SafetyInput in;
     in.desired_force_n = f;
     in.read_status = DeviceStatus::kOk;
@@ -33,16 +33,16 @@ SafetyInput good(Vec3d f) {
 }
 
 // Engages with zero demand, then runs `ticks` at `f`; returns the last output.
-Vec3d engage_and_hold(ForceSafety& s, Vec3d f, int ticks) {
+Vec3 engage_and_hold(ForceSafety& s, Vec3 f, int ticks) {
     for (int i = 0; i < 10; ++i) s.step(good({0, 0, 0}));
-    Vec3d out{};
+    Vec3 out{};
     for (int i = 0; i < ticks; ++i) out = s.step(good(f));
     return out;
 }
 
 TEST(ForceSafety, ClampsAtPeakForceKeepingDirection) {
     ForceSafety s(test_limits());
-    const Vec3d out = engage_and_hold(s, {30, -40, 0}, 30);  // |F| = 50 N
+    const Vec3 out = engage_and_hold(s, {30, -40, 0}, 30);  // |F| = 50 N
     EXPECT_NEAR(norm(out), 8.0, 1e-9);
     EXPECT_NEAR(out[0] / out[1], 30.0 / -40.0, 1e-9);
     EXPECT_TRUE(s.reasons() & kReasonPeakClamp);
@@ -50,7 +50,7 @@ TEST(ForceSafety, ClampsAtPeakForceKeepingDirection) {
 
 TEST(ForceSafety, LimitsSustainedForceToTheContinuousRating) {
     ForceSafety s(test_limits());
-    const Vec3d out = engage_and_hold(s, {0, 0, 8}, 2000);  // 2 s = 10 time constants at peak
+    const Vec3 out = engage_and_hold(s, {0, 0, 8}, 2000);  // 2 s = 10 time constants at peak
     EXPECT_LE(norm(out), 4.0 + 1e-9);
     EXPECT_LE(s.thermal_state_n2(), 16.0 * 1.05);
     EXPECT_TRUE(s.reasons() & kReasonThermal);
@@ -61,7 +61,7 @@ TEST(ForceSafety, LimitsTheSlewRate) {
     l.ramp_in_s = 0;
     ForceSafety s(l);
     engage_and_hold(s, {0, 0, 0}, 1);
-    const Vec3d a = s.step(good({0, 0, 8}));
+    const Vec3 a = s.step(good({0, 0, 8}));
     EXPECT_NEAR(norm(a), 2.0, 1e-9);  // 2000 N/s * 1 ms
     EXPECT_TRUE(s.reasons() & kReasonSlew);
 }
@@ -71,7 +71,7 @@ TEST(ForceSafety, RampsInAfterEngaging) {
     l.ramp_in_s = 0.1;
     l.max_slew_n_per_s = 1e9;
     ForceSafety s(l);
-    const Vec3d out = engage_and_hold(s, {0, 0, 4}, 10);
+    const Vec3 out = engage_and_hold(s, {0, 0, 4}, 10);
     EXPECT_NEAR(norm(out), 4.0 * 16 * 0.001 / 0.1,
                 1e-9);  // engaged on quiet tick 5: 6 + 10 ramp steps
     EXPECT_TRUE(s.reasons() & kReasonRamping);
@@ -125,7 +125,7 @@ TEST(ForceSafety, RecoversThroughRampInWhenTheFaultClears) {
     s.step(fault);
     // Demand still large: stays at zero until it has been small for the quiet ticks.
     EXPECT_EQ(norm(s.step(good({0, 0, 3}))), 0.0);
-    const Vec3d out = engage_and_hold(s, {0, 0, 3}, 100);
+    const Vec3 out = engage_and_hold(s, {0, 0, 3}, 100);
     EXPECT_NEAR(norm(out), 3.0, 1e-9);
 }
 
@@ -138,7 +138,7 @@ TEST(ForceSafetyProperty, RandomAndAdversarialInputsNeverExceedLimitsOrSlew) {
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     const double specials[] = {0.0,      -0.0,      1e308, -1e308, 4.9e-324,
                                INFINITY, -INFINITY, NAN,   8.0,    -8.0000001};
-    Vec3d prev{};
+    Vec3 prev{};
     const double max_step = l.max_slew_n_per_s * l.period_s + 1e-9;
     for (int tick = 0; tick < 200000; ++tick) {
         SafetyInput in = good({});
@@ -149,12 +149,12 @@ TEST(ForceSafetyProperty, RandomAndAdversarialInputsNeverExceedLimitsOrSlew) {
         if (rng() % 50 == 0) in.read_status = static_cast<DeviceStatus>(rng() % 5);
         if (rng() % 200 == 0) in.flags.estop = true;
         if (rng() % 300 == 0) in.flags.homed = false;
-        const Vec3d out = s.step(in);
+        const Vec3 out = s.step(in);
         ASSERT_TRUE(std::isfinite(out[0]) && std::isfinite(out[1]) && std::isfinite(out[2]));
         ASSERT_LE(norm(out), l.peak_force_n + 1e-9) << "tick " << tick;
         const bool zeroed_by_fault = (s.reasons() & 0x7FU) != 0;
         if (!zeroed_by_fault) {
-            const Vec3d d = {out[0] - prev[0], out[1] - prev[1], out[2] - prev[2]};
+            const Vec3 d = {out[0] - prev[0], out[1] - prev[1], out[2] - prev[2]};
             ASSERT_LE(norm(d), max_step) << "tick " << tick;
         } else {
             ASSERT_EQ(norm(out), 0.0);

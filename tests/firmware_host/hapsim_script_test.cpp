@@ -46,7 +46,7 @@ TEST(HandScript, EveryBadLineIsNamedWithFileLineAndReason) {
 TEST(HandScript, AMissingFileIsAClearError) {
     auto s = load_hand_script("/nonexistent/script.csv");
     ASSERT_FALSE(s);
-    EXPECT_EQ(s.error().message(), "/nonexistent/script.csv: no such file");
+    EXPECT_EQ(s.error().message(), "/nonexistent/script.csv: no such file (unreadable)");
 }
 
 TEST(HandPlayer, MovesHoldsSweepsAndFiresFaultsOnTime) {

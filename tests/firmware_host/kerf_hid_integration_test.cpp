@@ -110,7 +110,7 @@ TEST(KerfHidIntegration, TenThousandTicksOfScriptedMotionMatchTheTruthWithinReso
     auto dev = open_kerf(sim);
     ASSERT_NE(dev, nullptr);
     DeviceLoop loop(*dev);
-    std::vector<std::pair<std::uint32_t, Vec3d>> seen;
+    std::vector<std::pair<std::uint32_t, Vec3>> seen;
     seen.reserve(10000);
     bool pressed = false;
     for (int i = 0; i < 10000; ++i) {
@@ -127,7 +127,7 @@ TEST(KerfHidIntegration, TenThousandTicksOfScriptedMotionMatchTheTruthWithinReso
     double worst = 0, travelled = 0;
     for (std::size_t i = 0; i < seen.size(); ++i) {
         const auto& t = truth[i];  // the reply to host packet i is the state after step i + 1
-        const Vec3d& p = seen[i].second;
+        const Vec3& p = seen[i].second;
         worst = std::max({worst, std::abs(p[0] - t.x), std::abs(p[1] - t.y), std::abs(p[2] - t.z)});
         if (i > 0) travelled += std::abs(t.x - truth[i - 1].x) + std::abs(t.y - truth[i - 1].y);
     }

@@ -19,7 +19,7 @@ TEST(ProducerAllocations, TenThousandTicksOfPublishingAllocateNothing) {
     test::ScratchDir dir;
     const auto name = test::unique_segment_name("alloc");
     auto producer = ProducerBuilder().segment_name(name).journal_dir(dir.path).create();
-    ASSERT_TRUE(producer) << producer.error().message;
+    ASSERT_TRUE(producer) << producer.error().message();
     producer->heartbeat(0, monotonic_ns());
     auto reader = ConsumerBuilder().segment_name(name).telemetry(true).attach();
     auto sleeper = ConsumerBuilder().segment_name(name).telemetry(true).attach();

@@ -213,7 +213,7 @@ void BM_ProducerPublishEvent(benchmark::State& state) {
     kerf::ipc::test::ScratchDir dir;
     const std::string name = kerf::ipc::test::unique_segment_name("bench");
     auto p = ProducerBuilder().segment_name(name).journal_dir(dir.path).create();
-    if (!p) return state.SkipWithError(p.error().message.c_str());
+    if (!p) return state.SkipWithError(p.error().message().c_str());
     p->heartbeat(0, monotonic_ns());
     const pid_t child = fork();
     if (child == 0) {

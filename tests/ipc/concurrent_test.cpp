@@ -110,7 +110,7 @@ TEST(ConcurrentSession, ConsumersOnThreadsSeeTheIdenticalSequenceDespiteDrops) {
                         .journal_dir(dir.path)
                         .journal_flush_period_ns(2'000'000)
                         .create();
-    ASSERT_TRUE(producer) << producer.error().message;
+    ASSERT_TRUE(producer) << producer.error().message();
     producer->heartbeat(0, monotonic_ns());
     const std::uint64_t n = 40'000 / kScale;
     auto run_consumer = [&](bool slow, std::uint64_t& drops_seen, bool& ok) {

@@ -113,7 +113,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (flags & 16) resize(adversary, before);
     auto opened = SegmentBuilder().name("victim").runtime_dir(f.runtime).open();
     if (std::getenv("KERF_FUZZ_VERBOSE") != nullptr) {
-        std::fprintf(stderr, "attach: %s\n", opened ? "accepted" : opened.error().message.c_str());
+        std::fprintf(stderr, "attach: %s\n",
+                     opened ? "accepted" : opened.error().message().c_str());
     }
     if (opened) {
         resize(adversary, after);

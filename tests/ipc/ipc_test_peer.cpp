@@ -120,7 +120,7 @@ int run_producer(const Args& a) {
                  .journal_dir(a.get("--journal-dir", ""))
                  .journal_flush_period_ns(5'000'000)
                  .create();
-    if (!p) return std::printf("error=%s\n", p.error().message.c_str()), 2;
+    if (!p) return std::printf("error=%s\n", p.error().message().c_str()), 2;
     const std::uint64_t events = a.num("--events"), per_tick = a.num("--per-tick", 10);
     std::optional<MeshMailboxReader> mailbox;
     std::unique_ptr<CollisionMesh> mesh;
@@ -171,7 +171,7 @@ int run_telemetry_producer(const Args& a) {
                  .segment_name(a.get("--name"))
                  .journal_dir(a.get("--journal-dir", ""))
                  .create();
-    if (!p) return std::printf("error=%s\n", p.error().message.c_str()), 2;
+    if (!p) return std::printf("error=%s\n", p.error().message().c_str()), 2;
     const std::uint64_t count = a.num("--count");
     const bool pace = a.flag("--pace");
     std::uint64_t tick = 0;
@@ -277,7 +277,7 @@ int run_telemetry_consumer(const Args& a) {
                  .telemetry(true)
                  .stale_after_ns(2'000'000'000)
                  .attach();
-    if (!c) return std::printf("error=%s\n", c.error().message.c_str()), 2;
+    if (!c) return std::printf("error=%s\n", c.error().message().c_str()), 2;
     const std::uint64_t count = a.num("--count"), slow_every = a.num("--slow-every", 0);
     std::uint64_t received = 0, last = 0, bad = 0;
     TelemetrySample t;

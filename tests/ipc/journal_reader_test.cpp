@@ -68,8 +68,8 @@ TEST(JournalReader, BadHeadersAreRefusedNamingTheField) {
         auto r = JournalReader::open(path, 77);
         ASSERT_FALSE(r) << c.field;
         EXPECT_EQ(r.error().code, IpcErrc::kJournal);
-        EXPECT_NE(r.error().message.find(c.field), std::string::npos) << r.error().message;
-        EXPECT_NE(r.error().message.find(path), std::string::npos);
+        EXPECT_NE(r.error().message().find(c.field), std::string::npos) << r.error().message();
+        EXPECT_NE(r.error().message().find(path), std::string::npos);
     }
     auto missing = JournalReader::open(dir.path + "/nope", 0);
     ASSERT_FALSE(missing);
@@ -86,7 +86,7 @@ TEST(JournalReader, OpenByPathRefusesAFifoALinkAForeignOwnerAndAWorldWritableFil
     // The error message of opening `path`, "" when it opened.
     const auto refusal = [](const std::string& path) {
         auto r = JournalReader::open(path, 77);
-        return r ? std::string() : r.error().message;
+        return r ? std::string() : r.error().message();
     };
     const std::string fifo = dir.path + "/fifo.kjournal";
     ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
@@ -114,7 +114,7 @@ TEST(JournalReader, FindsRecordsAcrossDroppedSequences) {
     test::ScratchDir dir;
     const auto path = write_journal(dir.path, good_header(), records({0, 1, 2, 5, 6, 9}));
     auto j = JournalReader::open(path, 77);
-    ASSERT_TRUE(j) << j.error().message;
+    ASSERT_TRUE(j) << j.error().message();
     EventRecord r;
     ASSERT_EQ(j->try_read(2, r), JournalRead::kOk);
     EXPECT_EQ(r.header.sequence, 2u);

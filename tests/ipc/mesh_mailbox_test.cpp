@@ -78,13 +78,13 @@ TEST(MeshMailbox, WriterRefusesABadMeshNamingTheBodyAndElement) {
     m->indices[12 + 7] = 4;  // body 1 has 4 vertices
     auto r = writer.publish(*m);
     ASSERT_FALSE(r);
-    EXPECT_NE(r.error().message.find("body 1: index 7 = 4 >= 4 vertices"), std::string::npos)
-        << r.error().message;
+    EXPECT_NE(r.error().message().find("body 1: index 7 = 4 >= 4 vertices"), std::string::npos)
+        << r.error().message();
     m = tetrahedra(1);
     m->vertices_m[5] = std::numeric_limits<float>::quiet_NaN();
     r = writer.publish(*m);
     ASSERT_FALSE(r);
-    EXPECT_NE(r.error().message.find("not_finite"), std::string::npos) << r.error().message;
+    EXPECT_NE(r.error().message().find("not_finite"), std::string::npos) << r.error().message();
     m = tetrahedra(1);
     m->bodies[0].world_from_body[0] = 2.f;  // scaled, not rigid
     EXPECT_FALSE(writer.publish(*m));
@@ -138,8 +138,8 @@ TEST(MeshMailbox, WriterRefusesAnUnknownMaterialNamingTheTriangle) {
     m->materials[4 + 2] = 9;
     auto r = writer.publish(*m);
     ASSERT_FALSE(r);
-    EXPECT_NE(r.error().message.find("body 1: triangle 2 material 9"), std::string::npos)
-        << r.error().message;
+    EXPECT_NE(r.error().message().find("body 1: triangle 2 material 9"), std::string::npos)
+        << r.error().message();
 }
 
 TEST(MeshMailbox, ContentHashCoversEveryArray) {

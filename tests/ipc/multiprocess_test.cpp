@@ -209,7 +209,7 @@ TEST(MultiProcess, ConsumerDetectsAKilledProducerThroughItsHeartbeatWithin100ms)
                     .from_sequence(ConsumerBuilder::kFromNow)
                     .attach();
         }
-        ASSERT_TRUE(c) << c.error().message;
+        ASSERT_TRUE(c) << c.error().message();
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
         ASSERT_EQ(c->producer_health(), ProducerHealth::kAlive);
         const auto t0 = std::chrono::steady_clock::now();
@@ -223,7 +223,8 @@ TEST(MultiProcess, ConsumerDetectsAKilledProducerThroughItsHeartbeatWithin100ms)
         const auto ms =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                 .count();
-        std::printf("signal %d: producer reported %s after %.1f ms\n", sig, to_string(h), ms);
+        std::printf("signal %d: producer reported %s after %.1f ms\n", sig,
+                    std::string(to_string(h)).c_str(), ms);
         EXPECT_NE(h, ProducerHealth::kAlive);
         EXPECT_LT(ms, 100.0);
         if (sig == SIGSTOP) {

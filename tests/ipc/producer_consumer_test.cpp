@@ -28,7 +28,7 @@ struct Session {
                      .journal_dir(dir.path)
                      .journal_flush_period_ns(1'000'000)
                      .create();
-        EXPECT_TRUE(p) << (p ? "" : p.error().message);
+        EXPECT_TRUE(p) << (p ? "" : p.error().message());
         if (p) producer.emplace(std::move(*p));
         producer->heartbeat(0, monotonic_ns());
     }
@@ -69,7 +69,7 @@ TEST(ProducerConsumer, EventsArriveInSequenceThroughTheRing) {
     Session s;
     auto c =
         ConsumerBuilder().segment_name(s.name).from_sequence(ConsumerBuilder::kFromNow).attach();
-    ASSERT_TRUE(c) << c.error().message;
+    ASSERT_TRUE(c) << c.error().message();
     s.publish(0, 1000);  // < ring capacity: no drops
     expect_contiguous(drain(*c, 1000), 0, 1000);
     EXPECT_EQ(c->stats().from_journal, 0u);
@@ -80,7 +80,7 @@ TEST(ProducerConsumer, LateConsumerReadsTheJournalThenFollowsTheRing) {
     Session s;
     s.publish(0, 3000);
     auto c = ConsumerBuilder().segment_name(s.name).attach();  // from 0
-    ASSERT_TRUE(c) << c.error().message;
+    ASSERT_TRUE(c) << c.error().message();
     s.publish(3000, 3500);
     expect_contiguous(drain(*c, 3500), 0, 3500);
     EXPECT_EQ(c->stats().from_journal, 3000u);
@@ -123,25 +123,25 @@ TEST(ProducerConsumer, ToolSlotsRunOutThenFreeOnReleaseButNeverLockOutDisplayOrM
     std::vector<Consumer> held;
     for (std::uint32_t i = kFirstToolSlot; i < kSlotCount; ++i) {
         auto c = ConsumerBuilder().segment_name(s.name).attach();
-        ASSERT_TRUE(c) << c.error().message;
+        ASSERT_TRUE(c) << c.error().message();
         EXPECT_GE(c->slot(), kFirstToolSlot);
         held.push_back(std::move(*c));
     }
     auto extra = ConsumerBuilder().segment_name(s.name).attach();
     ASSERT_FALSE(extra);
     EXPECT_EQ(extra.error().code, IpcErrc::kNoFreeSlot);
-    EXPECT_NE(extra.error().message.find("tool slots are held"), std::string::npos)
-        << extra.error().message;
+    EXPECT_NE(extra.error().message().find("tool slots are held"), std::string::npos)
+        << extra.error().message();
     auto display = ConsumerBuilder().segment_name(s.name).role(ConsumerRole::kDisplay).attach();
-    ASSERT_TRUE(display) << display.error().message;
+    ASSERT_TRUE(display) << display.error().message();
     EXPECT_EQ(display->slot(), kDisplaySlot);
     auto monitor = ConsumerBuilder().segment_name(s.name).role(ConsumerRole::kMonitor).attach();
-    ASSERT_TRUE(monitor) << monitor.error().message;
+    ASSERT_TRUE(monitor) << monitor.error().message();
     EXPECT_EQ(monitor->slot(), kMonitorSlot);
     auto second = ConsumerBuilder().segment_name(s.name).role(ConsumerRole::kDisplay).attach();
     ASSERT_FALSE(second);
-    EXPECT_NE(second.error().message.find("display slot is held"), std::string::npos)
-        << second.error().message;
+    EXPECT_NE(second.error().message().find("display slot is held"), std::string::npos)
+        << second.error().message();
     held.pop_back();
     EXPECT_TRUE(ConsumerBuilder().segment_name(s.name).attach());
 }
@@ -154,7 +154,7 @@ TEST(ProducerConsumer, SlotOfADeadConsumerIsReclaimed) {
         seg.slots[i].control.heartbeat_ns.store(monotonic_ns());
     }
     auto c = ConsumerBuilder().segment_name(s.name).attach();
-    ASSERT_TRUE(c) << c.error().message;
+    ASSERT_TRUE(c) << c.error().message();
     s.publish(0, 10);
     expect_contiguous(drain(*c, 10), 0, 10);
 }
@@ -165,7 +165,7 @@ TEST(ProducerConsumer, ConsumerRefusesStoppedOrDeadProducer) {
     auto c = ConsumerBuilder().segment_name(s.name).attach();
     ASSERT_FALSE(c);
     EXPECT_EQ(c.error().code, IpcErrc::kProducerGone);
-    EXPECT_NE(c.error().message.find("stopped"), std::string::npos) << c.error().message;
+    EXPECT_NE(c.error().message().find("stopped"), std::string::npos) << c.error().message();
 }
 
 TEST(ProducerConsumer, TelemetryGapsAreCountedNotFilled) {
@@ -235,7 +235,7 @@ TEST(ProducerConsumer, JournalHoldsEverythingAfterStop) {
     const std::string path = s.producer->journal_path();
     s.producer->stop();
     auto j = JournalReader::open(path, s.producer->layout().header.session_id);
-    ASSERT_TRUE(j) << j.error().message;
+    ASSERT_TRUE(j) << j.error().message();
     EXPECT_EQ(j->record_count(), 500u);
     EventRecord r;
     ASSERT_EQ(j->try_read(321, r), JournalRead::kOk);

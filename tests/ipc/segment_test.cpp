@@ -18,7 +18,7 @@ using test::unique_segment_name;
 TEST(ShmSegment, CreateFillsEveryHeaderFieldAndOpenAcceptsIt) {
     const auto name = unique_segment_name("seg");
     auto created = SegmentBuilder().name(name).create();
-    ASSERT_TRUE(created) << created.error().message;
+    ASSERT_TRUE(created) << created.error().message();
     const SegmentHeader& h = created->layout().header;
     EXPECT_EQ(h.magic, kMagic);
     EXPECT_EQ(h.layout_version, kLayoutVersion);
@@ -28,7 +28,7 @@ TEST(ShmSegment, CreateFillsEveryHeaderFieldAndOpenAcceptsIt) {
     EXPECT_GT(h.start_time_unix_ns, 0u);
     EXPECT_EQ(journal_path_of(h).rfind(session_dir_of(default_runtime_dir(), name) + "/", 0), 0u);
     auto opened = SegmentBuilder().name(name).open();
-    ASSERT_TRUE(opened) << opened.error().message;
+    ASSERT_TRUE(opened) << opened.error().message();
     EXPECT_FALSE(opened->owner());
     EXPECT_EQ(opened->layout().header.session_id, h.session_id);
 }
@@ -46,7 +46,7 @@ TEST(ShmSegment, OwnerOnlyPermissionsByDefaultGroupOnRequest) {
         ASSERT_EQ(stat(session_dir_of(default_runtime_dir(), name).c_str(), &st), 0);
         EXPECT_EQ(st.st_mode & 0777, group ? 0750u : 0700u);
         auto opened = SegmentBuilder().name(name).open();
-        ASSERT_TRUE(opened) << opened.error().message;
+        ASSERT_TRUE(opened) << opened.error().message();
         EXPECT_EQ(opened->mode(), group ? 0660u : 0600u);
         EXPECT_EQ(opened->owner_uid(), geteuid());
     }
@@ -57,9 +57,9 @@ TEST(ShmSegment, AGroupThatDoesNotExistIsAnError) {
         SegmentBuilder().name(unique_segment_name("nogrp")).group("kerf-no-such-group").create();
     ASSERT_FALSE(seg);
     EXPECT_EQ(seg.error().code, IpcErrc::kBadArgument);
-    EXPECT_NE(seg.error().message.find("group 'kerf-no-such-group' does not exist"),
+    EXPECT_NE(seg.error().message().find("group 'kerf-no-such-group' does not exist"),
               std::string::npos)
-        << seg.error().message;
+        << seg.error().message();
 }
 
 TEST(ShmSegment, TheServedSegmentIsSealedAgainstResizing) {
@@ -67,7 +67,7 @@ TEST(ShmSegment, TheServedSegmentIsSealedAgainstResizing) {
     auto seg = SegmentBuilder().name(name).create();
     ASSERT_TRUE(seg);
     auto fds = fetch_session(default_runtime_dir(), name);
-    ASSERT_TRUE(fds) << fds.error().message;
+    ASSERT_TRUE(fds) << fds.error().message();
     const int seals = fcntl(fds->segment_fd, F_GET_SEALS);
     EXPECT_EQ(seals & (F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_SEAL),
               F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_SEAL);
@@ -91,7 +91,7 @@ TEST(ShmSegment, OpenNamesEveryHeaderFieldThatDiffers) {
     auto opened = SegmentBuilder().name(name).open();
     ASSERT_FALSE(opened);
     EXPECT_EQ(opened.error().code, IpcErrc::kBadHeader);
-    const std::string& msg = opened.error().message;
+    const std::string& msg = opened.error().message();
     EXPECT_NE(msg.find("segment " + name), std::string::npos) << msg;
     EXPECT_NE(msg.find("layout version 7, expected " + std::to_string(kLayoutVersion)),
               std::string::npos)
@@ -104,7 +104,7 @@ TEST(ShmSegment, OpenNamesEveryHeaderFieldThatDiffers) {
     h.magic = 0x1234;
     opened = SegmentBuilder().name(name).open();
     ASSERT_FALSE(opened);
-    EXPECT_NE(opened.error().message.find("magic 0x1234"), std::string::npos);
+    EXPECT_NE(opened.error().message().find("magic 0x1234"), std::string::npos);
 }
 
 TEST(ShmSegment, MissingSegmentIsNotFound) {
@@ -121,7 +121,7 @@ TEST(ShmSegment, BadNamesAreRefusedBeforeAnySystemCall) {
     }
     auto r = SegmentBuilder().name(unique_segment_name()).journal_dir("relative").create();
     ASSERT_FALSE(r);
-    EXPECT_NE(r.error().message.find("journal dir"), std::string::npos);
+    EXPECT_NE(r.error().message().find("journal dir"), std::string::npos);
 }
 
 TEST(ShmSegment, LiveProducersSegmentIsRefused) {
@@ -132,7 +132,7 @@ TEST(ShmSegment, LiveProducersSegmentIsRefused) {
     auto second = SegmentBuilder().name(name).create();
     ASSERT_FALSE(second);
     EXPECT_EQ(second.error().code, IpcErrc::kInUse);
-    EXPECT_NE(second.error().message.find(std::to_string(getpid())), std::string::npos);
+    EXPECT_NE(second.error().message().find(std::to_string(getpid())), std::string::npos);
 }
 
 TEST(ShmSegment, StaleSocketOfADeadProducerIsReportedAndReplaced) {
@@ -151,12 +151,13 @@ TEST(ShmSegment, StaleSocketOfADeadProducerIsReportedAndReplaced) {
     auto left = SegmentBuilder().name(name).open();
     ASSERT_FALSE(left);
     EXPECT_EQ(left.error().code, IpcErrc::kProducerGone);
-    EXPECT_NE(left.error().message.find("stale socket"), std::string::npos) << left.error().message;
+    EXPECT_NE(left.error().message().find("stale socket"), std::string::npos)
+        << left.error().message();
     auto replaced = SegmentBuilder().name(name).create();
-    ASSERT_TRUE(replaced) << replaced.error().message;
+    ASSERT_TRUE(replaced) << replaced.error().message();
     EXPECT_EQ(replaced->layout().header.producer_pid, getpid());
     auto opened = SegmentBuilder().name(name).open();
-    ASSERT_TRUE(opened) << opened.error().message;
+    ASSERT_TRUE(opened) << opened.error().message();
 }
 
 TEST(ShmSegment, SomethingElseAtTheSocketPathIsNeverRemoved) {
@@ -169,8 +170,8 @@ TEST(ShmSegment, SomethingElseAtTheSocketPathIsNeverRemoved) {
     close(fd);
     auto seg = SegmentBuilder().name(name).runtime_dir(runtime.path).create();
     ASSERT_FALSE(seg);
-    EXPECT_NE(seg.error().message.find("is not a socket"), std::string::npos)
-        << seg.error().message;
+    EXPECT_NE(seg.error().message().find("is not a socket"), std::string::npos)
+        << seg.error().message();
     struct stat st {};
     EXPECT_EQ(stat(path.c_str(), &st), 0);
 }
@@ -201,7 +202,7 @@ TEST(ShmSegment, ProducerHealthReadsStateHeartbeatAndPid) {
     s.header.producer_pid = -5;
     EXPECT_EQ(producer_health(s), ProducerHealth::kDead);
     s.header.producer_pid = getpid();
-    EXPECT_STREQ(to_string(ProducerHealth::kStale), "stale");
+    EXPECT_EQ(to_string(ProducerHealth::kStale), "stale");
 }
 
 }  // namespace

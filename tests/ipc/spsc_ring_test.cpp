@@ -162,7 +162,7 @@ TEST(RecordCheck, BadTypeNanAndRangesAreRejectedByName) {
     s.force_n[0] = std::numeric_limits<float>::infinity();
     stamp_checksum(s);
     EXPECT_EQ(validate_telemetry(s), RecordFault::kNotFinite);
-    EXPECT_STREQ(to_string(RecordFault::kBadChecksum), "bad_checksum");
+    EXPECT_EQ(to_string(RecordFault::kBadChecksum), "bad_checksum");
 }
 
 }  // namespace

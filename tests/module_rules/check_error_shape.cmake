@@ -15,44 +15,23 @@ if(NOT DEFINED SOURCE_DIR)
 endif()
 get_filename_component(SOURCE_DIR "${SOURCE_DIR}" ABSOLUTE)
 
-# Not yet migrated to kerf::Error (issue 8 item 3; the migration of ipc, firmware_host, file_io,
-# hapsim, supervise and the cut job is on branch base/error-shape); each entry "<rule>:<path>".
+# Not yet migrated to kerf::Error (issue 8 item 3); each entry is "<rule>:<path>".
 set(PENDING "")
 if(NOT DEFINED EXPECT_COUNT)
   set(PENDING
       char-to-string:display/cut/cut_session.hpp
       char-to-string:display/cut/session_events.hpp
-      char-to-string:rt_core/ipc/consumer.hpp
-      char-to-string:rt_core/ipc/ipc_error.hpp
-      char-to-string:rt_core/ipc/layout.hpp
-      char-to-string:rt_core/ipc/mesh_layout.hpp
-      char-to-string:rt_core/ipc/mesh_mailbox.hpp
-      char-to-string:rt_core/ipc/record_check.hpp
-      char-to-string:rt_core/ipc/records.hpp
-      char-to-string:rt_core/ipc/shm_segment.hpp
       char-to-string:rt_core/loop/rt_log.hpp
       char-to-string:rt_core/physics/collision_mesh.hpp
       char-to-string:rt_core/physics/cut_events.hpp
       char-to-string:tools/kerf/soak_plan.hpp
       own-error:config/config_error.hpp
-      own-error:config/file_io/file_io.hpp
       own-error:display/cut/triangulate.hpp
       own-error:display/egl/egl_output.hpp
       own-error:display/mesh/mesh_error.hpp
       own-error:display/render/renderer.hpp
-      own-error:firmware_host/falcon/firmware_loader.hpp
-      own-error:firmware_host/transport/transport_error.hpp
-      own-error:rt_core/ipc/ipc_error.hpp
-      own-error:tools/hapsim/hand_script.hpp
-      own-error:tools/kerf/cut_job.hpp
-      own-error:tools/supervise/child_process.hpp
       own-printer:config/config_error.hpp
-      own-printer:config/file_io/file_io.hpp
-      own-printer:display/mesh/mesh_error.hpp
-      own-printer:firmware_host/falcon/firmware_loader.hpp
-      own-printer:firmware_host/transport/transport_error.hpp
-      own-printer:tools/hapsim/hand_script.hpp
-      own-printer:tools/supervise/child_process.hpp)
+      own-printer:display/mesh/mesh_error.hpp)
 endif()
 
 file(GLOB_RECURSE headers RELATIVE "${SOURCE_DIR}"

@@ -131,7 +131,7 @@ void octahedron(ipc::CollisionMesh& m, float r) {
 
 TEST(RtWorldBuilder, MeshesPublishedByADisplayThreadAreSwappedInWhileTheLoopQueries) {
     auto seg = ipc::SegmentBuilder().name("kerf.rt-conc-" + std::to_string(getpid())).create();
-    ASSERT_TRUE(seg) << seg.error().message;
+    ASSERT_TRUE(seg) << seg.error().message();
     Handoff<WorldSnapshot> handoff;
     WorldBuilder builder(handoff, seg->layout());
     builder.start(1);

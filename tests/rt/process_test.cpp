@@ -157,7 +157,7 @@ TEST(RtProcess, ForceProfileReloadsLiveAndABadFileIsRefusedWithItsLine) {
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
     auto consumer =
         ipc::ConsumerBuilder().segment_name(session).stale_after_ns(2'000'000'000).attach();
-    ASSERT_TRUE(consumer) << consumer.error().message;
+    ASSERT_TRUE(consumer) << consumer.error().message();
 
     // A rename onto the watched file: two values change -> two ParametersChanged events.
     replace_in_file(cfg.force_toml(), "stiffness_n_per_m = 1500.0", "stiffness_n_per_m = 1200.0");
@@ -251,7 +251,7 @@ TEST(RtProcess, ALostDeviceIsReopenedByKerfRtAndForceResumes) {
                         .telemetry(true)
                         .stale_after_ns(5'000'000'000)
                         .attach();
-    ASSERT_TRUE(consumer) << consumer.error().message;
+    ASSERT_TRUE(consumer) << consumer.error().message();
     const auto ready_and_pushing = [](const Watch& x) {
         return std::find(x.states.begin(), x.states.end(), ipc::DeviceState::kReady) !=
                    x.states.end() &&

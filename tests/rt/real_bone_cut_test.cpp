@@ -84,7 +84,7 @@ TEST(RtRealBoneCut, KerfRtEventsSawASliceOffTheCalcaneusAndTheReplayMatches) {
                         .from_sequence(0)
                         .stale_after_ns(60'000'000'000)
                         .attach();
-    ASSERT_TRUE(consumer) << consumer.error().message;
+    ASSERT_TRUE(consumer) << consumer.error().message();
 
     cut::CutSession live(std::move(*scene));
     Seen seen_live;
@@ -121,7 +121,7 @@ TEST(RtRealBoneCut, KerfRtEventsSawASliceOffTheCalcaneusAndTheReplayMatches) {
     // Replay: the journal alone, applied to a fresh session from the same scene.
     rig.producer().stop();  // flushes the journal
     auto journal = ipc::JournalReader::open(rig.producer().journal_path(), 0);
-    ASSERT_TRUE(journal) << journal.error().message;
+    ASSERT_TRUE(journal) << journal.error().message();
     auto scene_again = display::build_scene_mesh(*config);
     ASSERT_TRUE(scene_again) << scene_again.error();
     cut::CutSession replay(std::move(*scene_again));

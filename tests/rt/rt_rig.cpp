@@ -95,7 +95,7 @@ Rig::Rig(const RigOptions& options, const std::string& kerf_toml) : options_(opt
                                       std::to_string(reinterpret_cast<std::uintptr_t>(this)))
                         .create();
     if (!producer) {
-        error_ = producer.error().message;
+        error_ = producer.error().message();
         return;
     }
     producer_.emplace(std::move(*producer));

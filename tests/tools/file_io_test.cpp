@@ -40,7 +40,7 @@ TEST_F(FileIo, ReadsARegularFileAndFollowsALinkToOne) {
     put(dir_ / "a.txt", "hello");
     fs::create_symlink(dir_ / "a.txt", dir_ / "link.txt");
     auto bytes = read_regular_file(dir_ / "link.txt", 100);
-    ASSERT_TRUE(bytes) << bytes.error().to_string();
+    ASSERT_TRUE(bytes) << bytes.error().message();
     EXPECT_EQ(bytes->size(), 5u);
 }
 
@@ -50,20 +50,19 @@ TEST_F(FileIo, RefusesDevicesFifosDirectoriesAndLinksToThemWithoutBlocking) {
     for (const fs::path& p : {dir_ / "z.stl", fs::path("/dev/urandom"), dir_ / "f.stl", dir_}) {
         auto bytes = read_regular_file(p, kDefaultMaxInputBytes);
         ASSERT_FALSE(bytes) << p;
-        EXPECT_NE(bytes.error().message.find("not a regular file"), std::string::npos)
-            << bytes.error().to_string();
+        EXPECT_NE(bytes.error().what.find("not a regular file"), std::string::npos)
+            << bytes.error().message();
     }
-    EXPECT_NE(read_regular_file(dir_ / "f.stl", 10).error().message.find("FIFO"),
-              std::string::npos);
+    EXPECT_NE(read_regular_file(dir_ / "f.stl", 10).error().what.find("FIFO"), std::string::npos);
 }
 
 TEST_F(FileIo, AFileAboveTheCapIsAClearError) {
     put(dir_ / "big", std::string(1000, 'x'));
     auto bytes = read_regular_file(dir_ / "big", 999);
     ASSERT_FALSE(bytes);
-    EXPECT_NE(bytes.error().message.find("1000 bytes, more than the 999-byte limit"),
+    EXPECT_NE(bytes.error().what.find("1000 bytes, more than the 999-byte limit"),
               std::string::npos)
-        << bytes.error().message;
+        << bytes.error().what;
     EXPECT_TRUE(read_regular_file(dir_ / "big", 1000));
 }
 
@@ -75,7 +74,7 @@ TEST_F(FileIo, AMultiFileSetAppearsWholeOrNotAtAll) {
     set.add(dir_ / "out_2.txt", "new 2");
     auto r = set.commit();
     ASSERT_FALSE(r);
-    EXPECT_NE(r.error().message.find("directory"), std::string::npos) << r.error().message;
+    EXPECT_NE(r.error().what.find("directory"), std::string::npos) << r.error().what;
     EXPECT_EQ(get(dir_ / "out_1.txt"), "old 1");  // untouched
     EXPECT_EQ(entries(), 2u);                     // no temp file left behind
 }
@@ -87,7 +86,7 @@ TEST_F(FileIo, AnOutputThatIsAnInputIsRefusedWhateverThePath) {
     set.add(dir_ / "x_1.stl", "piece");
     auto r = set.refuse_inputs({dir_ / "alias.stl"});
     ASSERT_FALSE(r);
-    EXPECT_NE(r.error().message.find("is the input"), std::string::npos);
+    EXPECT_NE(r.error().what.find("is the input"), std::string::npos);
     EXPECT_EQ(get(dir_ / "x_1.stl"), "bone");
 }
 
@@ -107,7 +106,7 @@ TEST_F(FileIo, StaleFilesOfAnEarlierSetGoOnlyAfterTheNewSetIsInPlace) {
 TEST_F(FileIo, AnUnwritableFolderLeavesNothingAndSaysSo) {
     auto r = write_file_atomically(dir_ / "missing-folder" / "a.txt", "x");
     ASSERT_FALSE(r);
-    EXPECT_NE(r.error().message.find("cannot create a temporary file"), std::string::npos);
+    EXPECT_NE(r.error().what.find("cannot create a temporary file"), std::string::npos);
 }
 
 }  // namespace

@@ -5,9 +5,11 @@
 
 #include <array>
 
+#include "firmware_host/vec3.hpp"
+
 namespace kerf::hapsim {
 
-using Vec3 = std::array<double, 3>;
+using firmware_host::Vec3;  ///< the device side's one 3-vector (firmware_host/vec3.hpp)
 
 struct ModelParams {
     Vec3 mass_kg = {0.15, 0.15, 0.15};         ///< per-axis effective inertia

@@ -121,10 +121,10 @@ void FalconSide::on_packet(std::span<const std::byte> data, Outbox& out) {
 
 Vec3 FalconSide::motor_force() const {
     if (homed_ != 0x7) return {};  // the firmware drives no force before homing
-    fal::Vec3 theta{}, force{};
+    Vec3 theta{}, force{};
     const auto& x = sim_.model().position_m();
     if (kin_.inverse(x, theta) != fal::KinematicsStatus::kOk) return {};
-    fal::Vec3 torque{};
+    Vec3 torque{};
     for (int i = 0; i < 3; ++i) torque[i] = motor_[i] / p_.geometry.command_per_n_m;
     if (kin_.force_from_torques(theta, x, torque, force) != fal::KinematicsStatus::kOk) return {};
     return force;
@@ -138,7 +138,7 @@ void FalconSide::step_and_report(Outbox& out) {
         }
     }
     sim_.step(motor_force());
-    fal::Vec3 theta{};
+    Vec3 theta{};
     if (!sim_.faults().stuck_encoder &&
         kin_.inverse(sim_.model().position_m(), theta) == fal::KinematicsStatus::kOk) {
         for (int i = 0; i < 3; ++i) {

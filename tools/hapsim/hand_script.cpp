@@ -110,7 +110,27 @@ bool parse_action(const std::vector<std::string_view>& f, ScriptAction& a, std::
     return true;
 }
 
+ScriptError script_error(ScriptErrc code, std::string_view source, int line, std::string what) {
+    ScriptError e;
+    e.code = code;
+    e.where = std::string(source);
+    if (line > 0) e.where += ":" + std::to_string(line);
+    e.what = std::move(what);
+    e.line = line;
+    return e;
+}
+
 }  // namespace
+
+std::string_view to_string(ScriptErrc code) noexcept {
+    switch (code) {
+        case ScriptErrc::kUnreadable:
+            return "unreadable";
+        case ScriptErrc::kBadLine:
+            return "bad_line";
+    }
+    return "unknown";
+}
 
 Result<HandScript, ScriptError> parse_hand_script(std::string_view text, std::string_view source) {
     HandScript script;
@@ -126,7 +146,7 @@ Result<HandScript, ScriptError> parse_hand_script(std::string_view text, std::st
         ScriptAction a;
         std::string why;
         if (!parse_action(split(line), a, why))
-            return Err{ScriptError{std::string(source), line_no, why}};
+            return Err{script_error(ScriptErrc::kBadLine, source, line_no, std::move(why))};
         a.line = line_no;
         script.push_back(std::move(a));
     }
@@ -136,7 +156,9 @@ Result<HandScript, ScriptError> parse_hand_script(std::string_view text, std::st
 Result<HandScript, ScriptError> load_hand_script(const std::filesystem::path& path) {
     // A regular file only (never a FIFO, a directory or a link to a device), at most the cap.
     auto bytes = files::read_regular_file(path, kMaxScriptBytes);
-    if (!bytes) return Err{ScriptError{path.string(), 0, bytes.error().message}};
+    if (!bytes) {
+        return Err{script_error(ScriptErrc::kUnreadable, path.string(), 0, bytes.error().what)};
+    }
     return parse_hand_script(
         std::string_view(reinterpret_cast<const char*>(bytes->data()), bytes->size()),
         path.string());

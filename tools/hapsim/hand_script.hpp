@@ -12,24 +12,30 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "config/base/error.hpp"
 #include "config/base/result.hpp"
 #include "tools/hapsim/device_model.hpp"
 
 namespace kerf::hapsim {
 
-struct ScriptError {
-    std::string source;  ///< file name
-    int line = 0;
-    std::string why;
-    /// "<file>:<line>: <why>", or "<file>: <why>" when the file as a whole is the problem.
-    std::string message() const {
-        return source + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + why;
-    }
+/// Why a hand script was refused.
+enum class ScriptErrc : std::uint8_t {
+    kUnreadable,  ///< the file cannot be read
+    kBadLine,     ///< a line is not a valid action (unknown name, bad number, out of bounds)
+};
+/// Stable snake_case name ("bad_line").
+std::string_view to_string(ScriptErrc code) noexcept;
+
+/// A refused script (kerf::Error): where is "<file>:<line>", or "<file>" when the file itself
+/// could not be read (line 0).
+struct ScriptError : Error<ScriptErrc> {
+    int line = 0;  ///< 1-based line of the bad action; 0 when the file could not be read
 };
 
 struct ScriptAction {

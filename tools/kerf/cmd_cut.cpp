@@ -97,16 +97,16 @@ CutJob job_from(const CutOptions& o, double metres_per_unit) {
     }
     if (auto ok = check_cut_job(job); !ok) {
         const auto& e = ok.error();
-        if (e.status == cut::CutStatus::kInvalidPlane) {
-            fail(kExitUsage, "--plane #" + std::to_string(e.plane + 1), o.planes[e.plane], e.why);
+        if (e.code == cut::CutStatus::kInvalidPlane) {
+            fail(kExitUsage, "--plane #" + std::to_string(e.plane + 1), o.planes[e.plane], e.what);
         }
         if (e.argument == "--kerf")
-            fail(kExitUsage, "--kerf", o.kerf + " (--mode " + o.mode + ")", e.why);
+            fail(kExitUsage, "--kerf", o.kerf + " (--mode " + o.mode + ")", e.what);
         if (e.argument.rfind("--seed #", 0) == 0) {
             const std::size_t k = std::stoul(e.argument.substr(8)) - 1;
-            fail(kExitUsage, e.argument, o.seeds[k], e.why);
+            fail(kExitUsage, e.argument, o.seeds[k], e.what);
         }
-        fail(kExitUsage, "arguments", "--mode " + o.mode, e.why);
+        fail(kExitUsage, "arguments", "--mode " + o.mode, e.what);
     }
     return job;
 }
@@ -218,7 +218,7 @@ void run_cut(const CutOptions& o) {
     auto report = run_cut_job(*loaded, job);
     if (!report) {
         const auto& e = report.error();
-        fail(kExitFailure, "--plane #" + std::to_string(e.plane + 1), o.planes[e.plane], e.why);
+        fail(kExitFailure, "--plane #" + std::to_string(e.plane + 1), o.planes[e.plane], e.what);
     }
     // All pieces or none: every piece goes to a temp file first; the renames come last; pieces
     // of an earlier run beyond this run's count are removed once the new set is in place.
@@ -234,10 +234,10 @@ void run_cut(const CutOptions& o) {
     for (const auto& stale : stale_pieces(o.output, report->pieces.size()))
         set.remove_after_commit(stale);
     if (auto refused = set.refuse_inputs({o.input}); !refused) {
-        fail(kExitFailure, "cannot write pieces", refused.error().path, refused.error().message);
+        fail(kExitFailure, "cannot write pieces", refused.error().where, refused.error().what);
     }
     if (auto written = set.commit(); !written) {
-        fail(kExitFailure, "cannot write pieces", written.error().path, written.error().message);
+        fail(kExitFailure, "cannot write pieces", written.error().where, written.error().what);
     }
     if (o.json)
         print_json(o, *report, files, unit);

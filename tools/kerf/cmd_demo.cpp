@@ -70,7 +70,7 @@ fs::path prepare_config(const DemoOptions& o, const fs::path& work, const std::s
     const fs::path src = o.config.empty() ? default_config() : fs::path(o.config);
     // Read like every input (regular file only, never blocks): says what a bad path is.
     if (auto read = files::read_regular_file(src, 4u << 20); !read)
-        fail("configuration " + read.error().to_string());
+        fail("configuration " + read.error().message());
     const fs::path dst = work / "config";
     std::error_code ec;
     fs::copy(src.parent_path(), dst, fs::copy_options::recursive, ec);

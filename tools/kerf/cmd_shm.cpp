@@ -98,17 +98,17 @@ void run_ls(bool json_out) {
         }
         if (!seg) {
             row["error"] = to_string(seg.error().code);
-            row["message"] = safe_text(seg.error().message);
+            row["message"] = safe_text(seg.error().message());
             if (!json_out) {
                 std::printf("%s  refused: %s\n", name.c_str(),
-                            safe_text(seg.error().message).c_str());
+                            safe_text(seg.error().message()).c_str());
             }
             sessions.push_back(row);
             continue;
         }
         const SegmentLayout& s = seg->layout();
         const auto slots = active_slots(s);
-        const char* health = to_string(producer_health(s));
+        const std::string health(to_string(producer_health(s)));
         const double beat = age_ms(s.producer.heartbeat_ns.load());
         row["session_id"] = hex16(s.header.session_id);
         row["producer_pid"] = s.header.producer_pid;
@@ -121,7 +121,7 @@ void run_ls(bool json_out) {
         std::printf("%s  session %016" PRIx64
                     "  producer pid %d %s  heartbeat %.1f ms ago  "
                     "events %" PRIu64 "  consumers %zu:",
-                    name.c_str(), s.header.session_id, s.header.producer_pid, health, beat,
+                    name.c_str(), s.header.session_id, s.header.producer_pid, health.c_str(), beat,
                     s.producer.next_event_sequence.load(), slots.size());
         for (const auto& v : slots)
             std::printf(" [slot %u pid %d%s]", v.index, v.pid, v.alive ? "" : " dead");
@@ -137,7 +137,7 @@ void run_ls(bool json_out) {
 
 void run_stats(const std::string& name, bool json_out) {
     auto seg = SegmentBuilder().name(name).open();
-    if (!seg) fail("stats", "cannot open segment", seg.error().message);
+    if (!seg) fail("stats", "cannot open segment", seg.error().message());
     const SegmentLayout& s = seg->layout();
     const auto slots = active_slots(s);
     const ProducerStatus& p = s.producer;
@@ -170,8 +170,9 @@ void run_stats(const std::string& name, bool json_out) {
         return;
     }
     std::printf("%s: producer pid %d %s, heartbeat tick %" PRIu64 " %.1f ms ago\n",
-                safe_text(name).c_str(), s.header.producer_pid, to_string(producer_health(s)),
-                p.heartbeat_tick.load(), age_ms(p.heartbeat_ns.load()));
+                safe_text(name).c_str(), s.header.producer_pid,
+                std::string(to_string(producer_health(s))).c_str(), p.heartbeat_tick.load(),
+                age_ms(p.heartbeat_ns.load()));
     std::printf("events %" PRIu64 ", journal up to %" PRIu64 " (%s), journal dropped %" PRIu64
                 ", ring drops %" PRIu64 " events %" PRIu64 " telemetry\n",
                 p.next_event_sequence.load(), s.journal_next_sequence.value.load(), journal.c_str(),
@@ -231,7 +232,7 @@ void print_event(const EventRecord& r, bool json_out) {
         return;
     }
     std::printf("%-8" PRIu64 " %-14.6f %-20s", r.header.sequence, double(r.header.time_ns) / 1e9,
-                to_string(r.header.type));
+                std::string(to_string(r.header.type)).c_str());
     switch (r.header.type) {
         case EventType::kCutBegin:
         case EventType::kCutProgress:
@@ -253,8 +254,8 @@ void print_event(const EventRecord& r, bool json_out) {
                         r.parameters.value, r.parameters.previous_value);
             break;
         case EventType::kDeviceStateChanged:
-            std::printf("%s (was %s) faults 0x%x\n", to_string(r.device.state),
-                        to_string(r.device.previous), r.device.fault_flags);
+            std::printf("%s (was %s) faults 0x%x\n", std::string(to_string(r.device.state)).c_str(),
+                        std::string(to_string(r.device.previous)).c_str(), r.device.fault_flags);
             break;
         default:
             std::printf("scene %" PRIu64 "\n", r.reset.scene_id);
@@ -268,7 +269,7 @@ void run_tail(const std::string& name, std::optional<std::uint64_t> from, std::u
                  .segment_name(name)
                  .from_sequence(from ? *from : ConsumerBuilder::kFromNow)
                  .attach();
-    if (!c) fail("tail", "cannot attach to segment", c.error().message);
+    if (!c) fail("tail", "cannot attach to segment", c.error().message());
     std::signal(SIGINT, [](int) { std::_Exit(0); });  // the slot is reclaimed once we are gone
     EventRecord r;
     std::uint64_t printed = 0;
@@ -305,7 +306,7 @@ void run_rm(const std::vector<std::string>& names) {
         auto seg = SegmentBuilder().name(name).open();
         std::fprintf(stderr, "kerf shm rm: %s: %s\n", safe_text(name).c_str(),
                      seg ? "live (its kerf-rt is running: stop it instead)"
-                         : safe_text(seg.error().message).c_str());
+                         : safe_text(seg.error().message()).c_str());
         failed = true;
     }
     if (failed) throw CLI::RuntimeError(kExitFailure);

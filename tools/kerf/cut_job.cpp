@@ -31,42 +31,52 @@ std::optional<CutMode> parse_cut_mode(std::string_view text) noexcept {
     return std::nullopt;
 }
 
+CutJobError cut_job_error(std::size_t plane, cut::CutStatus code, std::string what, bool whole_job,
+                          std::string argument) {
+    CutJobError e;
+    e.code = code;
+    if (!argument.empty())
+        e.where = argument;
+    else
+        e.where = whole_job ? std::string("cut job") : "plane #" + std::to_string(plane + 1);
+    e.what = std::move(what);
+    e.plane = plane;
+    e.argument = std::move(argument);
+    return e;
+}
+
 Status<CutJobError> check_cut_job(const CutJob& job) {
     if (job.planes.empty())
-        return Err{CutJobError{0, cut::CutStatus::kInvalidArgument, "no plane", {}}};
+        return Err{cut_job_error(0, cut::CutStatus::kInvalidArgument, "no plane", true)};
     const std::size_t seeds = job.seeds_m.size();
     if (seeds > 1 && seeds != job.planes.size()) {
-        return Err{CutJobError{0,
-                               cut::CutStatus::kInvalidArgument,
-                               "give one --seed for all planes or one per plane (" +
-                                   std::to_string(job.planes.size()) + " planes, " +
-                                   std::to_string(seeds) + " seeds)",
-                               {}}};
+        return Err{cut_job_error(0, cut::CutStatus::kInvalidArgument,
+                                 "give one --seed for all planes or one per plane (" +
+                                     std::to_string(job.planes.size()) + " planes, " +
+                                     std::to_string(seeds) + " seeds)",
+                                 true)};
     }
     if (job.mode != CutMode::kUniplanar && !(std::isfinite(job.kerf_m) && job.kerf_m > 0)) {
-        return Err{CutJobError{
-            0,
-            cut::CutStatus::kInvalidArgument,
+        return Err{cut_job_error(
+            0, cut::CutStatus::kInvalidArgument,
             std::string("mode ") + std::string(to_string(job.mode)) + " needs a positive --kerf",
-            {}}};
+            true)};
     }
     if (job.mode == CutMode::kUniplanar && job.kerf_m != 0.0) {
-        return Err{CutJobError{0, cut::CutStatus::kInvalidArgument,
-                               "mode uniplanar cuts along one plane and has no use for a blade "
-                               "width: leave --kerf out, or use --mode separated (one plane, "
-                               "then the kerf opened) or --mode biplanar (a kerf-wide slab)",
-                               "--kerf"}};
+        return Err{cut_job_error(0, cut::CutStatus::kInvalidArgument,
+                                 "mode uniplanar cuts along one plane and has no use for a blade "
+                                 "width: leave --kerf out, or use --mode separated (one plane, "
+                                 "then the kerf opened) or --mode biplanar (a kerf-wide slab)",
+                                 true, "--kerf")};
     }
     if (job.mode == CutMode::kBiplanar && seeds == 0) {
-        return Err{CutJobError{0,
-                               cut::CutStatus::kInvalidArgument,
-                               "mode biplanar needs --seed (the slab is localised)",
-                               {}}};
+        return Err{cut_job_error(0, cut::CutStatus::kInvalidArgument,
+                                 "mode biplanar needs --seed (the slab is localised)", true)};
     }
     for (std::size_t i = 0; i < job.planes.size(); ++i) {
         if (!cut::Plane::make(job.planes[i].point_m, job.planes[i].normal)) {
-            return Err{CutJobError{
-                i, cut::CutStatus::kInvalidPlane, "non-finite value or zero normal", {}}};
+            return Err{
+                cut_job_error(i, cut::CutStatus::kInvalidPlane, "non-finite value or zero normal")};
         }
     }
     // A seed is where the blade touches the bone: on its plane (every mode; biplanar used to be
@@ -81,8 +91,8 @@ Status<CutJobError> check_cut_job(const CutJob& job) {
                           "%.4g mm from plane #%zu (more than %.2g mm): a seed is where the "
                           "blade touches the bone, so it lies on the blade's plane",
                           off * 1e3, i + 1, kSeedPlaneTolerance_m * 1e3);
-            return Err{CutJobError{i, cut::CutStatus::kInvalidArgument, why,
-                                   "--seed #" + std::to_string(k + 1)}};
+            return Err{cut_job_error(i, cut::CutStatus::kInvalidArgument, why, false,
+                                     "--seed #" + std::to_string(k + 1))};
         }
     }
     return {};
@@ -171,7 +181,7 @@ Status<CutJobError> run_directly(mesh::TriMesh& mesh, const CutJob& job, CutRepo
         }
         const cut::CutResult r = cut_directly(ctx, plane, seed, job);
         if (!r.ok()) {
-            return Err{CutJobError{i, r.status, "cut refused: " + refusal_text(r.status), {}}};
+            return Err{cut_job_error(i, r.status, "cut refused: " + refusal_text(r.status))};
         }
         report.steps.push_back({i, r});
     }
@@ -193,7 +203,7 @@ Status<CutJobError> run_in_session(mesh::TriMesh& mesh, const CutJob& job, CutRe
         begin.kerf_width_m = job.mode == CutMode::kSeparated ? job.kerf_m : 0.0;
         const cut::ApplyReport r = session.begin(begin);
         if (r.outcome != cut::EventOutcome::kApplied) {
-            status = Err{CutJobError{i, r.status, "cut refused: " + refusal_text(r.status), {}}};
+            status = Err{cut_job_error(i, r.status, "cut refused: " + refusal_text(r.status))};
             break;
         }
         (void)session.end({begin.cut_id, cut::CutEndKind::kCompleted});

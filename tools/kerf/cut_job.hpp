@@ -14,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "config/base/error.hpp"
 #include "config/base/result.hpp"
 #include "display/cut/components.hpp"
 #include "display/cut/cut_result.hpp"
@@ -52,13 +53,18 @@ struct CutReport {
     std::uint64_t mesh_hash = 0;
 };
 
-/// Why a job stopped; the mesh keeps every cut made before `plane`.
-struct CutJobError {
-    std::size_t plane = 0;
-    cut::CutStatus status = cut::CutStatus::kInvalidArgument;
-    std::string why;
-    std::string argument;  ///< the option at fault ("--seed #2", "--kerf"), "" if plane or mode
+/// Why a job stopped (kerf::Error with the cut's status as its code): where is the option at
+/// fault ("--seed #2", "--kerf"), else "plane #N" (or "cut job" for the job's shape); the mesh
+/// keeps every cut made before `plane`.
+struct CutJobError : Error<cut::CutStatus> {
+    std::size_t plane = 0;  ///< 0-based index of the plane that failed (0 for the job's shape)
+    std::string argument;   ///< the option at fault ("--seed #2", "--kerf"), "" if plane or mode
 };
+
+/// A CutJobError about plane `plane` (or, with `whole_job`, about the job's shape; with
+/// `argument`, about that option).
+CutJobError cut_job_error(std::size_t plane, cut::CutStatus code, std::string what,
+                          bool whole_job = false, std::string argument = {});
 
 /// How far a seed may lie from its plane: half a typical 1 mm blade. A seed is where the blade
 /// touches the bone, so it is on the blade's plane.

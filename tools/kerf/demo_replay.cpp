@@ -98,7 +98,7 @@ Result<ReplayResult, std::string> replay_journal(const config::Config& config,
                                                  std::vector<ReplayShot> shots,
                                                  std::optional<mesh::Point> focus) {
     auto reader = ipc::JournalReader::open(journal.string(), 0);
-    if (!reader) return Err{reader.error().message};
+    if (!reader) return Err{reader.error().message()};
     auto scene = display::build_scene_mesh(config);
     if (!scene) return Err{"scene: " + scene.error()};
     cut::CutSession session(std::move(*scene));

@@ -62,9 +62,9 @@ Result<nlohmann::json, std::string> load_recording_meta(const fs::path& dir) {
 
 Result<JournalComparison, std::string> compare_journals(const fs::path& a, const fs::path& b) {
     auto ra = ipc::JournalReader::open(a.string(), 0);
-    if (!ra) return Err{a.string() + ": " + ra.error().message};
+    if (!ra) return Err{a.string() + ": " + ra.error().message()};
     auto rb = ipc::JournalReader::open(b.string(), 0);
-    if (!rb) return Err{b.string() + ": " + rb.error().message};
+    if (!rb) return Err{b.string() + ": " + rb.error().message()};
     JournalComparison out;
     out.records_a = ra->record_count();
     out.records_b = rb->record_count();

@@ -15,7 +15,7 @@ Result<std::unique_ptr<SessionMonitor>, std::string> SessionMonitor::start(
                         .role(ipc::ConsumerRole::kMonitor)
                         .stale_after_ns(2'000'000'000)  // a loaded machine stalls kerf-rt
                         .attach();
-    if (!consumer) return Err{"monitor: " + consumer.error().message};
+    if (!consumer) return Err{"monitor: " + consumer.error().message()};
     std::unique_ptr<SessionMonitor> m(new SessionMonitor(std::move(*consumer)));
     m->data_.ticks.reserve(1 << 16);
     m->thread_ = std::thread([p = m.get()] { p->run(); });

@@ -386,7 +386,7 @@ Status<std::string> write_soak_outputs(const SoakRun& run, const fs::path& out,
     files::AtomicFileSet set;
     for (const auto& [name, text] : data) {
         if (auto ok = files::write_file_atomically(scratch / name, text); !ok)
-            return Err{ok.error().to_string()};
+            return Err{ok.error().message()};
         set.add(out / name, text);
     }
     auto gnuplot = supervise::ChildProcess::spawn(
@@ -411,7 +411,7 @@ Status<std::string> write_soak_outputs(const SoakRun& run, const fs::path& out,
     set.add(out / "summary.txt", soak_summary(run, out));
     for (const RoundResult& r : run.rounds)
         fs::create_directories(out / "rounds" / std::to_string(r.spec.index), ec);
-    if (auto ok = set.commit(); !ok) return Err{ok.error().to_string()};
+    if (auto ok = set.commit(); !ok) return Err{ok.error().message()};
     return {};
 }
 

@@ -73,7 +73,7 @@ Result<fs::path, std::string> prepare_config(const RoundSpec& s, const std::stri
     files::AtomicFileSet out;
     out.add(dst / "kerf.toml", toml);
     out.add(dst / "scenes" / (foot ? "builtin_foot.toml" : "soak_mesh.toml"), scene);
-    if (auto ok = out.commit(); !ok) return Err{ok.error().to_string()};
+    if (auto ok = out.commit(); !ok) return Err{ok.error().message()};
     return dst / "kerf.toml";
 }
 
@@ -297,7 +297,7 @@ Result<RoundResult, std::string> run_round(const RoundSpec& spec, bool quiet) {
     r.cuts = script->cuts;
     const fs::path hand = spec.work / "hand.csv";
     if (auto ok = files::write_file_atomically(hand, script->csv); !ok)
-        return Err{ok.error().to_string()};
+        return Err{ok.error().message()};
 
     // The processes.
     Supervisor sup;

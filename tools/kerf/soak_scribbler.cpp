@@ -58,7 +58,7 @@ Result<std::uint64_t, std::string> scribble_segment(const std::string& session, 
                                                     std::uint64_t seed,
                                                     const std::atomic<bool>& stop) {
     auto opened = ipc::SegmentBuilder().name(session).open();
-    if (!opened) return Err{"scribbler: " + opened.error().message};
+    if (!opened) return Err{"scribbler: " + opened.error().message()};
     ipc::SegmentLayout& seg = opened->layout();
     std::mt19937_64 rng(seed);
     std::uint64_t scribbles = 0;

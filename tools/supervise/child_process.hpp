@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "config/base/error.hpp"
 #include "config/base/result.hpp"
 
 namespace kerf::supervise {
@@ -29,13 +30,8 @@ enum class SpawnErrc : std::uint8_t {
     kSpawnFailed,    ///< posix_spawn itself failed
 };
 std::string_view to_string(SpawnErrc code) noexcept;
-/// A spawn failure: which program (`where`) and what went wrong (`what`).
-struct SpawnError {
-    SpawnErrc code = SpawnErrc::kSpawnFailed;
-    std::string where;
-    std::string what;
-    std::string message() const { return where + ": " + what; }
-};
+/// A spawn failure (kerf::Error): which program (`where`) and what went wrong (`what`).
+using SpawnError = Error<SpawnErrc>;
 
 /// What to start.
 struct ChildSpec {
