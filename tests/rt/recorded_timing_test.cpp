@@ -97,7 +97,7 @@ std::unique_ptr<ipc::CollisionMesh> cube() {
 }
 
 struct Trace {
-    std::vector<firmware_host::Vec3d> force;
+    std::vector<firmware_host::Vec3> force;
     std::vector<std::uint8_t> safe;
     LoopStats stats;
 };
@@ -112,7 +112,7 @@ Trace run(firmware_host::Device& device,
                         .segment_name("kerf.timing-test-" + std::to_string(getpid()) + "-" +
                                       std::to_string(run_id))
                         .create();
-    EXPECT_TRUE(producer) << producer.error().message;
+    EXPECT_TRUE(producer) << producer.error().message();
     if (!producer) return out;
     const auto world = cube();
     EXPECT_TRUE(world);
@@ -147,7 +147,7 @@ Trace run(firmware_host::Device& device,
 bool same_forces(const Trace& a, const Trace& b) {
     return a.force.size() == b.force.size() &&
            std::memcmp(a.force.data(), b.force.data(),
-                       a.force.size() * sizeof(firmware_host::Vec3d)) == 0;
+                       a.force.size() * sizeof(firmware_host::Vec3)) == 0;
 }
 
 TEST(RecordedTiming, StallsRecordedInRealTimeReplayToTheSameSafeStatesAndForces) {
