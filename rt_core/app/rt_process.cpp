@@ -216,7 +216,10 @@ int run_rt_process(const RtOptions& o) {
     firmware_host::Device* loop_device = replay ? replay_device.get() : device.get();
     std::unique_ptr<LockstepWorldSync> world_sync;  // lockstep: cut meshes at fixed ticks
     if (o.lockstep && !replay) {
-        world_sync = std::make_unique<LockstepWorldSync>(*loop_device);
+        // A display is known to come (--await-display): wait for it as long as a loaded machine
+        // needs (its cut edits and frames run on the same cores), so the run stays deterministic.
+        world_sync =
+            std::make_unique<LockstepWorldSync>(*loop_device, o.await_display ? 120'000 : 10'000);
         world_sync->await_first_world(o.await_display);
         loop_device = world_sync.get();
     }
@@ -324,10 +327,10 @@ int run_rt_process(const RtOptions& o) {
     if (world_sync) {
         std::printf(
             "kerf-rt: lockstep: %llu collision worlds (%scut meshes) swapped in two ticks "
-            "after they were due, %llu not published within 10 s\n",
+            "after they were due, %llu not published within %d s\n",
             (unsigned long long)world_sync->synced(),
             o.await_display ? "the display's first, then " : "",
-            (unsigned long long)world_sync->timed_out());
+            (unsigned long long)world_sync->timed_out(), o.await_display ? 120 : 10);
     }
     if (replay) {
         std::printf(
