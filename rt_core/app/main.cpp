@@ -25,8 +25,8 @@ static int program_main(int argc, char** argv) {
         ->check(CLI::Range(0.0, 1e7));
     app.add_flag("--lockstep", o.lockstep, "paced by the emulator: deterministic, not real time");
     app.add_flag("--await-display", o.await_display,
-                 "with --lockstep: wait for kerf-display's first collision world before the first "
-                 "tick, and for each cut's world up to 120 s (not 10 s)");
+                 "with --lockstep: wait (up to 10 s) for kerf-display's first collision world "
+                 "before the first tick, and up to 5 s (not 200 ms) for each emulator answer");
     app.add_option("--record", o.record_path,
                    "record the device input stream (each tick's read) into this file");
     app.add_option("--replay", o.replay_path,
