@@ -24,7 +24,6 @@ if(NOT DEFINED EXPECT_COUNT)
       char-to-string:rt_core/loop/rt_log.hpp
       char-to-string:rt_core/physics/collision_mesh.hpp
       char-to-string:rt_core/physics/cut_events.hpp
-      char-to-string:tools/kerf/soak_plan.hpp
       own-error:config/config_error.hpp
       own-error:display/cut/triangulate.hpp
       own-error:display/egl/egl_output.hpp

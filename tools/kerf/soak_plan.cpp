@@ -64,7 +64,7 @@ PlannedCut cut_limb(ScriptWriter& w, const CutTarget& t, double dz, int steps, d
 
 }  // namespace
 
-const char* to_string(SoakFault fault) noexcept {
+std::string_view to_string(SoakFault fault) noexcept {
     const auto i = static_cast<int>(fault);
     return i >= 0 && i < kSoakFaultCount ? kNames[i] : "?";
 }
@@ -80,7 +80,7 @@ std::string hapsim_on_command(SoakFault fault) {
         case SoakFault::kShort:
             return "fault short on";
         default:
-            return std::string("fault ") + to_string(fault) + " on";
+            return "fault " + std::string(to_string(fault)) + " on";
     }
 }
 

@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "config/base/result.hpp"
@@ -33,7 +34,7 @@ enum class SoakFault : std::uint8_t {
 };
 inline constexpr int kSoakFaultCount = 10;
 /// The --faults name ("drop", "display-kill", ...).
-const char* to_string(SoakFault fault) noexcept;
+std::string_view to_string(SoakFault fault) noexcept;
 /// True for the faults kerf-hapsim injects.
 bool is_device_fault(SoakFault fault) noexcept;
 /// kerf-hapsim's `fault <name> <on>` for a device fault ("delay 50", "stuck_encoder on").

@@ -43,7 +43,7 @@ Totals totals(const SoakRun& run) {
         t.rejected += r.display_rejected + r.monitor_rejected;
         t.display_restarts += std::uint64_t(r.display_restarts);
         t.hashes_equal += !r.display_hash.empty() && r.display_hash == r.replay_hash;
-        for (const InjectedFault& f : r.injected) ++t.injected[to_string(f.fault)];
+        for (const InjectedFault& f : r.injected) ++t.injected[std::string(to_string(f.fault))];
         for (const FaultVerdict& v : r.device_faults) {
             if (!v.covered)
                 ++t.device_unverified;
@@ -237,7 +237,8 @@ PlotFiles plot_files(const SoakRun& run) {
         for (const InjectedFault& f : r.injected) {
             const int kind = is_device_fault(f.fault) ? 1 : f.fault == SoakFault::kScribble ? 3 : 2;
             std::snprintf(line, sizeof line, "%.2f %.2f %d %s\n", offsets[i] + f.on_s,
-                          offsets[i] + std::max(f.off_s, f.on_s + 0.2), kind, to_string(f.fault));
+                          offsets[i] + std::max(f.off_s, f.on_s + 0.2), kind,
+                          std::string(to_string(f.fault)).c_str());
             p.faults += line;
         }
         for (const MemoryPoint& m : r.memory) {

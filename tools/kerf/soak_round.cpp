@@ -567,7 +567,8 @@ Result<RoundResult, std::string> run_round(const RoundSpec& spec, bool quiet) {
     for (const FaultVerdict& v : r.device_faults) {
         if (v.ok()) continue;
         char buf[256];
-        std::snprintf(buf, sizeof buf, "fault %s at %.1f s: %s", to_string(v.window.fault),
+        std::snprintf(buf, sizeof buf, "fault %s at %.1f s: %s",
+                      std::string(to_string(v.window.fault)).c_str(),
                       double(v.window.on_ns - t0_ns) * 1e-9, v.problem.c_str());
         r.failures.push_back(buf);
     }
