@@ -66,22 +66,45 @@ std::uint32_t ForceSafety::hard_faults(const SafetyInput& in) noexcept {
     return r;
 }
 
+namespace {
+/// Reasons that are only late or unreadable samples: force resumes by itself when they pass.
+constexpr std::uint32_t kTransientReasons = kReasonStale | kReasonInvalidInput;
+}  // namespace
+
+void ForceSafety::interrupt() noexcept {
+    engaged_ = false;
+    ramp_ = 0;
+    quiet_ticks_ = 0;
+    fresh_ticks_ = 0;
+    last_ = {0, 0, 0};
+}
+
 Vec3 ForceSafety::step(const SafetyInput& in) noexcept {
     reasons_ = hard_faults(in);
     if (reasons_ != 0) {  // safe state: zero now (no slew on the way down), re-engage later
         engaged_ = false;
         ramp_ = 0;
         quiet_ticks_ = 0;
+        fresh_ticks_ = 0;
+        if ((reasons_ & ~kTransientReasons) != 0) hard_fault_ = true;
         return finish({0, 0, 0});
     }
     const double demand = norm(in.desired_force_n);
     if (!engaged_) {
         quiet_ticks_ = demand < limits_.engage_threshold_n ? quiet_ticks_ + 1U : 0U;
-        if (quiet_ticks_ < limits_.engage_quiet_ticks) {
+        // A lone late sample is tolerated while engaged, but it breaks a run towards resuming.
+        fresh_ticks_ =
+            in.read_status == DeviceStatus::kOk ? std::min(fresh_ticks_, 0xFFFFFFFEU) + 1U : 0U;
+        const bool quiet = quiet_ticks_ >= limits_.engage_quiet_ticks;
+        const bool resume =
+            ever_engaged_ && !hard_fault_ && fresh_ticks_ >= limits_.resume_fresh_ticks;
+        if (!quiet && !resume) {
             reasons_ |= kReasonWaitingToEngage;
             return finish({0, 0, 0});
         }
         engaged_ = true;
+        ever_engaged_ = true;
+        hard_fault_ = false;
     }
     return finish(shape(in.desired_force_n));
 }

@@ -3,6 +3,13 @@
 // not homed; ramp-in on engage; a direction-preserving clamp at the peak force; a continuous
 // (thermal) limit; a slew-rate limit. One `step()` per tick: noexcept, no allocation, O(1).
 //
+// Engaging. The first time, and after a hard fault (e-stop, device fault, disconnect, not homed,
+// a non-finite demand), forces engage only once the demand has been quiet (the user let go).
+// After a transient interruption — samples that were late (stale) or unreadable, or the loop's
+// timing safe state (interrupt()) — forces resume, ramping in, after `resume_fresh_ticks` fresh
+// samples in a row whatever the demand: a surgeon who keeps moving through one late sample keeps
+// feeling the bone, and a tool pushed into bone while forces were off is pushed out gently.
+//
 //   SafetyInput in{desired_force, status == kOk, sample.flags, connected};
 //   DeviceCommand cmd{safety.step(in), safety.engaged()};
 #pragma once
@@ -25,6 +32,8 @@ struct SafetyLimits {
     double engage_threshold_n = 0.5;        ///< engage only once |desired| stays below this ...
     std::uint32_t engage_quiet_ticks = 20;  ///< ... for this many consecutive ticks
     std::uint32_t stale_ticks = 2;          ///< ticks without a fresh sample before zero force
+    /// Fresh samples in a row after a transient interruption before force resumes (with ramp).
+    std::uint32_t resume_fresh_ticks = 10;
 };
 
 /// Why the last step changed or zeroed the force (bit set).
@@ -60,6 +69,9 @@ public:
     Vec3 step(const SafetyInput& in) noexcept;
 
     bool engaged() const noexcept { return engaged_; }
+    /// The loop zeroed force for a transient reason of its own (its timing safe state): from the
+    /// next step the output restarts from zero and resumes like after a stale sample. noexcept.
+    void interrupt() noexcept;
     std::uint32_t reasons() const noexcept {
         return reasons_;
     }  ///< SafetyReason bits of the last step
@@ -80,6 +92,9 @@ private:
     bool engaged_ = false;
     std::uint32_t quiet_ticks_ = 0;
     std::uint32_t stale_ticks_ = 0;
+    std::uint32_t fresh_ticks_ = 0;  ///< fault-free steps in a row while not engaged
+    bool ever_engaged_ = false;      ///< forces were on once (a first engage always waits quiet)
+    bool hard_fault_ = false;        ///< a hard fault since the last engage: wait for quiet
     std::uint32_t reasons_ = 0;
 };
 

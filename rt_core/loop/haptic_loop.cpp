@@ -241,6 +241,12 @@ void HapticLoop::collide_and_force() noexcept {
             model_.reset(tool_.pose.position_m);  // the proxy starts where the tool first is
         }
         proxy_reset_ = true;
+    } else if (fresh && (!safety_.engaged() || safe_state_)) {
+        // No force reaches the hand, so nothing held the tool back: the proxy must not stay
+        // where the surface stopped it (the hand may have pushed the tool deep into or right
+        // through the bone meanwhile). Re-seat it each such tick on the nearest surface when the
+        // tool is inside, else at the tool, so force resumes towards the way out.
+        model_.reset_outside(collision_, tool_.pose.position_m, kReengageReach);
     }
     physics_out_ = model_.step(collision_, tool_, double(settings_.period_ns) * 1e-9);
 }
@@ -286,7 +292,7 @@ void HapticLoop::track_timing(const TickTiming& timing) noexcept {
         log_.try_push(LogCode::kSafeStateEntered, double(tick_), double(consecutive_misses_));
     } else if (safe_state_ && clean_ticks_ >= kRecoveryTicks) {
         safe_state_ = false;
-        safety_ = firmware_host::ForceSafety(safety_.limits());  // re-engage with ramp-in
+        safety_.interrupt();  // resumes with ramp-in after a few fresh samples
         log_.try_push(LogCode::kSafeStateLeft, double(tick_), double(stats_.safe_state_ticks));
     }
     if (safe_state_) ++stats_.safe_state_ticks;

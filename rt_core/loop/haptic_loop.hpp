@@ -159,6 +159,8 @@ public:
     /// The tool position of the last tick, world frame, m.
     const physics::Vec3& tool_position_m() const noexcept { return tool_.pose.position_m; }
     bool in_safe_state() const noexcept { return safe_state_; }
+    /// The safety layer (engaged, reasons of the last tick).
+    const firmware_host::ForceSafety& safety() const noexcept { return safety_; }
     /// The latched failed invariant, if any (readable from any thread; see LoopCheck).
     const FaultLatch& checks() const noexcept { return checks_; }
     /// This tick's device read result and the newest sample (tests, tools).

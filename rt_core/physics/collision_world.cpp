@@ -112,4 +112,45 @@ SegmentHit CollisionWorld::first_hit(const Vec3& from, const Vec3& to,
     return best;
 }
 
+CollisionWorld::WayOut CollisionWorld::way_out(const Vec3& from, const Vec3& towards,
+                                               double length_m) const noexcept {
+    WayOut out;
+    Vec3 d = normalized(towards - from);
+    if (norm2(d) == 0) d = Vec3{0, 1, 0};
+    const Vec3 end = from + d * length_m;
+    struct Crossing {
+        double s;  ///< distance from `from`, m
+        int sign;  ///< +1 leaving a shell, -1 entering one
+        Vec3 normal;
+    };
+    Crossing crossings[kMaxWayOutCrossings];
+    int count = 0;
+    double s = 0;
+    constexpr double kStep = 1e-9;  // m past each crossing, so the next cast starts beyond it
+    while (true) {
+        const Vec3 start = from + d * s;
+        const SegmentHit hit = first_hit(start, end, HitSides::kBoth);
+        if (!hit.found) break;
+        if (count == kMaxWayOutCrossings) return out;  // unknown: too many crossings
+        const double at = s + hit.t * (length_m - s);
+        crossings[count++] = {at, dot(d, hit.normal) > 0 ? 1 : -1, hit.normal};
+        s = at + kStep;
+        if (s >= length_m) break;
+    }
+    int depth = 0;
+    for (int i = 0; i < count; ++i) depth += crossings[i].sign;
+    out.known = true;
+    out.depth = std::max(depth, 0);
+    out.exit = from;
+    int inside = depth;
+    for (int i = 0; i < count && inside > 0; ++i) {
+        inside -= crossings[i].sign;
+        if (inside <= 0) {
+            out.exit = from + d * crossings[i].s;
+            out.normal = crossings[i].normal;
+        }
+    }
+    return out;
+}
+
 }  // namespace kerf::physics

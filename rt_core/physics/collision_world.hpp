@@ -40,6 +40,21 @@ public:
     /// First crossing of from -> to with any body's surface.
     SegmentHit first_hit(const Vec3& from, const Vec3& to, HitSides sides) const noexcept;
 
+    /// Where a point leaves the bone along a ray (WayOut).
+    struct WayOut {
+        bool known = false;  ///< false: more crossings than the query walks (result unknown)
+        int depth = 0;       ///< shells containing the start (front/back crossings counted)
+        Vec3 exit;           ///< the first point on the ray inside no shell (the start if 0)
+        Vec3 normal;         ///< outward normal of the surface crossed there (depth > 0)
+    };
+    /// Walks the ray from `from` towards `towards` (up to `length_m`), counting every surface
+    /// crossing (leaving a shell +1, entering -1): the start lies inside that many shells, which
+    /// is exact for closed outward meshes even where shells interpenetrate (joints), unlike the
+    /// nearest-surface test of inside(). Returns where the ray is first in no shell. At most
+    /// kMaxWayOutCrossings segment casts: bounded, noexcept, no allocation.
+    WayOut way_out(const Vec3& from, const Vec3& towards, double length_m) const noexcept;
+    static constexpr int kMaxWayOutCrossings = 24;
+
 private:
     struct Slot {
         const CollisionBody* body = nullptr;

@@ -26,9 +26,17 @@ void ForceModel::reset_outside(const CollisionWorld& world, const Vec3& tool_pos
 
 void ForceModel::place_proxy_outside(const CollisionWorld& world, const Vec3& tool_position_m,
                                      double reach_m) noexcept {
+    // The nearest surface says which way is out; a ray that way, counting every crossing, says
+    // whether the tool is in bone at all and where it is in no shell any more (shells that
+    // interpenetrate at joints: the nearest surface may be another bone's, entered, not left).
     const SurfaceHit near = world.closest_point(tool_position_m, reach_m, kBoneSurfaces);
-    if (near.found && dot(tool_position_m - near.point, near.normal) < 0) {
-        contact_.reset(near.point + near.normal * (4 * params_.contact.skin_m));
+    const double gap = 4 * params_.contact.skin_m;
+    const Vec3 towards = near.found ? near.point : tool_position_m + Vec3{0, 1, 0};
+    const CollisionWorld::WayOut out = world.way_out(tool_position_m, towards, 1.0);
+    if (out.known) {
+        contact_.reset(out.depth > 0 ? out.exit + out.normal * gap : tool_position_m);
+    } else if (near.found && dot(tool_position_m - near.point, near.normal) < 0) {
+        contact_.reset(near.point + near.normal * gap);
     } else {
         contact_.reset(tool_position_m);
     }

@@ -58,9 +58,10 @@ public:
     const PhysicsParams& params() const noexcept { return params_; }
     /// Re-starts contact at `tool_position_m` (outside every body) and forgets observed energy.
     void reset(const Vec3& tool_position_m) noexcept;
-    /// Re-starts contact for a tool that may be inside a body (a device re-engaged after a loss):
-    /// the proxy goes to the nearest surface within `reach_m` when the tool is behind it, else to
-    /// the tool. One closest-point query. noexcept.
+    /// Re-starts contact for a tool that may be inside a body (a device re-engaged after a loss,
+    /// forces that were off): when the tool is in bone, the proxy goes to where a ray from it
+    /// towards the nearest surface (searched within `reach_m`) is first in no shell, else to the
+    /// tool. One closest-point query and a bounded ray walk (CollisionWorld::way_out). noexcept.
     void reset_outside(const CollisionWorld& world, const Vec3& tool_position_m,
                        double reach_m) noexcept;
     /// One tick. noexcept, no allocation, bounded work; non-finite input gives zero force.

@@ -129,6 +129,79 @@ TEST(ForceSafety, RecoversThroughRampInWhenTheFaultClears) {
     EXPECT_NEAR(norm(out), 3.0, 1e-9);
 }
 
+// A lone late sample (or a short run of them, or a garbled report) while the user keeps pushing:
+// zero force within 2 ticks, then force resumes from zero with the ramp after
+// resume_fresh_ticks fresh samples, the demand never having gone quiet.
+TEST(ForceSafety, ResumesAfterATransientStaleRunWithoutWaitingForAQuietHand) {
+    for (const DeviceStatus bad : {DeviceStatus::kNoData, DeviceStatus::kMalformed}) {
+        ForceSafety s(test_limits());
+        engage_and_hold(s, {0, 0, 3}, 50);
+        SafetyInput late = good({0, 0, 3});
+        late.read_status = bad;
+        s.step(late);
+        EXPECT_EQ(norm(s.step(late)), 0.0);  // zero within 2 ticks
+        EXPECT_FALSE(s.engaged());
+        const std::uint32_t resume = test_limits().resume_fresh_ticks;
+        for (std::uint32_t i = 1; i < resume; ++i) {
+            EXPECT_EQ(norm(s.step(good({0, 0, 3}))), 0.0) << "fresh tick " << i;
+            EXPECT_TRUE(s.reasons() & kReasonWaitingToEngage);
+        }
+        const Vec3 first = s.step(good({0, 0, 3}));  // resumes: ramping in from zero
+        EXPECT_TRUE(s.engaged());
+        EXPECT_GT(norm(first), 0.0);
+        EXPECT_LT(norm(first), 3.0);
+        EXPECT_TRUE(s.reasons() & kReasonRamping);
+        Vec3 out{};
+        for (int i = 0; i < 50; ++i) out = s.step(good({0, 0, 3}));
+        EXPECT_NEAR(norm(out), 3.0, 1e-9);
+    }
+}
+
+// Fresh samples interleaved with late ones never resume force: the run must be unbroken.
+TEST(ForceSafety, AResumeNeedsAnUnbrokenRunOfFreshSamples) {
+    ForceSafety s(test_limits());
+    engage_and_hold(s, {0, 0, 3}, 50);
+    SafetyInput late = good({0, 0, 3});
+    late.read_status = DeviceStatus::kNoData;
+    s.step(late);
+    s.step(late);
+    for (int i = 0; i < 200; ++i) {
+        const bool fresh = i % 5 != 4;  // every fifth sample late: 4 fresh in a row at most
+        EXPECT_EQ(norm(s.step(fresh ? good({0, 0, 3}) : late)), 0.0) << i;
+    }
+}
+
+// The loop's timing safe state (interrupt()) resumes the same way, from zero with the ramp.
+TEST(ForceSafety, AnInterruptResumesFromZeroAfterFreshSamples) {
+    ForceSafety s(test_limits());
+    engage_and_hold(s, {0, 0, 3}, 50);
+    s.interrupt();
+    EXPECT_FALSE(s.engaged());
+    Vec3 out{};
+    for (std::uint32_t i = 0; i < test_limits().resume_fresh_ticks; ++i)
+        out = s.step(good({0, 0, 3}));
+    EXPECT_TRUE(s.engaged());
+    EXPECT_GT(norm(out), 0.0);
+    EXPECT_LE(norm(out), 3.0 * test_limits().period_s / test_limits().ramp_in_s + 1e-12);
+}
+
+// A hard fault is different: after an e-stop the user must let go before forces come back,
+// however many fresh samples arrive; and a first engage always waits for a quiet demand.
+TEST(ForceSafety, AfterAHardFaultOrAtTheFirstEngageForceWaitsForAQuietDemand) {
+    ForceSafety s(test_limits());
+    for (int i = 0; i < 100; ++i) EXPECT_EQ(norm(s.step(good({0, 0, 3}))), 0.0);
+    engage_and_hold(s, {0, 0, 3}, 50);
+    SafetyInput fault = good({0, 0, 3});
+    fault.flags.estop = true;
+    s.step(fault);
+    SafetyInput late = good({0, 0, 3});
+    late.read_status = DeviceStatus::kNoData;
+    s.step(late);  // a stale sample after the e-stop does not turn it into a transient
+    s.step(late);
+    for (int i = 0; i < 100; ++i) EXPECT_EQ(norm(s.step(good({0, 0, 3}))), 0.0) << i;
+    EXPECT_NEAR(norm(engage_and_hold(s, {0, 0, 3}, 100)), 3.0, 1e-9);
+}
+
 // Property: random and adversarial demands and faults never exceed the peak, and between two
 // ticks without a hard fault the output never moves faster than the slew limit.
 TEST(ForceSafetyProperty, RandomAndAdversarialInputsNeverExceedLimitsOrSlew) {

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <random>
 
+#include "rt_core/physics/force_model.hpp"
 #include "tests/allocation_counter.hpp"
 #include "tests/physics/physics_test_shapes.hpp"
 
@@ -212,6 +213,44 @@ TEST(ProxyContact, RandomApproachesIntoARealBoneNeverLeaveTheProxyInside) {
         touching += drive(scene, contact, approach(from, beyond, 60, 40, 0.001, rng), 4);
     }
     EXPECT_GT(touching, 400);
+}
+
+/// Two closed spheres that interpenetrate (bones at a joint), as one mesh.
+TestMesh two_overlapping_spheres() {
+    TestMesh a = test::make_sphere({0, 0, 0}, 0.01, 3);
+    const TestMesh b = test::make_sphere({0.015, 0, 0}, 0.01, 3);
+    const auto base = std::uint32_t(a.positions.size() / 3);
+    a.positions.insert(a.positions.end(), b.positions.begin(), b.positions.end());
+    for (std::uint32_t i : b.indices) a.indices.push_back(base + i);
+    a.materials.insert(a.materials.end(), b.materials.begin(), b.materials.end());
+    return a;
+}
+
+// The way out of interpenetrating shells: a tool inside sphere A, whose nearest surface is B's
+// (entered there, not left), is counted inside and its exit is in neither sphere; re-seating
+// the proxy for such a tool (forces were off) puts it outside both.
+TEST(ProxyContact, ReSeatingAToolInsideInterpenetratingShellsPutsTheProxyOutsideBoth) {
+    const Scene scene(two_overlapping_spheres());
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(-0.011, 0.026), v(-0.011, 0.011);
+    int inside = 0;
+    for (int i = 0; i < 300 * kScale; ++i) {
+        const Vec3 tool{u(rng), v(rng), v(rng)};
+        const double w = test::winding_number(scene.mesh, tool);
+        const CollisionWorld::WayOut out = scene.world.way_out(tool, tool + Vec3{0, 1, 0}, 1.0);
+        ASSERT_TRUE(out.known);
+        EXPECT_EQ(out.depth, int(std::lround(w))) << i;
+        ForceModel model;
+        model.reset_outside(scene.world, tool, 0.05);
+        EXPECT_LT(test::winding_number(scene.mesh, model.contact().proxy()), 0.5) << i;
+        if (w > 0.5) {
+            ++inside;
+            EXPECT_GT(norm(model.contact().proxy() - tool), 0.0) << i;
+        } else {
+            EXPECT_EQ(model.contact().proxy(), tool) << i;
+        }
+    }
+    EXPECT_GT(inside, 60);
 }
 
 TEST(ProxyContact, APieceDraggedIntoTheHeldProxyCarriesItAlong) {

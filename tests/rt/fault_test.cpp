@@ -78,9 +78,13 @@ TEST_P(RtLoopFault, ZeroForceWithinTwoTicksOfTheFaultAndRecovery) {
     }
 }
 
+// The delay is 200 ms of wall time: lockstep ticks here wait up to 20 ms for an answer, so a
+// 50 ms delay made replies only 2-3 commands old — within the device's max_command_lag, i.e. a
+// few milliseconds of latency in tick terms, after which force rightly resumes (ForceSafety's
+// resume_fresh_ticks); 200 ms keeps every reply beyond the lag bound while the fault lasts.
 INSTANTIATE_TEST_SUITE_P(DeviceFaults, RtLoopFault,
                          ::testing::Values(FaultCase{"drop", "on", "off", false, false},
-                                           FaultCase{"delay", "50", "off", false, false},
+                                           FaultCase{"delay", "200", "off", false, false},
                                            FaultCase{"corrupt", "on", "off", false, false},
                                            FaultCase{"short", "on", "off", false, false},
                                            FaultCase{"unplug", "on", "off", true, true},
