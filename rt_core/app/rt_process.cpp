@@ -204,11 +204,12 @@ int run_rt_process(const RtOptions& o) {
     LoopSettings settings;
     settings.period_ns = rts.period_ns;
     settings.misses_to_safe_state = rts.consecutive_misses_to_safe_state;
-    // Lockstep: wait for the emulator's answer to each packet. 200 ms, except with a display
-    // awaited (kerf demo): under load (load 12 on 2 cores) an answer came later than 200 ms, the
-    // read returned no sample and every later read took the previous step's report (10,091
-    // "no new sample"): a different run. There a dead emulator costs 5 s a tick, not a desync.
-    settings.read_timeout_us = o.lockstep ? (o.await_display ? 5'000'000 : 200'000) : 0;
+    // Lockstep: wait for the emulator's answer to each packet, up to 5 s. With 200 ms, under load
+    // (load 12-16 on 2 cores) an answer came later, the read returned no sample and every later
+    // read took the previous step's report (10,091 "no new sample" in one demo; a duplicated
+    // sample at tick 1607 in the determinism test): a different run. An emulator that died closes
+    // its socket (the read says disconnected at once); one that hangs costs 5 s a tick.
+    settings.read_timeout_us = o.lockstep ? 5'000'000 : 0;
     settings.lockstep = o.lockstep || replay;
     apply_scene_mapping(cfg->scene, **mesh, settings);  // [device_mapping], [planned_cut]
     const physics::PhysicsParams physics = physics::physics_params_from_profile(cfg->force);
