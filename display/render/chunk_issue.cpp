@@ -52,7 +52,6 @@ void ChunkIssue::uploaded(const RenderMesh& mesh) {
 
 void ChunkIssue::begin() {
     std::fill(done_.begin(), done_.end(), 0);
-    issued_ = 0;
     plan();
 }
 
@@ -64,7 +63,6 @@ bool ChunkIssue::next(std::uint32_t& first, std::uint32_t& count) {
         first = start;
         count = end - start;
         done_[c] = end - c * kChunk;
-        issued_ += count;
         return true;
     }
     return false;

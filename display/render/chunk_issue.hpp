@@ -38,8 +38,6 @@ public:
     /// The next triangles to draw, [first, first + count): chunks not edited lately in order,
     /// then the ones edited lately (and what edits that joined appended). False at the end.
     bool next(std::uint32_t& first, std::uint32_t& count);
-    /// Triangles issued so far this frame.
-    std::uint64_t issued_triangles() const noexcept { return issued_; }
 
     /// Whether the changes `mesh` has not uploaded yet leave every issued triangle as drawn (see
     /// the header comment). A chunk that stands in the way is drawn last in the next frames.
@@ -66,8 +64,7 @@ private:
     std::vector<std::uint32_t> pending_;  ///< chunks still to issue, in order
     std::size_t at_ = 0;                  ///< next entry of pending_
     std::uint32_t stamp_ = 0;             ///< uploads with edits so far
-    std::uint64_t issued_ = 0;
-    std::vector<std::uint64_t> bits_;  ///< scratch: dirty vertices, one bit each
+    std::vector<std::uint64_t> bits_;     ///< scratch: dirty vertices, one bit each
 };
 
 }  // namespace kerf::render
