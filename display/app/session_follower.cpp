@@ -186,6 +186,11 @@ void SessionFollower::Impl::run() {
                 std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count();
             if (newest_ns != 0 && local.edit_ms.size() < 256)
                 local.edit_ms.push_back(double(local.last_batch_ns) * 1e-6);
+        } else if (publish_pending && !session->cut_open()) {
+            // A batch that only closed the cut (a withdrawn CutEnd changes no geometry) still
+            // owes kerf-rt the mesh held back while the cut was open: lockstep and replay wait
+            // for it, and a live kerf-rt would run on in the pre-cut world until the next edit.
+            publish();
         }
         const bool busy = newest_ns != 0 || reset;
         if (!busy) {

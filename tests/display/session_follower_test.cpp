@@ -79,5 +79,55 @@ TEST(SessionFollower, AppliesTheStreamOnItsWorkerToTheSameHashAsCutSession) {
     std::filesystem::remove_all(dir, ec);
 }
 
+// The end of a cut may arrive in a batch of its own (kerf-rt publishes it a tick or more after
+// the last progress; a slow display reads them apart). A withdrawn CutEnd changes no geometry,
+// yet the mesh held back while the cut was open is still owed: lockstep and replay runs of
+// kerf-rt wait for it (once they waited 30 s under ASan and counted a late world).
+TEST(SessionFollower, PublishesTheHeldBackMeshWhenACutEndArrivesAlone) {
+    auto records = test::script();
+    ASSERT_EQ(records.back().header.type, ipc::EventType::kCutEnd);
+    char tmpl[] = "/tmp/kerf-follower-XXXXXX";
+    const std::string dir = mkdtemp(tmpl);
+    const std::string name = "kerffollowend_" + std::to_string(getpid());
+    auto producer = ipc::ProducerBuilder().segment_name(name).journal_dir(dir).create();
+    ASSERT_TRUE(producer.has_value()) << producer.error().message();
+    std::uint64_t tick = 0;
+    producer->heartbeat(++tick, now_ns());
+    auto follower = SessionFollower::start(
+        FollowerOptions{name, true, 2'000'000'000, 500, 0},
+        [] { return Result<mesh::TriMesh, std::string>(cut::test::two_tubes()); },
+        [](const cut::CutSession&, const cut::SessionChanges&, std::uint64_t) {});
+    ASSERT_TRUE(follower.has_value()) << follower.error();
+
+    // Everything but the last CutEnd, applied: cut 2 is open, its edits held back.
+    std::size_t next = 0;
+    const std::uint64_t all_but_end = records.size() - 1;
+    ASSERT_TRUE(test::wait_for(
+        [&] {
+            producer->heartbeat(++tick, now_ns());
+            if (next < all_but_end) producer->publish_event(records[next++]);
+            return (*follower)->status().next_sequence == all_but_end;
+        },
+        120.0));
+    // (status is published after each step's hand-over: nothing is published while cut 2 is open)
+    const std::uint64_t before = (*follower)->status().publishes;
+
+    producer->publish_event(records.back());
+    const bool published = test::wait_for(
+        [&] {
+            producer->heartbeat(++tick, now_ns());
+            return (*follower)->status().publishes > before;
+        },
+        60.0);
+    const FollowerStatus st = (*follower)->status();
+    (*follower)->stop();
+    EXPECT_EQ(st.next_sequence, records.size());
+    EXPECT_TRUE(published) << "no collision mesh after the lone CutEnd (" << st.publishes
+                           << " publishes; " << st.last_error << ")";
+    EXPECT_EQ(st.publish_failures, 0u) << st.last_error;
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
+}
+
 }  // namespace
 }  // namespace kerf::display
