@@ -84,9 +84,15 @@ RealtimeReport apply_realtime(const config::RealtimeSettings& settings) {
 
 RealtimeItem keep_freed_memory() {
     RealtimeItem item;
-    item.what = "heap keeps freed memory (mmap threshold 32 MiB, no trim)";
+    item.what = "heap keeps freed memory (one arena, mmap threshold 32 MiB, no trim)";
     // 32 MiB is glibc's largest mmap threshold on 64-bit; blocks below it come from the heap.
-    item.ok = mallopt(M_MMAP_THRESHOLD, 32 << 20) == 1 && mallopt(M_TRIM_THRESHOLD, -1) == 1;
+    // One arena: otherwise each thread's first allocation creates an arena of its own (64 MiB
+    // reserved, grown by mprotect and, under mlockall, faulted in as it grows), so the world
+    // builder thread would rebuild in a fresh arena that the warm-up on the main thread never
+    // touched, and grow it round after round as bigger cut meshes arrive. The real-time thread
+    // does not allocate, so the single arena's lock never stands in its way.
+    item.ok = mallopt(M_ARENA_MAX, 1) == 1 && mallopt(M_MMAP_THRESHOLD, 32 << 20) == 1 &&
+              mallopt(M_TRIM_THRESHOLD, -1) == 1;
     item.result = item.ok ? "ok" : "mallopt refused";
     return item;
 }

@@ -29,9 +29,11 @@ struct RealtimeReport {
 /// Applies `settings` to the calling thread (and mlockall to the process).
 RealtimeReport apply_realtime(const config::RealtimeSettings& settings);
 
-/// Keeps freed heap memory in the process (glibc: mmap threshold 32 MiB, no trimming), so a
-/// collision update after a cut reuses pages already faulted in (and locked by mlockall) by the
-/// bodies before it instead of faulting fresh ones. Call once at start; returns what it set.
+/// Keeps freed heap memory in the process (glibc: one arena for all threads, mmap threshold
+/// 32 MiB, no trimming), so a collision update after a cut, on the world builder's thread,
+/// reuses pages already faulted in (and locked by mlockall) by the first build on the main
+/// thread instead of faulting fresh ones. Call once at start, before any other thread; returns
+/// what it set.
 RealtimeItem keep_freed_memory();
 
 }  // namespace kerf::rt

@@ -37,6 +37,7 @@ struct SoakOptions {
     std::size_t triangles = 50'000;
     std::string meshes;  ///< shared mesh folder; empty: $KERF_SHARED_MESHES or kerf.toml's
     std::string config;
+    std::string scenes = "all";  ///< all (foot and shared meshes in turn), foot, shared
     double display_rss_limit_mb = 1024;
     double rt_growth_limit_pct = 1;
     bool quiet = false;
@@ -93,6 +94,7 @@ void run_soak(const SoakOptions& o) {
         fail("configuration " + config_file.string() + ": not found");
     const fs::path out = fs::absolute(o.out_dir);
     const std::vector<std::string> meshes = shared_meshes(o);
+    if (o.scenes == "shared" && meshes.empty()) fail("--scenes shared: no shared meshes found");
 
     supervise::Supervisor guard;               // Ctrl-C is a stop request from here on
     auto work = WorkDir::create("kerf-soak");  // removed with everything in it at the end
@@ -118,9 +120,10 @@ void run_soak(const SoakOptions& o) {
     for (int i = 0; i < rounds; ++i) {
         RoundSpec spec;
         spec.index = i;
-        // The foot on even rounds, the shared meshes in turn on odd ones.
-        spec.scene = i % 2 == 0 || meshes.empty() ? "builtin_foot"
-                                                  : meshes[std::size_t(i / 2) % meshes.size()];
+        // The foot on even rounds, the shared meshes in turn on odd ones (or only one kind).
+        const bool foot = o.scenes == "foot" || meshes.empty() || (o.scenes == "all" && i % 2 == 0);
+        const std::size_t turn = o.scenes == "all" ? std::size_t(i / 2) : std::size_t(i);
+        spec.scene = foot ? "builtin_foot" : meshes[turn % meshes.size()];
         spec.triangles = o.triangles;
         spec.seed = o.seed * 1000 + std::uint64_t(i);
         spec.duration_s = cutting_s;
@@ -181,13 +184,17 @@ void add_soak_command(CLI::App& app) {
     soak->add_option("--meshes", opts->meshes,
                      "folder of shared meshes (default: $KERF_SHARED_MESHES, else "
                      "../../shared/meshes from the configuration folder)");
+    soak->add_option("--scenes", opts->scenes,
+                     "all (the foot and the shared meshes in turn), foot, or shared")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"all", "foot", "shared"}));
     soak->add_option("--config", opts->config, "kerf.toml to start from")->check(CLI::ExistingFile);
     soak->add_option("--display-rss-limit-mb", opts->display_rss_limit_mb,
                      "kerf-display's resident memory bound (MB)")
         ->capture_default_str()
         ->check(CLI::Range(16.0, 1e6));
     soak->add_option("--rt-growth-limit-pct", opts->rt_growth_limit_pct,
-                     "kerf-rt's resident memory growth allowed after warm-up (%)")
+                     "kerf-rt's own memory (RssAnon) growth allowed after warm-up (%)")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1000.0));
     soak->add_flag("--quiet", opts->quiet, "no progress lines (the summary still prints)");

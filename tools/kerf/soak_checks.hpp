@@ -72,7 +72,7 @@ struct MemoryVerdict {
     double growth_pct = 0;
     bool measured = false;  ///< enough samples after warm-up
 };
-/// `t_s` and `kb` are parallel (seconds since the process started, VmRSS).
+/// `t_s` and `kb` are parallel (seconds since the process started, resident kB).
 MemoryVerdict memory_growth(const std::vector<double>& t_s, const std::vector<std::uint64_t>& kb,
                             double warmup_s);
 

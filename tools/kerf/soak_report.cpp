@@ -24,6 +24,7 @@ struct Totals {
     std::map<std::string, int> injected;  ///< by fault name
     int device_ok = 0, device_unverified = 0, device_failed = 0, device_pushing = 0;
     double peak_force_n = 0, force_limit_n = 0, rt_growth_max_pct = 0, display_peak_mb = 0;
+    double rt_rss_growth_max_pct = 0, rt_shmem_growth_max_pct = 0, rt_file_growth_max_pct = 0;
     double wake_max_us = 0;
     std::map<double, std::uint64_t> wake;  ///< merged histogram
 };
@@ -55,8 +56,13 @@ Totals totals(const SoakRun& run) {
         }
         t.peak_force_n = std::max(t.peak_force_n, r.force.peak_n);
         t.force_limit_n = r.force.limit_n;
-        if (r.rt_memory.measured)
-            t.rt_growth_max_pct = std::max(t.rt_growth_max_pct, r.rt_memory.growth_pct);
+        const auto grow = [](double& most, const MemoryVerdict& m) {
+            if (m.measured) most = std::max(most, m.growth_pct);
+        };
+        grow(t.rt_growth_max_pct, r.rt_memory);
+        grow(t.rt_rss_growth_max_pct, r.rt_rss_memory);
+        grow(t.rt_shmem_growth_max_pct, r.rt_shmem_memory);
+        grow(t.rt_file_growth_max_pct, r.rt_file_memory);
         t.display_peak_mb = std::max(t.display_peak_mb, r.display_peak_mb);
         t.wake_max_us = std::max(t.wake_max_us, r.wake_max_us);
         for (const auto& [edge, n] : r.wake_histogram) t.wake[edge] += n;
@@ -133,6 +139,10 @@ nlohmann::json round_json(const RoundResult& r) {
             {"force_limit_n", r.force.limit_n},
             {"force_ticks_over_limit", r.force.over},
             {"kerf_rt_memory", mem(r.rt_memory)},
+            {"kerf_rt_memory_measure", "RssAnon"},
+            {"kerf_rt_rss", mem(r.rt_rss_memory)},
+            {"kerf_rt_rss_shmem", mem(r.rt_shmem_memory)},
+            {"kerf_rt_rss_file", mem(r.rt_file_memory)},
             {"kerf_display_memory", mem(r.display_memory)},
             {"kerf_display_peak_mb", r.display_peak_mb},
             {"ticks", r.ticks},
@@ -171,6 +181,10 @@ std::string report_json(const SoakRun& run) {
                               {"force_peak_n", t.peak_force_n},
                               {"force_limit_n", t.force_limit_n},
                               {"kerf_rt_memory_growth_max_pct", t.rt_growth_max_pct},
+                              {"kerf_rt_memory_measure", "RssAnon"},
+                              {"kerf_rt_rss_growth_max_pct", t.rt_rss_growth_max_pct},
+                              {"kerf_rt_rss_shmem_growth_max_pct", t.rt_shmem_growth_max_pct},
+                              {"kerf_rt_rss_file_growth_max_pct", t.rt_file_growth_max_pct},
                               {"kerf_display_peak_mb", t.display_peak_mb},
                               {"ticks", t.ticks},
                               {"overruns", t.overruns},
@@ -223,7 +237,9 @@ PlotFiles plot_files(const SoakRun& run) {
     p.force =
         "# time (s since the run started), peak |force| (N) and penetration (mm) per 100 ms\n";
     p.faults = "# fault on (s), off (s), kind (1 device, 2 display kill/stop, 3 scribble), name\n";
-    p.memory = "# time (s), kerf-rt resident (MB), kerf-display resident (MB); NaN: not running\n";
+    p.memory =
+        "# time (s), kerf-rt VmRSS (MB), kerf-display VmRSS (MB), kerf-rt RssAnon, RssShmem, "
+        "RssFile (MB); NaN: not running\n";
     for (std::size_t i = 0; i < run.rounds.size(); ++i) {
         const RoundResult& r = run.rounds[i];
         const std::uint64_t t0 = r.plot_ticks.empty() ? 0 : r.plot_ticks.front().time_ns;
@@ -244,7 +260,8 @@ PlotFiles plot_files(const SoakRun& run) {
         for (const MemoryPoint& m : r.memory) {
             const auto mb = [](double v) { return v < 0 ? std::string("NaN") : std::to_string(v); };
             p.memory += std::to_string(offsets[i] + m.t_s) + " " + mb(m.rt_mb) + " " +
-                        mb(m.display_mb) + "\n";
+                        mb(m.display_mb) + " " + mb(m.rt_anon_mb) + " " + mb(m.rt_shmem_mb) + " " +
+                        mb(m.rt_file_mb) + "\n";
         }
         p.memory += "\n";
     }
@@ -280,10 +297,13 @@ PlotFiles plot_files(const SoakRun& run) {
         "with boxxyerror fs transparent solid 0.3 noborder lc rgb variable notitle, "
         "'force.dat' using 1:3 with lines lc rgb '#8c564b' title 'penetration'\n"
         "unset multiplot\nset terminal pngcairo size 1200,500 font 'sans,10'\n"
-        "set output 'memory.png'\nset title 'resident memory (VmRSS, sampled once a second)'\n"
+        "set output 'memory.png'\nset title 'resident memory (sampled once a second)'\n"
         "set ylabel 'MB'\nset yrange [0:*]\n"
-        "plot 'memory.dat' using 1:2 with lines lw 2 title 'kerf-rt', "
-        "'memory.dat' using 1:3 with lines lw 2 title 'kerf-display'\n";
+        "plot 'memory.dat' using 1:2 with lines lw 2 title 'kerf-rt VmRSS', "
+        "'memory.dat' using 1:4 with lines lw 2 title 'kerf-rt RssAnon (checked)', "
+        "'memory.dat' using 1:5 with lines lw 1 title 'kerf-rt RssShmem', "
+        "'memory.dat' using 1:6 with lines lw 1 title 'kerf-rt RssFile', "
+        "'memory.dat' using 1:3 with lines lw 2 title 'kerf-display VmRSS'\n";
     return p;
 }
 
@@ -348,10 +368,12 @@ std::string soak_summary(const SoakRun& run, const fs::path& out) {
                   t.force_limit_n);
     s += line;
     std::snprintf(line, sizeof line,
-                  "  memory:    kerf-rt growth after warm-up %.2f %% at most (limit %.2g %%); "
+                  "  memory:    kerf-rt growth after warm-up, most in a round: RssAnon %.2f %% "
+                  "(limit %.2g %%), VmRSS %.2f %%, RssShmem %.2f %%, RssFile %.2f %%; "
                   "kerf-display peak %.0f MB\n",
                   t.rt_growth_max_pct,
                   run.rounds.empty() ? 1.0 : run.rounds.front().spec.rt_growth_limit_pct,
+                  t.rt_rss_growth_max_pct, t.rt_shmem_growth_max_pct, t.rt_file_growth_max_pct,
                   t.display_peak_mb);
     s += line;
     std::snprintf(line, sizeof line,

@@ -32,7 +32,7 @@ struct RoundSpec {
     std::filesystem::path config;  ///< kerf.toml to start from
     std::filesystem::path work;    ///< the round's temporary folder (removed by the caller)
     double display_rss_limit_mb = 1024;
-    double rt_growth_limit_pct = 1;  ///< kerf-rt's VmRSS growth allowed after warm-up
+    double rt_growth_limit_pct = 1;  ///< kerf-rt's RssAnon growth allowed after warm-up
 };
 
 /// An injected fault, for the plots and the report (seconds since the round started).
@@ -45,7 +45,10 @@ struct InjectedFault {
 /// A sample of resident memory (seconds since the round started).
 struct MemoryPoint {
     double t_s = 0;
-    double rt_mb = -1, display_mb = -1;  ///< -1: not running
+    double rt_mb = -1, display_mb = -1;  ///< VmRSS; -1: not running
+    /// kerf-rt's VmRSS split: RssAnon (its heap and private maps), RssShmem (the session
+    /// segment), RssFile (its executable, libraries and mapped files); -1: not running.
+    double rt_anon_mb = -1, rt_shmem_mb = -1, rt_file_mb = -1;
 };
 
 struct RoundResult {
@@ -62,7 +65,10 @@ struct RoundResult {
     std::uint64_t cut_begins = 0, cuts_completed = 0, refused = 0;
     std::string display_hash, replay_hash;
     int display_restarts = 0, display_kills = 0;
+    /// kerf-rt's RssAnon (the checked one: what kerf-rt itself allocates) and kerf-display's VmRSS.
     MemoryVerdict rt_memory, display_memory;
+    /// kerf-rt's VmRSS, RssShmem and RssFile, reported beside the check.
+    MemoryVerdict rt_rss_memory, rt_shmem_memory, rt_file_memory;
     double display_peak_mb = 0;
     std::uint64_t telemetry_samples = 0, telemetry_gaps = 0;
     std::vector<TickSample> plot_ticks;  ///< decimated (max per 100 ms) for the plots
