@@ -138,7 +138,11 @@ std::vector<BoneShape> lay_out_bones(std::uint64_t seed) {
         const RayTemplate& t = kRays[r];
         const Point origin{t.x + 0.0003 * v.symmetric(), 0.0003 * v.symmetric(),
                            t.z0 + 0.001 * v.symmetric()};
-        detail::AxisFrame frame = ray_frame(origin, 0.005 * v.symmetric(), 0.005 * v.symmetric());
+        // Named, in this order: the order of a call's arguments is unspecified, and gcc -O2 and
+        // -O1 (the sanitizer builds) drew these two the other way round (a different foot).
+        const double pitch = 0.005 * v.symmetric();
+        const double yaw = 0.005 * v.symmetric();
+        detail::AxisFrame frame = ray_frame(origin, yaw, pitch);
         for (int k = 0; k < 4; ++k) {
             if (t.length[k] == 0.0) continue;
             BoneShape b;

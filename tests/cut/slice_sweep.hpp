@@ -33,7 +33,7 @@ inline bool is_refusal(CutStatus s) {
 
 inline Vec3 random_unit(std::mt19937_64& rng) {
     std::normal_distribution<double> g;
-    Vec3 v(g(rng), g(rng), g(rng));
+    Vec3 v{g(rng), g(rng), g(rng)};  // braces: drawn left to right in every build
     return v / v.norm();
 }
 

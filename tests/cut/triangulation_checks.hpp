@@ -157,18 +157,23 @@ Loops random_region(Rng& rng, int max_points_per_loop, bool integer = true) {
     const double r = 1 << 20;
     std::uniform_int_distribution<int> count(6, std::max(6, max_points_per_loop));
     std::bernoulli_distribution coin(0.5);
+    // Every draw is its own statement: the order of a call's arguments is unspecified, and the
+    // same seed must give the same region in every build (gcc -O2 and the sanitizer builds).
+    const auto loop = [&](Point2 c, double r0, double r1) {
+        const int n = count(rng);
+        const bool clockwise = coin(rng);
+        return star_loop(rng, c, r0, r1, n, clockwise, integer);
+    };
     Loops loops;
-    loops.push_back(star_loop(rng, Point2(0, 0), r / 2, r, count(rng), coin(rng), integer));
+    loops.push_back(loop(Point2(0, 0), r / 2, r));
     const double cell = r / 4 * std::sqrt(2.0) / 3;  // 3x3 cells inside the disc of radius r/4
     for (int gx = 0; gx < 3; ++gx) {
         for (int gy = 0; gy < 3; ++gy) {
             if (!coin(rng)) continue;
             const Point2 c(-1.5 * cell + (gx + 0.5) * cell, -1.5 * cell + (gy + 0.5) * cell);
             const double hr = cell * 0.45;
-            loops.push_back(star_loop(rng, c, hr / 2, hr, count(rng), coin(rng), integer));
-            if (coin(rng)) {
-                loops.push_back(star_loop(rng, c, hr / 8, hr / 4, count(rng), coin(rng), integer));
-            }
+            loops.push_back(loop(c, hr / 2, hr));
+            if (coin(rng)) loops.push_back(loop(c, hr / 8, hr / 4));
         }
     }
     std::shuffle(loops.begin(), loops.end(), rng);

@@ -60,6 +60,23 @@ TEST(FootGenerator, SameSeedSameMeshOtherSeedOtherMesh) {
                  std::equal(a.positions_m.begin(), a.positions_m.end(), c.positions_m.begin()));
 }
 
+// The same seed gives the same foot in every build: gcc -O2 and the -O1 sanitizer builds once
+// drew the rays' yaw and pitch in opposite orders (two draws in one call's arguments, whose
+// order is unspecified), and the demo's hand script moved 40 um between them. Pinned to 1e-12 m
+// (that fault moved these by 6e-8 m).
+TEST(FootGenerator, TheSameSeedGivesTheSameFootInEveryBuild) {
+    const Foot foot = make_foot(20'000, 1);
+    const BoneInfo& m1 = foot.first_metatarsal();
+    const BoneInfo& last = foot.bones.back();
+    const double want[3][3] = {
+        {0.030039936945103367, 0.00014746905435762065, 0.010942005507173592},
+        {0.030003516158936226, 0.00011111003075525308, 0.076288004528926229},
+        {-0.035504402884443745, -0.00021045468598099626, 0.10903913515326882}};
+    const Point got[3] = {m1.base_m, m1.head_m, last.head_m};
+    for (int p = 0; p < 3; ++p)
+        for (int i = 0; i < 3; ++i) EXPECT_NEAR(got[p][i], want[p][i], 1e-12) << p << " " << i;
+}
+
 TEST(FootGenerator, FirstMetatarsalIsOnTheMedialSideAlongPlusZ) {
     const Foot foot = make_foot(20'000);
     const BoneInfo& m1 = foot.first_metatarsal();
