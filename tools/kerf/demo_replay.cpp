@@ -1,7 +1,9 @@
 #include "tools/kerf/demo_replay.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <glm/gtc/quaternion.hpp>
 #include <map>
 #include <optional>
 
@@ -42,6 +44,7 @@ struct Pictures {
     display::RenderSync sync;
     std::optional<render::Camera> camera;
     std::optional<mesh::Point> focus;
+    std::size_t bodies_at_start = 0;  ///< the scene's bodies: more later means a piece came free
 
     Result<bool, std::string> open() {
         auto out = egl::EglOutput::create({});
@@ -54,7 +57,28 @@ struct Pictures {
         return true;
     }
 
-    Result<bool, std::string> shoot(cut::CutSession& session, const ReplayShot& shot) {
+    /// The blade where the open cut's last record put it: the edge's centre on the swept
+    /// region's front (the blade feeds along -v), edge along u, back along v, thickness along
+    /// the plane normal (the tool frame of render::BladePose).
+    static render::BladePose blade_of(const ipc::CutPayload& c) {
+        const glm::dvec3 o(c.plane_point_m[0], c.plane_point_m[1], c.plane_point_m[2]);
+        const glm::dvec3 u = glm::normalize(glm::dvec3(c.plane_u[0], c.plane_u[1], c.plane_u[2]));
+        const glm::dvec3 n =
+            glm::normalize(glm::dvec3(c.plane_normal[0], c.plane_normal[1], c.plane_normal[2]));
+        const glm::dvec3 v = glm::cross(n, u);
+        render::BladePose b;
+        b.position_m = o + u * (0.5 * (double(c.swept_u_min_m) + double(c.swept_u_max_m))) +
+                       v * double(c.swept_v_min_m);
+        b.orientation = glm::quat_cast(glm::dmat3(u, v, n));
+        b.length_m = c.blade_length_m;
+        b.depth_m = c.blade_depth_m;
+        b.thickness_m = c.kerf_width_m;
+        b.visible = std::isfinite(glm::length(b.position_m));
+        return b;
+    }
+
+    Result<bool, std::string> shoot(cut::CutSession& session, const ReplayShot& shot,
+                                    const std::optional<ipc::CutPayload>& open_cut) {
         cut::SessionChanges changes;
         session.take_changes(changes);
         sync.apply(session, changes);
@@ -71,12 +95,16 @@ struct Pictures {
         for (int b = 0; b < render::kMaxBodies; ++b)
             renderer->set_body_transform(b, sync.transforms()[std::size_t(b)]);
         renderer->begin_frame(*camera);
+        if (open_cut) renderer->draw_blade(blade_of(*open_cut));
         render::HudState hud;
         hud.backend = shot.caption;
-        hud.cut_state = session.cut_open()                  ? "cutting"
-                        : session.counters().cuts_completed ? "severed"
-                                                            : "idle";
+        // A withdrawn limb of a chevron completes no cut, yet frees the head: count the bodies.
+        const bool severed =
+            session.counters().cuts_completed != 0 || session.bodies().size() > bodies_at_start;
+        hud.cut_state = session.cut_open() ? "cutting" : severed ? "severed" : "idle";
         hud.device_state = "journal replay";
+        hud.triangles = rm->triangle_count();
+        if (open_cut) hud.cut_depth_mm = double(open_cut->feed_depth_m) * 1e3;
         renderer->draw_hud(hud);
         renderer->finish_frame();
         if (auto saved = renderer->save_png(shot.png.string()); !saved)
@@ -106,15 +134,17 @@ Result<ReplayResult, std::string> replay_journal(const config::Config& config,
               [](const ReplayShot& a, const ReplayShot& b) { return a.events < b.events; });
     Pictures pictures;
     pictures.focus = focus;
+    pictures.bodies_at_start = session.bodies().size();
     if (!shots.empty()) {
         if (auto opened = pictures.open(); !opened) return Err{opened.error()};
     }
     ReplayResult out;
     out.bodies_before = session.bodies().size();
     std::size_t next_shot = 0;
+    std::optional<ipc::CutPayload> open_cut;  // the blade in the pictures
     const auto take_due = [&]() -> Result<bool, std::string> {
         while (next_shot < shots.size() && shots[next_shot].events <= out.events) {
-            if (auto shot = pictures.shoot(session, shots[next_shot]); !shot) return shot;
+            if (auto shot = pictures.shoot(session, shots[next_shot], open_cut); !shot) return shot;
             out.shots.push_back(shots[next_shot].png.string());
             ++next_shot;
         }
@@ -133,11 +163,14 @@ Result<ReplayResult, std::string> replay_journal(const config::Config& config,
         switch (record.header.type) {
             case ipc::EventType::kCutBegin:
                 ++out.cut_begins;
+                open_cut = record.cut;
                 break;
             case ipc::EventType::kCutProgress:
                 ++out.cut_progress;
+                open_cut = record.cut;
                 break;
             case ipc::EventType::kCutEnd:
+                open_cut.reset();
                 if (record.cut.end_reason == ipc::CutEndReason::kCompleted)
                     ++out.cut_ends_completed;
                 else
