@@ -339,7 +339,8 @@ ParsedArgs parse_display_args(int argc, char** argv) {
     app.add_option("--session", o.session, "session segment name (overrides [shm] session_name)");
     app.add_option("--frames", o.frames, "stop after N frames (0: run until closed)");
     auto* shot = app.add_option("--screenshot", o.screenshot, "write a PNG of one frame");
-    app.add_option("--at-frame", o.screenshot_at_frame, "1-based frame to shoot (default: last)")
+    app.add_option("--at-frame", o.screenshot_at_frame,
+                   "1-based frame to shoot (default: the last, also when stopped by a signal)")
         ->needs(shot);
     app.add_flag("--on-cut-end", o.screenshot_on_cut_end, "shoot the first frame after a cut ends")
         ->needs(shot);
@@ -425,12 +426,20 @@ int run_display(const DisplayOptions& o) {
     std::string backend = output->description();
     HapticRate haptic_rate;
     std::string hud_text;  // the last frame's HUD, for --status
-    while (!g_stop.load() && output->poll()) {
+    while (output->poll()) {
+        if (g_stop.load()) {
+            // SIGTERM/SIGINT: one more frame when a last-frame screenshot is still owed (kerf
+            // demo stops the display this way and keeps display-last-frame.png), else stop.
+            if (exiting || shot_taken || frame == 0 || !wants_screenshot(o, frame, false, true))
+                break;
+            exiting = true;
+        }
         if (!scene_ready(handover)) {  // frames start once the worker has built the scene
             std::this_thread::sleep_for(std::chrono::milliseconds(5));
             continue;
         }
-        if (o.on_demand && !needs_frame(handover, (*follower)->status(), drawn, monotonic_ns())) {
+        if (o.on_demand && !exiting &&
+            !needs_frame(handover, (*follower)->status(), drawn, monotonic_ns())) {
             std::this_thread::sleep_for(std::chrono::milliseconds(1));
             continue;
         }

@@ -261,7 +261,9 @@ TEST(DisplayProcess, FollowsASessionResetAndAKerfRtRestartedWithANewSession) {
     auto one = producer("first.bin", "first.out");
     ASSERT_TRUE(one->wait_output("published " + std::to_string(first.size()), kTimeout_s))
         << one->output();
-    Child display(display_args(s, "status.json", {"--hash", "--on-demand"}), s.path("display.out"));
+    Child display(display_args(s, "status.json",
+                               {"--hash", "--on-demand", "--screenshot", s.path("last.png")}),
+                  s.path("display.out"));
     const auto shows = [&](const std::string& hash, std::size_t events) {
         return status_string(s, "status.json", "hash") == hash &&
                status_value(s, "status.json", "hash_sequence") == double(events) &&
@@ -290,6 +292,9 @@ TEST(DisplayProcess, FollowsASessionResetAndAKerfRtRestartedWithANewSession) {
         << "cut 2 withdrawn 4.8 mm deep";
     display.kill(SIGTERM);
     EXPECT_EQ(display.wait_exit(kTimeout_s), std::optional<int>(0)) << display.output();
+    // A stop signal still draws the last frame owed to --screenshot (kerf demo keeps it).
+    ASSERT_TRUE(fs::is_regular_file(s.path("last.png"))) << display.output();
+    EXPECT_GT(fs::file_size(s.path("last.png")), 1000u);
     two->kill(SIGTERM);
 }
 
