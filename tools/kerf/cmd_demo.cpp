@@ -187,14 +187,17 @@ void run_demo(const DemoOptions& o) {
     const fs::path hand = work.path() / "hand.csv";
     if (!write_file(hand, script->csv)) fail("cannot write " + hand.string());
     const double duration_s = std::ceil(script->duration_s + 1.0);
-    if (!o.json)
-        std::cout << "kerf demo: chevron osteotomy of the first metatarsal ("
-                  << script->tilt_deg.size() << " limbs at +-" << script->half_angle_deg
-                  << " degrees to its axis, feed " << script->feed_speed_m_s * 1e3
-                  << " mm/s), the head shifted " << script->shift_m.norm() * 1e3
-                  << " mm laterally; " << duration_s << " s of surgery, "
-                  << (o.lockstep ? "lockstep" : "real time") << ", work folder "
-                  << work.path().string() << std::endl;
+    if (!o.json) {
+        // The limbs' angle is measured on the quantised tilts (29.97 for 30): one decimal.
+        std::printf(
+            "kerf demo: chevron osteotomy of the first metatarsal (%zu limbs at +-%.1f degrees "
+            "to its axis, feed %.1f mm/s), the head shifted %.1f mm laterally; %.0f s of "
+            "surgery, %s, work folder %s\n",
+            script->tilt_deg.size(), script->half_angle_deg, script->feed_speed_m_s * 1e3,
+            script->shift_m.norm() * 1e3, duration_s, o.lockstep ? "lockstep" : "real time",
+            work.path().c_str());
+        std::fflush(stdout);
+    }
 
     const fs::path sock = work.path() / "hapsim.sock";
     const fs::path status = work.path() / "display.json";
