@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 
 #include "tests/run_process.hpp"
@@ -51,6 +52,13 @@ TEST_F(KerfReplay, ReplayOfARecordedDemoReproducesEventsForcesAndHash) {
     EXPECT_EQ(meta["ticks"], report["ticks"]);
     EXPECT_EQ(fs::file_size(out / "recording/input.rec"),
               64u + 128u * meta["ticks"].get<std::uint64_t>());
+    // The recording keeps kerf.toml and the profiles it names, not the whole config folder (the
+    // replays below need nothing else).
+    std::set<std::string> kept;
+    for (const auto& e : fs::recursive_directory_iterator(out / "recording/config"))
+        if (e.is_regular_file()) kept.insert(fs::relative(e.path(), out / "recording/config"));
+    EXPECT_EQ(kept, (std::set<std::string>{"devices/simulated.toml", "force/default.toml",
+                                           "kerf.toml", "scenes/builtin_foot.toml"}));
 
     for (const bool with_display : {true, false}) {
         std::vector<std::string> args = {"replay", (out / "recording").string(), "--json"};

@@ -1,7 +1,10 @@
 #include "tools/kerf/recording_dir.hpp"
 
+#include <algorithm>
 #include <cstring>
 
+#include "config/expand_path.hpp"
+#include "config/load_config.hpp"
 #include "rt_core/ipc/journal_reader.hpp"
 #include "tools/kerf/session_files.hpp"
 
@@ -22,7 +25,41 @@ Result<bool, std::string> copy_file_atomic(const fs::path& from, const fs::path&
     return true;
 }
 
+/// The device profile file kerf-rt reads for `--device NAME` (as kerf-rt's pick_device does).
+std::string device_profile_stem(const std::string& device) {
+    if (device == "simulated" || device == "falcon") return device;
+    return "kerf_hid_reference";  // hid, hid:<serial>
+}
+
+/// `file` relative to `dir` when it lies inside it, else empty.
+fs::path inside(const fs::path& file, const fs::path& dir) {
+    const fs::path rel = file.lexically_normal().lexically_relative(dir.lexically_normal());
+    if (rel.empty() || *rel.begin() == "..") return {};
+    return rel;
+}
+
 }  // namespace
+
+Result<std::vector<fs::path>, std::string> session_config_files(const fs::path& config_dir,
+                                                                const std::string& device) {
+    auto cfg = config::load_config(config_dir / "kerf.toml");
+    if (!cfg) return Err{cfg.error().message()};
+    const config::ProfileNames& names = cfg->main.profiles;
+    std::vector<fs::path> files = {"kerf.toml", fs::path("devices") / (names.device + ".toml"),
+                                   fs::path("force") / (names.force + ".toml"),
+                                   fs::path("scenes") / (names.scene + ".toml")};
+    if (!device.empty())
+        files.push_back(fs::path("devices") / (device_profile_stem(device) + ".toml"));
+    for (const config::SceneBody& body : cfg->scene.bodies) {
+        if (body.mesh.kind != config::MeshSourceKind::kFile) continue;
+        auto path = config::expand_path(body.mesh.path, config::path_vars(*cfg));
+        if (!path) return Err{path.error().message()};
+        if (fs::path rel = inside(*path, cfg->config_dir); !rel.empty()) files.push_back(rel);
+    }
+    std::sort(files.begin(), files.end());
+    files.erase(std::unique(files.begin(), files.end()), files.end());
+    return files;
+}
 
 Result<bool, std::string> save_recording(const fs::path& dir, const fs::path& config_dir,
                                          const fs::path& input, const fs::path& journal,
@@ -30,9 +67,20 @@ Result<bool, std::string> save_recording(const fs::path& dir, const fs::path& co
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec) return Err{"recording folder " + dir.string() + ": " + ec.message()};
+    // kerf.toml and what it names, not the whole folder (an installed or source config folder
+    // holds every profile, udev rules, and in the source tree the config library's code).
+    const std::string device = meta.contains("device") && meta["device"].is_string()
+                                   ? meta["device"].get<std::string>()
+                                   : std::string();
+    auto files = session_config_files(config_dir, device);
+    if (!files) return Err{"configuration " + config_dir.string() + ": " + files.error()};
     fs::remove_all(dir / "config", ec);
-    fs::copy(config_dir, dir / "config", fs::copy_options::recursive, ec);
-    if (ec) return Err{"copy of " + config_dir.string() + ": " + ec.message()};
+    for (const fs::path& rel : *files) {
+        fs::create_directories((dir / "config" / rel).parent_path(), ec);
+        if (ec) return Err{"recording folder " + (dir / "config").string() + ": " + ec.message()};
+        if (auto copied = copy_file_atomic(config_dir / rel, dir / "config" / rel); !copied)
+            return Err{copied.error()};
+    }
     for (const auto& [from, name] :
          {std::pair{input, "input.rec"}, std::pair{journal, "session.journal"},
           std::pair{trace, "force-trace.csv"}}) {

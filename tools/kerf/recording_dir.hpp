@@ -2,7 +2,9 @@
 // DIR` re-runs:
 //
 //   DIR/recording.json   what was recorded: device, lockstep, ticks, events, the mesh hash
-//   DIR/config/          the kerf.toml and profiles the session ran with
+//   DIR/config/          the kerf.toml the session ran with and the files it names (the
+//                        device, force and scene profiles, kerf-rt's --device profile, scene
+//                        meshes inside the config folder)
 //   DIR/input.rec        the device input stream (rt_core/loop/input_recording.hpp)
 //   DIR/session.journal  the event journal kerf-rt wrote
 //   DIR/force-trace.csv  kerf-rt's per-tick tool position and commanded force (when kept)
@@ -12,10 +14,17 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "config/base/result.hpp"
 
 namespace kerf::cli {
+
+/// The files of `config_dir` a session started with its kerf.toml reads (relative paths, sorted):
+/// kerf.toml, the device, force and scene profiles it names, the profile of kerf-rt's
+/// `--device` (`device`; empty: none), and the scene's mesh files that lie inside the folder.
+Result<std::vector<std::filesystem::path>, std::string> session_config_files(
+    const std::filesystem::path& config_dir, const std::string& device);
 
 /// Copies a session's files into `dir` (created) and writes recording.json from `meta`; every
 /// file is written beside its target and renamed. Returns what failed.
