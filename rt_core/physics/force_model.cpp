@@ -68,7 +68,8 @@ PhysicsOutput ForceModel::step(const CollisionWorld& world, const ToolInput& inp
                                   : params_.saw.cancellous.plane_lock_stiffness_n_per_m;
         const double off =
             dot(tool - saw_.current_cut().plane_point_m, saw_.current_cut().plane_normal);
-        stored_j = 0.5 * k_lock * off * off;
+        const double gap = out.saw.front_gap_m;
+        stored_j = 0.5 * k_lock * off * off + 0.5 * params_.saw.front_stiffness_n_per_m * gap * gap;
     } else {
         if (was_locked) {
             // The cut ended this tick: put the proxy back outside the bone, on the nearest surface.

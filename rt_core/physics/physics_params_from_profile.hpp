@@ -20,6 +20,9 @@ inline PhysicsParams physics_params_from_profile(const config::ForceProfile& pro
         return CuttingParams{m.feed_resistance_n_s_per_m, m.plane_lock_stiffness_n_per_m,
                              m.twist_damping_n_m_s_per_rad};
     };
+    // The edge meets the cut front as the tool meets a surface: with the wall's stiffness, which
+    // the device profile's limits already render stably.
+    base.saw.front_stiffness_n_per_m = profile.contact.stiffness_n_per_m;
     base.saw.cortical = cutting(profile.cortical);
     base.saw.cancellous = cutting(profile.cancellous);
     base.saw.blade = {profile.saw.blade_length_m, profile.saw.blade_depth_m,

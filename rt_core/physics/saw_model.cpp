@@ -91,11 +91,27 @@ bool SawModel::begin_cut(const CollisionWorld& world, const ToolPose& pose,
     cut_.swept = {-half, half, 0, 0};
     locked_ = true;
     been_inside_ = false;
+    front_depth_m_ = 0;
     since_progress_s_ = 0;
     reported_extent_m_ = 2 * half;
     swept_changed_ = false;
     emit(CutEventType::kBegin, out);
     return true;
+}
+
+double SawModel::advance_front(double edge_depth_m, double resistance_n_s_per_m,
+                               double dt_s) noexcept {
+    const double k = params_.front_stiffness_n_per_m;
+    if (!(edge_depth_m > front_depth_m_) || !(k > 0)) return 0;  // behind the front: no push
+    if (!(resistance_n_s_per_m > 0)) {
+        front_depth_m_ = edge_depth_m;  // nothing resists: the front is where the edge is
+        return 0;
+    }
+    // Backward Euler on resistance * d(front)/dt = k * (edge - front): the new front lies between
+    // the old front and the edge whatever the ratio, so the force stays in [0, k * gap].
+    const double a = k * dt_s / resistance_n_s_per_m;
+    front_depth_m_ = (front_depth_m_ + a * edge_depth_m) / (1 + a);
+    return k * (edge_depth_m - front_depth_m_);
 }
 
 void SawModel::end_cut(CutEndReason reason, SawOutput& out) noexcept {
@@ -141,17 +157,20 @@ SawOutput SawModel::step(const CollisionWorld& world, const ToolPose& pose,
     swept_changed_ = swept_changed_ || s.u_min_m != before.u_min_m || s.u_max_m != before.u_max_m ||
                      s.v_min_m != before.v_min_m || s.v_max_m != before.v_max_m;
 
-    // Forces: hold the plane, resist the feed by the material under the edge.
+    // Forces: hold the plane; the edge pushes the cut front, which the material under the edge
+    // lets advance at force / feed_resistance.
     const Material material = material_under_edge(world, pose.position_m);
     const CuttingParams& m =
         material == Material::kCortical ? params_.cortical : params_.cancellous;
-    const double feed_speed = std::max(-dot(velocity_m_s, f.v), 0.0);
-    out.force_n = f.n * (-m.plane_lock_stiffness_n_per_m * off) +
-                  f.v * (m.feed_resistance_n_s_per_m * feed_speed);
+    const double front_before = front_depth_m_;
+    const double feed_force = advance_front(-b, m.feed_resistance_n_s_per_m, dt_s);
+    out.force_n = f.n * (-m.plane_lock_stiffness_n_per_m * off) + f.v * feed_force;
     out.torque_n_m = f.n * (-m.twist_damping_n_m_s_per_rad * twist_rate_rad_s);
     out.material = material;
-    out.feed_speed_m_s = feed_speed;
+    out.feed_speed_m_s = (front_depth_m_ - front_before) / dt_s;
     out.feed_depth_m = cut_.feed_depth_m;
+    out.front_depth_m = front_depth_m_;
+    out.front_gap_m = std::max(-b - front_depth_m_, 0.0);
     out.locked = true;
 
     // Ends: back out above the entry, or through the far side of the bone.

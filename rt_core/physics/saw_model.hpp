@@ -8,9 +8,16 @@
 //  - a spring (plane_lock_stiffness of the material under the edge) pulls the tool back into the
 //    plane along the normal; in-plane translation and turning about the normal are free (the
 //    twist damping is returned as a torque for devices that render one);
-//  - feed resistance opposes advance (motion along -v) in proportion to the feed speed, with the
-//    coefficient of the material under the cutting edge: cortical within cortical_thickness_m of a
-//    cortical surface triangle, cancellous deeper or near a cut surface;
+//  - feed resistance opposes advance (motion along -v) through the cut front: the front is a state
+//    of its own (its depth along -v), the edge pushes it through a spring (front_stiffness) and it
+//    advances at the material's removal rate, force / feed_resistance (the coefficient of the
+//    material under the cutting edge: cortical within cortical_thickness_m of a cortical surface
+//    triangle, cancellous deeper or near a cut surface). Fed steadily at speed s, the front keeps
+//    pace and the force is feed_resistance x s, as a damper on the feed would give; but the front
+//    is integrated implicitly, so the force on the device is at most the spring's (front_stiffness
+//    x how far the edge is ahead of the front), stable at 1 kHz for any feed_resistance, never
+//    pulling (an edge behind the front feels nothing), and the front never goes back. The front
+//    is haptic state only: the events' swept region and feed depth follow the edge;
 //  - surface contact is off (the blade is in its own kerf): the caller parks the proxy;
 //  - CutProgress every progress_period_s or progress_advance_m of new sweep;
 //  - CutEnd{kWithdrawn} when the edge comes back above the entry by withdraw_margin_m,
@@ -40,11 +47,12 @@ struct SawParams {
     BladeGeometry blade;
     CuttingParams cortical;
     CuttingParams cancellous{250, 1000, 0.01};
-    double cortical_thickness_m = 0.002;  ///< depth below a cortical surface still cortical
-    double progress_period_s = 0.005;     ///< CutProgress at least this often while sweeping
-    double progress_advance_m = 0.0002;   ///< ... or per this much new sweep
-    double withdraw_margin_m = 0.0002;    ///< edge this far above the entry: withdrawn
-    double max_off_plane_m = 0.003;       ///< forced further off the plane: aborted
+    double cortical_thickness_m = 0.002;    ///< depth below a cortical surface still cortical
+    double front_stiffness_n_per_m = 1500;  ///< spring between the cutting edge and the cut front
+    double progress_period_s = 0.005;       ///< CutProgress at least this often while sweeping
+    double progress_advance_m = 0.0002;     ///< ... or per this much new sweep
+    double withdraw_margin_m = 0.0002;      ///< edge this far above the entry: withdrawn
+    double max_off_plane_m = 0.003;         ///< forced further off the plane: aborted
 };
 
 /// The tool's pose: the cutting edge centre and the blade axes (columns u, v, n of a rotation).
@@ -59,9 +67,11 @@ struct SawOutput {
     Vec3 torque_n_m;      ///< twist damping about the plane normal, N m (locked only)
     bool locked = false;  ///< a cut is in progress after this tick
     Material material = Material::kCortical;  ///< under the cutting edge (locked only)
-    double feed_speed_m_s = 0;                ///< advance speed along -v (>= 0), m/s
-    double feed_depth_m = 0;                  ///< advance since first contact, m
-    std::array<CutEvent, 2> events{};         ///< events emitted this tick, in order
+    double feed_speed_m_s = 0;                ///< cut front's advance speed along -v (>= 0), m/s
+    double feed_depth_m = 0;                  ///< edge's deepest advance since first contact, m
+    double front_depth_m = 0;                 ///< cut front's depth along -v since first contact, m
+    double front_gap_m = 0;  ///< how far the edge is ahead of the cut front (>= 0; the spring), m
+    std::array<CutEvent, 2> events{};  ///< events emitted this tick, in order
     std::uint32_t event_count = 0;
 };
 
@@ -82,18 +92,23 @@ public:
     bool locked() const noexcept { return locked_; }
     /// The current cut's begin event (valid while locked()).
     const CutEvent& current_cut() const noexcept { return cut_; }
+    /// The cut front's depth along -v from the locked plane point (valid while locked()), m.
+    double front_depth_m() const noexcept { return front_depth_m_; }
 
 private:
     Material material_under_edge(const CollisionWorld& world, const Vec3& edge_m) const noexcept;
     bool begin_cut(const CollisionWorld& world, const ToolPose& pose, const ContactOutput& contact,
                    SawOutput& out) noexcept;
     void end_cut(CutEndReason reason, SawOutput& out) noexcept;
+    /// Moves the cut front for an edge at `edge_depth_m` this tick; returns the feed force, N.
+    double advance_front(double edge_depth_m, double resistance_n_s_per_m, double dt_s) noexcept;
     void emit(CutEventType type, SawOutput& out) noexcept;
 
     SawParams params_;
     bool locked_ = false;
     std::uint32_t next_cut_id_ = 1;
     CutEvent cut_;                  ///< plane, seed, blade, swept so far
+    double front_depth_m_ = 0;      ///< the cut front, along -v from the plane point
     double since_progress_s_ = 0;   ///< time since the last CutProgress
     double reported_extent_m_ = 0;  ///< swept width + height at the last CutProgress
     bool swept_changed_ = false;    ///< the swept region grew since the last CutProgress

@@ -180,5 +180,79 @@ TEST(RtClosedLoop, ForceCutWhilePressingIntoAMultiShellBoneComesBackAndPushesThe
     EXPECT_EQ(rig.loop->stats().safe_state_entries, targets.size() / 2);
 }
 
+// The slow-feed bounce: the feed resistance used to be a damper on the sampled velocity, 800 N·s/m
+// on the 0.15 kg device, far above what a sampled damper renders stably at 1 kHz (about 2m/dt =
+// 300 N·s/m): the force flipped tick by tick, the blade ratcheted up above the entry and the cut
+// ended as withdrawn. Now the edge pushes a cut front through a spring. The saw is fed into the
+// CT calcaneus by the emulated hand (its 800 N/m spring) at 1, 2, 3.5 and 10 mm/s, held, lifted
+// out: one CutBegin, no CutEnd while feeding, one CutEnd{withdrawn} at the lift; while the blade is
+// in the bone the feed force never pulls (never below zero along the blade's back), never lets go
+// (never back to zero once it has pushed, until the lift) and never alternates in sign from one
+// tick to the next; the cut front never goes back.
+TEST(RtClosedLoop, ASlowFeedIsOneStableCutUntilTheBladeIsPulledOut) {
+    const std::string file = test::calcaneus_path();
+    if (!std::filesystem::exists(file)) GTEST_SKIP() << "no " << file;
+    const physics::test::TestMesh mesh = physics::test::read_binary_stl(file, 0.001);
+    ClosedLoop probe(file, "hold,0.1\n");
+    ASSERT_TRUE(probe.ok);
+    const std::vector<Vec3> targets = press_targets(mesh, probe.origin, 0.015, 1);
+    ASSERT_EQ(targets.size(), 1u);
+    const Vec3 d = targets[0] - probe.origin;
+    for (const double feed_mm_s : {1.0, 2.0, 3.5, 10.0}) {
+        // Over the bone with the blade 3 mm above it, the saw on, 13 mm of feed (10 mm into the
+        // bone) at the feed speed, a second's hold, then lifted 10 mm above the surface.
+        const double feed_m = 0.013, feed_s = feed_m * 1e3 / feed_mm_s;
+        char script[512];
+        std::snprintf(script, sizeof script,
+                      "hold,0.1\nmove,%.6f,0,%.6f,0.5\nmove,%.6f,%.6f,%.6f,0.5\nbutton,0,down\n"
+                      "hold,0.2\nmove,%.6f,%.6f,%.6f,%.4f\nhold,1.0\nmove,%.6f,%.6f,%.6f,1.15\n"
+                      "button,0,up\nhold,0.5\n",
+                      d.x, d.z, d.x, d.y + 0.003, d.z, d.x, d.y + 0.003 - feed_m, d.z, feed_s, d.x,
+                      d.y + 0.010, d.z);
+        ClosedLoop rig(file, script);
+        ASSERT_TRUE(rig.ok);
+        const int ticks = int((0.1 + 0.5 + 0.5 + 0.2 + feed_s + 1.0 + 1.15 + 0.4) * 1e3);
+        const int lift_at = int((0.1 + 0.5 + 0.5 + 0.2 + feed_s + 1.0) * 1e3);
+        int begins = 0, withdrawn = 0, other_ends = 0, pulls = 0, flips = 0, front_back = 0;
+        int let_go = 0;
+        double depth_at_end = 0, front = 0, last_feed_force = 0;
+        Vec3 v;  // the locked blade's edge -> back direction (normal x u)
+        for (int t = 0; t < ticks; ++t) {
+            rig.tick();
+            const physics::SawOutput& saw = rig.loop->last_physics().saw;
+            if (saw.event_count > 0 && saw.events[0].type == physics::CutEventType::kBegin)
+                v = physics::cross(saw.events[0].plane_normal, saw.events[0].plane_u);
+            if (saw.locked && t < lift_at) {
+                // The feed force: the saw's force along the blade's back (v = normal x u).
+                const double feed_force = physics::dot(saw.force_n, v);
+                if (feed_force < -1e-9) ++pulls;
+                if (feed_force * last_feed_force < 0) ++flips;
+                if (last_feed_force > 0 && !(feed_force > 0)) ++let_go;
+                if (saw.front_depth_m < front) ++front_back;
+                front = saw.front_depth_m;
+                last_feed_force = feed_force;
+            }
+            for (std::uint32_t e = 0; e < saw.event_count; ++e) {
+                const physics::CutEvent& ev = saw.events[e];
+                if (ev.type == physics::CutEventType::kBegin) ++begins, front = 0;
+                if (ev.type != physics::CutEventType::kEnd) continue;
+                depth_at_end = ev.feed_depth_m;
+                if (ev.end_reason == physics::CutEndReason::kWithdrawn && t >= lift_at)
+                    ++withdrawn;
+                else
+                    ++other_ends;
+            }
+        }
+        EXPECT_EQ(begins, 1) << feed_mm_s << " mm/s";
+        EXPECT_EQ(withdrawn, 1) << feed_mm_s << " mm/s";
+        EXPECT_EQ(other_ends, 0) << feed_mm_s << " mm/s";
+        EXPECT_GT(depth_at_end, 0.008) << feed_mm_s << " mm/s: the cut ended early";
+        EXPECT_EQ(pulls, 0) << feed_mm_s << " mm/s";
+        EXPECT_EQ(flips, 0) << feed_mm_s << " mm/s";
+        EXPECT_EQ(let_go, 0) << feed_mm_s << " mm/s";
+        EXPECT_EQ(front_back, 0) << feed_mm_s << " mm/s";
+    }
+}
+
 }  // namespace
 }  // namespace kerf::rt

@@ -29,9 +29,8 @@ namespace {
 // at z = 31 mm); the Rig's device origin sits 10 mm above the top. The plane z = 25 mm (device
 // z = 0.0249) crosses the bone 6 mm from its end, where the section is 22 mm wide (x) and 23 mm
 // tall: the planned blade (edge 25 mm along x, normal +z) is lowered above it, the saw started,
-// and the hand feeds it down at 10 mm/s until the edge is below the bone. (At 1-3.5 mm/s the
-// blade bounces up 0.2 mm on the feed resistance against the emulated hand's soft spring and
-// the saw ends the cut as withdrawn: a known limit of the saw model, see rt_core/README.md.)
+// and the hand feeds it down at 10 mm/s until the edge is below the bone. (Slow feeds are
+// closed_loop_test.cpp's: in process, without the per-tick socket round trip.)
 const char* kSliceScript =
     "hold,0.05\n"
     "move,0.0041,0.0,0.0249,1.0\n"
