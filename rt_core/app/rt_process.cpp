@@ -217,6 +217,8 @@ int run_rt_process(const RtOptions& o) {
 
     RtLog log;
     RtLogDrain drain(log);
+    // Set by SIGINT/SIGTERM: the loop stops after its tick, and lockstep/replay waits end at once.
+    std::atomic<bool> stop{false}, finished{false};
     if (replay) replay_device = std::make_unique<ReplayDevice>(recording, ReplayWorldGate{});
     firmware_host::Device* loop_device = replay ? replay_device.get() : device.get();
     std::unique_ptr<LockstepWorldSync> world_sync;  // lockstep: cut meshes at fixed ticks
@@ -224,6 +226,7 @@ int run_rt_process(const RtOptions& o) {
         // 10 s a wait: a cut the display refused publishes no world, and the run must go on.
         world_sync = std::make_unique<LockstepWorldSync>(*loop_device);
         world_sync->await_first_world(o.await_display);
+        world_sync->stop_waiting_when(stop);
         loop_device = world_sync.get();
     }
     if (recorder) {
@@ -250,6 +253,7 @@ int run_rt_process(const RtOptions& o) {
         ReplayWorldGate gate{&world_release, &builder.offered_generation()};
         gate.keep_alive = [](void* l) noexcept { static_cast<HapticLoop*>(l)->keep_alive(); };
         gate.keep_alive_context = loop.get();
+        gate.stop = &stop;
         replay_device->set_gate(gate);
     }
     if (world_sync) {
@@ -278,7 +282,6 @@ int run_rt_process(const RtOptions& o) {
                                   : std::uint64_t(std::llround(o.duration_s / period_s));
     if (!o.trace_path.empty()) trace.resize(max_ticks ? max_ticks : 600'000);
 
-    std::atomic<bool> stop{false}, finished{false};
     std::atomic<int> status{0};
     std::thread rt_thread([&] {
         const RealtimeReport report = apply_realtime(rts);

@@ -204,6 +204,7 @@ DeviceStatus ReplayDevice::try_read(DeviceSample& out, std::uint32_t) noexcept {
         const auto limit =
             std::chrono::steady_clock::now() + std::chrono::milliseconds(gate_.wait_limit_ms);
         while (due > given_up_generation_ && gate_.offered->load(std::memory_order_acquire) < due) {
+            if (gate_.stop && gate_.stop->load(std::memory_order_acquire)) break;  // stopping
             if (std::chrono::steady_clock::now() > limit) {
                 ++late_worlds_;
                 given_up_generation_ = due;  // counted once; the replay goes on without it

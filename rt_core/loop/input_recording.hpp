@@ -146,6 +146,7 @@ struct ReplayWorldGate {
     std::atomic<std::uint64_t>* release = nullptr;        ///< the builder may offer up to this
     const std::atomic<std::uint64_t>* offered = nullptr;  ///< the newest generation offered
     std::uint32_t wait_limit_ms = 30'000;                 ///< then go on and count a late world
+    const std::atomic<bool>* stop = nullptr;  ///< set: stop waiting at once (kerf-rt stopping)
     /// Called while waiting (from the loop thread): keeps the session's heartbeat fresh, so a
     /// display can still attach and publish the world the replay waits for. Real-time safe.
     void (*keep_alive)(void* context) noexcept = nullptr;

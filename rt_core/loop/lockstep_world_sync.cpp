@@ -11,7 +11,8 @@ void LockstepWorldSync::wait_for(std::uint64_t generation) noexcept {
     release_->store(generation, std::memory_order_release);
     const auto limit = std::chrono::steady_clock::now() + std::chrono::milliseconds(wait_limit_ms_);
     while (offered_->load(std::memory_order_acquire) < generation &&
-           std::chrono::steady_clock::now() < limit) {
+           std::chrono::steady_clock::now() < limit &&
+           !(stop_ && stop_->load(std::memory_order_acquire))) {
         loop_->keep_alive();
         std::this_thread::sleep_for(std::chrono::microseconds(200));
     }

@@ -47,6 +47,9 @@ public:
     const firmware_host::DeviceCounters& counters() const noexcept override {
         return inner_.counters();
     }
+    /// Before the loop runs: a wait ends at once when `stop` is set (kerf-rt's SIGINT/SIGTERM),
+    /// so a stop request never sits out the wait limit. `stop` outlives this device.
+    void stop_waiting_when(const std::atomic<bool>& stop) noexcept { stop_ = &stop; }
     /// Waits (the first world, cut ends) that the world ended within the limit / did not.
     std::uint64_t synced() const noexcept { return synced_; }
     std::uint64_t timed_out() const noexcept { return timed_out_; }
@@ -57,6 +60,7 @@ private:
     std::atomic<std::uint64_t>* release_ = nullptr;
     const std::atomic<std::uint64_t>* offered_ = nullptr;
     HapticLoop* loop_ = nullptr;
+    const std::atomic<bool>* stop_ = nullptr;
     std::uint64_t synced_ = 0, timed_out_ = 0;
     bool await_first_ = false;
 

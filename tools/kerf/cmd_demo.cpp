@@ -203,7 +203,14 @@ void run_demo(const DemoOptions& o) {
     const fs::path status = work.path() / "display.json";
     const fs::path trace = work.path() / "trace.csv";
     const fs::path logs = work.path();
-    if (Supervisor::stop_requested()) fail("stopped before the processes started");
+    // A Ctrl-C before or while a process starts is a stop like any other (exit 130), not a
+    // failure; the supervisor stops what already runs.
+    const auto stopped = [] {
+        if (!Supervisor::stop_requested()) return;
+        std::cerr << "kerf demo: stopped by signal " << Supervisor::stop_signal() << "\n";
+        throw CLI::RuntimeError(130);
+    };
+    stopped();
     std::vector<std::string> hapsim_args = {
         (bin / "kerf-hapsim").string(),
         "--profile",
@@ -216,7 +223,7 @@ void run_demo(const DemoOptions& o) {
     auto hapsim =
         sup.add({{"kerf-hapsim", hapsim_args, logs / "hapsim.log", {}}, Policy::kMayFinish},
                 [&] { return fs::exists(sock); });
-    if (!hapsim) fail(hapsim.error().message());
+    if (!hapsim) stopped(), fail(hapsim.error().message());
     const std::vector<std::string> display_argv =
         display_args(bin, {toml, session, status, o.window ? "window" : "headless", true,
                            out / "display-last-frame.png"});
@@ -225,7 +232,7 @@ void run_demo(const DemoOptions& o) {
         {{"kerf-display", display_argv, display_log, {}}, Policy::kRestart},
         [&] { return number_after(slurp(status), "\"frames\": ") >= 1; },
         std::chrono::seconds(120));  // scene built, first frame drawn
-    if (!display) fail(display.error().message());
+    if (!display) stopped(), fail(display.error().message());
     std::vector<std::string> rt_args = {(bin / "kerf-rt").string(),
                                         "--config",
                                         toml.string(),
@@ -248,7 +255,7 @@ void run_demo(const DemoOptions& o) {
     const fs::path rt_log = logs / "kerf-rt.log";
     auto rt = sup.add({{"kerf-rt", rt_args, rt_log, {}}, Policy::kMayFinish},
                       [&] { return slurp(rt_log).find("kerf-rt: session") != std::string::npos; });
-    if (!rt) fail(rt.error().message() + "\n" + slurp(rt_log));
+    if (!rt) stopped(), fail(rt.error().message() + "\n" + slurp(rt_log));
 
     // The surgery: until kerf-rt's --duration is over (a stop signal or a crash ends it early).
     double last_print = 0;
