@@ -424,13 +424,15 @@ void merge_close_points(ContextState& s) {
     auto close = [&](const PlanPoint& p, const PlanPoint& q) {
         return (p.position - q.position).sqrnorm() <= tol * tol;
     };
+    // Per kept point: which of its loop neighbours was merged into it (at most one per side).
+    constexpr char kFromBefore = 1, kFromAfter = 2;
     std::vector<PlanPoint> points;
     points.reserve(plan.points.size());
-    std::vector<char> target;  // per kept point: something was merged into it
+    std::vector<char> merged_in;
     for (PlanLoop& l : plan.loops) {
         const auto first = static_cast<std::uint32_t>(points.size());
         // Only neighbours on the original loop share a face: merge p into the last kept point
-        // only when that point came just before p, and never chain.
+        // only when that point came just before p.
         bool previous_kept = false, first_is_original = true;
         for (std::uint32_t i = 0; i < l.count; ++i) {
             const PlanPoint& p = plan.points[l.first + i];
@@ -438,34 +440,49 @@ void merge_close_points(ContextState& s) {
             const bool room = kept + (l.count - i) - 1 >= 3;
             if (l.selected && room && previous_kept && close(points.back(), p)) {
                 const auto into = static_cast<std::uint32_t>(points.size() - 1);
-                if (p.key.edge && !target[into] && merge_is_safe(m, points.back(), p)) {
+                // Three edge points in a row within tol (a limb crossing a fan of thin cap
+                // triangles of the other limb): both ends go into the middle one, each through
+                // the face it shares with it, so no two of the three are left.
+                const PlanPoint* next = i + 1 < l.count ? &plan.points[l.first + i + 1] : nullptr;
+                if (p.key.edge && points.back().key.edge && merged_in[into] == 0 &&
+                    next != nullptr && next->key.edge && kept + (l.count - i) - 2 >= 3 &&
+                    close(p, *next) && merge_is_safe(m, p, points.back()) &&
+                    merge_is_safe(m, p, *next)) {
+                    plan.merged.push_back(MergedPoint{points.back(), into});
+                    if (into == first) first_is_original = false;
+                    points.back() = p;
+                    merged_in[into] = kFromBefore;
+                    continue;
+                }
+                if (p.key.edge && !(merged_in[into] & kFromAfter) &&
+                    merge_is_safe(m, points.back(), p)) {
                     plan.merged.push_back(MergedPoint{p, into});
-                    target[into] = 1;
+                    merged_in[into] |= kFromAfter;
                     previous_kept = false;
                     continue;
                 }
-                if (!p.key.edge && points.back().key.edge && !target[into] &&
+                if (!p.key.edge && points.back().key.edge && merged_in[into] == 0 &&
                     merge_is_safe(m, p, points.back())) {
                     plan.merged.push_back(MergedPoint{points.back(), into});
                     if (into == first) first_is_original = false;
                     points.back() = p;
-                    target[into] = 1;
+                    merged_in[into] = kFromBefore;
                     continue;
                 }
             }
             points.push_back(p);
-            target.push_back(0);
+            merged_in.push_back(0);
             previous_kept = true;
         }
         // The loop closes: its last point against its first.
         const auto last = static_cast<std::uint32_t>(points.size() - 1);
         if (l.selected && previous_kept && first_is_original && points.size() - first > 3 &&
-            points[last].key.edge && !target[last] && !target[first] &&
+            points[last].key.edge && merged_in[last] == 0 && !(merged_in[first] & kFromBefore) &&
             close(points[last], points[first]) && merge_is_safe(m, points[first], points[last])) {
             plan.merged.push_back(MergedPoint{points[last], first});
-            target[first] = 1;
+            merged_in[first] |= kFromBefore;
             points.pop_back();
-            target.pop_back();
+            merged_in.pop_back();
         }
         l.first = first;
         l.count = static_cast<std::uint32_t>(points.size()) - first;

@@ -111,9 +111,10 @@ void propose_snap(ContextState& s, const Plane& plane,
 
 /// Drops from the selected loops every edge cut point within tol of the point before it (or, for
 /// an on-plane vertex after an edge point, the edge point: the existing vertex is reused), when
-/// the collapse that follows the split is topologically safe; loops keep at least 3 points. So a
-/// cut never makes two vertices within tol of each other that float32 files would merge (two
-/// limbs of a chevron meeting on a thin cap triangle). O(points).
+/// the collapse that follows the split is topologically safe; three edge points in a row within
+/// tol merge both ends into the middle one (a kept point takes one merge from each side); loops
+/// keep at least 3 points. So a cut never makes two vertices within tol of each other that
+/// float32 files would merge (two limbs of a chevron meeting on thin cap triangles). O(points).
 void merge_close_points(ContextState& s);
 
 /// What every plan needs before its edit: check_split_areas(), merge_close_points(), then

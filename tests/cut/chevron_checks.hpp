@@ -1,0 +1,98 @@
+// Checks and helpers for sequential cuts (chevrons: two localised planes meeting on a line, the
+// second through the first one's cap), shared by the cut property test and the chevron
+// regression test (issue 10, item 2).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "display/cut/components.hpp"
+#include "display/cut/slice_by_plane.hpp"
+#include "display/mesh/mesh_io.hpp"
+#include "display/mesh/validate.hpp"
+#include "tests/cut/cut_test_util.hpp"
+#include "tests/cut/slice_sweep.hpp"
+
+namespace kerf::cut::testing {
+
+/// The chevron's second limb: the plane through `through` (on the first plane) turned `angle_rad`
+/// from `first` about the first plane's v axis.
+inline Plane chevron_second_limb(const Plane& first, const Vec3& through, double angle_rad) {
+    const Vec3 n2 = first.normal() * std::cos(angle_rad) + first.u() * std::sin(angle_rad);
+    return *Plane::make(through, n2);
+}
+
+/// A mesh of the given faces of `m` (positions only), for writing one piece.
+inline kerf::mesh::TriMesh piece_mesh(const kerf::mesh::TriMesh& m, const Body& b) {
+    return extract_faces(m, [&](kerf::mesh::FaceHandle f) {
+        return std::binary_search(b.faces.begin(), b.faces.end(), f);
+    });
+}
+
+/// Writes every piece of `m` in `format`, reads it back and checks it strictly.
+inline void expect_pieces_round_trip(const kerf::mesh::TriMesh& m, mesh::Format format,
+                                     const std::string& what) {
+    for (const Body& b : group_cavities(find_components(m))) {
+        const kerf::mesh::TriMesh piece = piece_mesh(m, b);
+        const std::string bytes = mesh::serialize_mesh(piece, format, mesh::Units::kMillimetres);
+        auto back = mesh::parse_mesh(std::as_bytes(std::span(bytes.data(), bytes.size())), format,
+                                     mesh::Units::kMillimetres);
+        ASSERT_TRUE(back) << what << ": " << to_string(format) << " piece does not reload";
+        const mesh::ValidationReport v = mesh::validate(back->indexed);
+        EXPECT_TRUE(v.closed && v.oriented && v.non_manifold_vertices == 0 &&
+                    v.degenerate_triangles == 0 && back->detached_triangles == 0)
+            << what << ": " << to_string(format) << " piece of " << b.faces.size()
+            << " faces reloads with " << v.boundary_edges << " boundary, " << v.non_manifold_edges
+            << " non-manifold edges, " << v.non_manifold_vertices << " non-manifold vertices, "
+            << v.degenerate_triangles << " degenerate, " << back->detached_triangles << " detached";
+    }
+}
+
+/// How many vertices made by the cuts (index >= `first_new`) lie within `tol` of another vertex,
+/// except at exactly the same position (the two copies of a rim vertex, one per side): a cut
+/// should reuse the existing vertex instead (issue 10, item 2), and `nearest` gets the smallest
+/// such distance. O(V log V).
+inline int close_new_vertices(const kerf::mesh::TriMesh& m, int first_new, double tol,
+                              double& nearest) {
+    std::vector<std::pair<double, int>> by_x;
+    for (auto v : m.vertices()) by_x.emplace_back(m.point(v)[0], v.idx());
+    std::sort(by_x.begin(), by_x.end());
+    int close = 0;
+    for (auto v : m.vertices()) {
+        if (v.idx() < first_new) continue;
+        const auto& p = m.point(v);
+        auto it = std::lower_bound(by_x.begin(), by_x.end(), std::make_pair(p[0] - tol, -1));
+        for (; it != by_x.end() && it->first <= p[0] + tol; ++it) {
+            if (it->second == v.idx()) continue;
+            const double d = (m.point(mesh::VertexHandle(it->second)) - p).norm();
+            if (d > 0 && d <= tol) ++close, nearest = std::min(nearest, d);
+        }
+    }
+    return close;
+}
+
+/// A seed on the line where `a` and `b` meet, on the surface (a face crossing both near it).
+inline Seed seed_on_both(const kerf::mesh::TriMesh& m, const Plane& a, const Plane& b) {
+    kerf::mesh::FaceHandle best;
+    double best_d = 1e300;
+    for (auto f : m.faces()) {
+        int pa = 0, na = 0;
+        double db = 0;
+        for (auto v : m.fv_range(f)) {
+            const double d = a.signed_distance(m.point(v));
+            pa += d > 0, na += d < 0;
+            db += b.signed_distance(m.point(v)) / 3.0;
+        }
+        if (pa && na && std::abs(db) < best_d) best_d = std::abs(db), best = f;
+    }
+    if (!best.is_valid()) return Seed{Vec3(0, 0, 0), kerf::mesh::FaceHandle(), 0.0};
+    return Seed{face_centroid(m, best), best, -1.0};
+}
+
+}  // namespace kerf::cut::testing
