@@ -261,6 +261,9 @@ void run_kiosk(const RunOptions& o) {
             !saved)
             fail(saved.error());
         say("recorded into " + o.record_dir + " (kerf replay " + o.record_dir + ")");
+        if (const std::string gap = recording_gap(input, meta["ticks"].get<std::uint64_t>());
+            !gap.empty())
+            say("warning: the recording is incomplete, " + gap);
     }
     prune();
     if (code != kExitOk) throw CLI::RuntimeError(code);

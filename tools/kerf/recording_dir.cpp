@@ -38,7 +38,25 @@ fs::path inside(const fs::path& file, const fs::path& dir) {
     return rel;
 }
 
+/// Why a recording can hold fewer records than its session's ticks.
+constexpr const char* kUnrecordedReopen =
+    "the device was lost there (unplugged?); kerf-rt does not yet record the ticks without a "
+    "device nor a re-opened device, so the session cannot be replayed past that tick";
+
 }  // namespace
+
+std::uint64_t input_records(const fs::path& input) {
+    std::error_code ec;
+    const auto size = fs::file_size(input, ec);
+    return ec || size < 64 ? 0 : (size - 64) / 128;  // RecordingHeader, RecordedInput
+}
+
+std::string recording_gap(const fs::path& input, std::uint64_t ticks) {
+    const std::uint64_t records = input_records(input);
+    if (records >= ticks) return {};
+    return "only " + std::to_string(records) + " of " + std::to_string(ticks) +
+           " ticks recorded: " + kUnrecordedReopen;
+}
 
 Result<std::vector<fs::path>, std::string> session_config_files(const fs::path& config_dir,
                                                                 const std::string& device) {
@@ -105,6 +123,10 @@ Result<nlohmann::json, std::string> load_recording_meta(const fs::path& dir) {
         return Err{file.string() + ": device/hash must be strings, ticks/events counts"};
     for (const char* f : {"input.rec", "session.journal", "config/kerf.toml"})
         if (!fs::is_regular_file(dir / f)) return Err{(dir / f).string() + ": missing"};
+    const std::uint64_t ticks = meta["ticks"].get<std::uint64_t>();
+    if (const std::uint64_t records = input_records(dir / "input.rec"); records < ticks)
+        return Err{(dir / "input.rec").string() + ": " + std::to_string(records) + " of the " +
+                   std::to_string(ticks) + " ticks recorded: " + kUnrecordedReopen};
     return meta;
 }
 

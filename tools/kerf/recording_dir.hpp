@@ -35,7 +35,15 @@ Result<bool, std::string> save_recording(const std::filesystem::path& dir,
                                          const std::filesystem::path& trace,
                                          const nlohmann::json& meta);
 
-/// recording.json of `dir`, checked for the files and keys replay needs.
+/// Records in a device input file (rt_core/loop/input_recording.hpp), from its size.
+std::uint64_t input_records(const std::filesystem::path& input);
+
+/// Empty when `input` holds all of a session's `ticks`; else why it does not (a device lost and
+/// re-opened mid-session: its ticks are not recorded yet), for a warning when it is saved.
+std::string recording_gap(const std::filesystem::path& input, std::uint64_t ticks);
+
+/// recording.json of `dir`, checked for the files and keys replay needs, and refused when its
+/// input stream stops before the session's last tick.
 Result<nlohmann::json, std::string> load_recording_meta(const std::filesystem::path& dir);
 
 /// Two event journals compared record by record: sequence, type and payload (not the time
