@@ -30,6 +30,7 @@ struct ContextState {
     void ensure_capacity(std::size_t vertices, std::size_t edges, std::size_t faces);
     /// One bounded step for idle time: clears the stamps when fewer than kStampReserve
     /// generations are left before they wrap (so no cut meets the O(mesh) wrap-around), else
+    /// hangs the face tree's pending inserts on their leaves when there are any, else
     /// grow_kind(). Returns whether it did something.
     bool grow_step(std::size_t min_spare_faces);
     /// When the spare room of one element kind (vertices, edges, faces, the face tree's inserts)

@@ -18,6 +18,9 @@ namespace {
 /// Faces of headroom at least (a localised cut on a bone adds a few thousand).
 constexpr std::size_t kMinHeadroomFaces = std::size_t{1} << 16;
 
+/// Pending face-tree inserts hung on their leaves per idle step (all of them: a few ms at most).
+constexpr std::size_t kFlushStep = FaceTree::kPendingFaces;
+
 // Element kinds grown one at a time by grow_step().
 enum class Kind { kVertices, kEdges, kFaces, kTree };
 
@@ -83,6 +86,10 @@ std::size_t ContextState::headroom_faces(std::size_t min_spare_faces) const {
 bool ContextState::grow_step(std::size_t min_spare_faces) {
     if (generation > std::numeric_limits<Stamp>::max() - kStampReserve) {
         clear_stamps();
+        return true;
+    }
+    if (tree.pending() > 0) {
+        tree.flush_pending(kFlushStep);
         return true;
     }
     return grow_kind(min_spare_faces);

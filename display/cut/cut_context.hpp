@@ -53,8 +53,10 @@ public:
     /// of one element kind (vertices, edges, faces, the face index) is below half its target,
     /// grows that kind alone (O(that array): tens of ms at 1M faces) to a headroom of an eighth
     /// of the mesh, at least `min_spare_faces` faces (half as many vertices, twice as many edges),
-    /// and makes it resident. Returns whether it grew something. Called often enough, no cut
-    /// ever grows capacity (a cut that finds too little room grows everything itself: O(mesh)).
+    /// and makes it resident; or, first, hangs the faces the last cuts added to the face index
+    /// on its leaves (O(those faces x depth)). Returns whether it did something. Called often
+    /// enough, no cut ever grows capacity (a cut that finds too little room grows everything
+    /// itself: O(mesh)).
     bool grow_step(std::size_t min_spare_faces = 0);
 
     /// Every grow_step() that is due, now.

@@ -139,7 +139,9 @@ void FaceTree::build(const mesh::TriMesh& mesh) {
     coarse_codes_.clear();
     extra_head_.clear();
     extra_.clear();
+    pending_.clear();
     leaves_ = padded_leaves_ = 0;
+    last_leaf_ = 0;
     // Items, the box of their centres, and each item's Morton code in that box.
     std::vector<Item> unsorted;
     unsorted.reserve(mesh.n_faces());
@@ -181,26 +183,51 @@ void FaceTree::build(const mesh::TriMesh& mesh) {
 }
 
 void FaceTree::reserve_resident(std::size_t faces) {
-    const std::size_t n = extra_.size();
-    if (extra_.capacity() < n + faces) extra_.reserve(n + faces);
+    const std::size_t n = extra_.size(), p = pending_.size();
+    if (extra_.capacity() < n + p + faces) extra_.reserve(n + p + faces);
     extra_.resize(extra_.capacity());  // value-initialised: every page written
     extra_.resize(n);
+    if (pending_.capacity() < kPendingFaces) {
+        pending_.reserve(kPendingFaces);
+        pending_.resize(pending_.capacity());
+        pending_.resize(p);
+    }
 }
 
 void FaceTree::insert(const mesh::TriMesh& mesh, mesh::FaceHandle f) {
     if (leaves_ == 0) return;
-    const Item item = item_of(mesh, f);
+    if (pending_.size() < pending_.capacity())
+        pending_.push_back(item_of(mesh, f));
+    else
+        hang(item_of(mesh, f));
+}
+
+void FaceTree::flush_pending(std::size_t max_faces) {
+    const std::size_t n = std::min(max_faces, pending_.size());
+    for (std::size_t k = 0; k < n; ++k) hang(pending_[k]);
+    pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(n));
+}
+
+void FaceTree::hang(const Item& item) {
     // The leaf whose Morton range holds the face's centre: near it, so its boxes grow little.
     const std::uint64_t code = code_of(centre_of(item.box).data());
-    // Two steps: the coarse table (small enough to stay in cache), then one stride of leaves.
-    const auto c = std::upper_bound(coarse_codes_.begin(), coarse_codes_.end(), code);
-    const std::size_t block = c == coarse_codes_.begin() ? 0 : c - coarse_codes_.begin() - 1;
-    const auto lo = leaf_codes_.begin() + static_cast<std::ptrdiff_t>(block * kCoarseStride);
-    const auto hi = leaf_codes_.begin() + static_cast<std::ptrdiff_t>(std::min<std::size_t>(
-                                              leaf_codes_.size(), (block + 1) * kCoarseStride));
-    const auto it = std::upper_bound(lo, hi, code);
-    const auto leaf =
-        static_cast<std::uint32_t>(it == leaf_codes_.begin() ? 0 : it - leaf_codes_.begin() - 1);
+    // A cut inserts its faces along the loop, so the leaf of the last insert often holds this
+    // code too: the last leaf whose first code is not above it, as the search finds it.
+    std::uint32_t leaf = last_leaf_;
+    const bool same_leaf = leaf < leaves_ && leaf_codes_[leaf] <= code &&
+                           (leaf + 1 == leaves_ || code < leaf_codes_[leaf + 1]);
+    if (!same_leaf) {
+        // Two steps: the coarse table (small enough to stay in cache), then one stride of leaves.
+        const auto c = std::upper_bound(coarse_codes_.begin(), coarse_codes_.end(), code);
+        const std::size_t block = c == coarse_codes_.begin() ? 0 : c - coarse_codes_.begin() - 1;
+        const auto lo = leaf_codes_.begin() + static_cast<std::ptrdiff_t>(block * kCoarseStride);
+        const auto hi = leaf_codes_.begin() + static_cast<std::ptrdiff_t>(std::min<std::size_t>(
+                                                  leaf_codes_.size(), (block + 1) * kCoarseStride));
+        const auto it = std::upper_bound(lo, hi, code);
+        leaf = static_cast<std::uint32_t>(it == leaf_codes_.begin() ? 0
+                                                                    : it - leaf_codes_.begin() - 1);
+        last_leaf_ = leaf;
+    }
     extra_.push_back(Extra{item, extra_head_[leaf]});
     extra_head_[leaf] = static_cast<std::int32_t>(extra_.size() - 1);
     // Up the path while the box grows (a parent holds its child's box).
@@ -211,7 +238,8 @@ void FaceTree::insert(const mesh::TriMesh& mesh, mesh::FaceHandle f) {
 std::size_t FaceTree::memory_bytes() const noexcept {
     return items_.capacity() * sizeof(Item) + nodes_.capacity() * sizeof(Box) +
            (leaf_codes_.capacity() + coarse_codes_.capacity()) * sizeof(std::uint64_t) +
-           extra_head_.capacity() * sizeof(std::int32_t) + extra_.capacity() * sizeof(Extra);
+           extra_head_.capacity() * sizeof(std::int32_t) + extra_.capacity() * sizeof(Extra) +
+           pending_.capacity() * sizeof(Item);
 }
 
 }  // namespace kerf::cut::detail

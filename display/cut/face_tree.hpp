@@ -1,5 +1,6 @@
 // kerf::cut::FaceTree — a bounding-volume hierarchy over the faces of a mesh: built once per mesh
-// (O(n), faces in Morton order of their centroids), updated incrementally as cuts add faces,
+// (O(n), faces in Morton order of their centroids), updated incrementally as cuts add faces
+// (a pending list during the cut, hung on the leaves from idle time),
 // queried for the faces near a point or near a patch of a plane. Library-internal (used by
 // CutContext); queries may report a face more than once and may report deleted faces: callers
 // dedupe and skip.
@@ -40,10 +41,24 @@ public:
     void reserve_resident(std::size_t faces);
 
     /// Inserted faces the reserved room still takes without reallocating.
-    std::size_t spare_inserts() const noexcept { return extra_.capacity() - extra_.size(); }
+    std::size_t spare_inserts() const noexcept {
+        return extra_.capacity() - extra_.size() - pending_.size();
+    }
 
-    /// Adds face `f` (a face created by a cut). O(tree depth).
+    /// Faces the pending list holds (its room is reserved once: about 0.5 MB).
+    static constexpr std::size_t kPendingFaces = std::size_t{1} << 14;
+
+    /// Adds face `f` (a face created by a cut): its box goes on the pending list, O(1), which
+    /// every query scans after the tree, until flush_pending() hangs it on its leaf; when the list
+    /// is full, the face is hung on its leaf at once (O(tree depth)).
     void insert(const mesh::TriMesh& mesh, mesh::FaceHandle f);
+
+    /// Faces inserted since the last flush.
+    std::size_t pending() const noexcept { return pending_.size(); }
+
+    /// For idle time: hangs up to `max_faces` pending faces on the leaves their centres' Morton
+    /// codes fall in, enlarging the boxes on their paths. O(faces x tree depth).
+    void flush_pending(std::size_t max_faces);
 
     /// Extra distance every query adds (vertices moved since indexing), m.
     void widen(double margin_m) noexcept { margin_m_ += margin_m; }
@@ -73,6 +88,8 @@ private:
         std::int32_t next;
     };
     static Item item_of(const mesh::TriMesh& mesh, mesh::FaceHandle f);
+    // Hangs `item` on its leaf and enlarges the boxes up its path.
+    void hang(const Item& item);
     // Grows b to hold `by`; whether it grew.
     static bool enlarge(Box& b, const Box& by) noexcept;
     // Morton code of a point in the quantisation of the last build.
@@ -91,6 +108,7 @@ private:
     double code_scale_ = 0.0;
     std::uint32_t leaves_ = 0;                 // leaves holding built items
     std::uint32_t padded_leaves_ = 0;          // power of two >= leaves_
+    std::uint32_t last_leaf_ = 0;              // leaf of the last insert
     std::vector<Item> items_;                  // Morton order; leaf j holds [j*kLeafItems, ...)
     std::vector<Box> nodes_;                   // 2 * padded_leaves_ - 1, empty boxes where no faces
     std::vector<std::uint64_t> leaf_codes_;    // Morton code of each leaf's first item
@@ -98,6 +116,7 @@ private:
                                                // resident first step of an insert's search)
     std::vector<std::int32_t> extra_head_;     // per leaf, -1 = none
     std::vector<Extra> extra_;
+    std::vector<Item> pending_;  // inserted, not yet hung on a leaf (scanned by every query)
 };
 
 template <class Near, class Accept, class Visit>
@@ -123,6 +142,8 @@ void FaceTree::walk(const Near& near, const Accept& accept, Visit& visit) const 
         for (std::int32_t n = extra_head_[leaf]; n >= 0; n = extra_[n].next)
             if (accept(extra_[n].item)) visit(extra_[n].item.face);
     }
+    for (const Item& e : pending_)
+        if (accept(e)) visit(e.face);
 }
 
 template <class Visit>

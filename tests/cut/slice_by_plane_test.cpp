@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "display/cut/context_state.hpp"
+#include "display/cut/face_tree.hpp"
 #include "display/cut/mesh_hash.hpp"
 #include "display/mesh/shapes.hpp"
 #include "tests/cut/cut_test_util.hpp"
@@ -313,6 +314,54 @@ TEST(CutContext, StampsWrappingInsideACutOrClearedInIdleTimeChangeNoResult) {
     EXPECT_EQ(state.generation, 1);
     const auto v = mesh::VertexHandle(0);
     EXPECT_EQ(wrapped.property(state.v_stamp, v), 0);
+}
+
+}  // namespace
+}  // namespace kerf::cut
+
+namespace kerf::cut {
+namespace {
+
+// Faces a cut inserts into the face tree wait on its pending list (a box each, no leaf search)
+// until idle time hangs them on their leaves; every query sees them in both states, and inserts
+// beyond the list's room are hung at once.
+TEST(FaceTree, InsertedFacesAreFoundPendingFlushedAndBeyondThePendingRoom) {
+    auto m = mesh::make_hollow_tube(0.05, 0.01, 0.006, 32, 4);
+    kerf::cut::detail::FaceTree tree;
+    tree.build(m);
+    tree.reserve_resident(64);
+    // New faces far from the tube, each a small triangle at its own x.
+    const std::size_t n = kerf::cut::detail::FaceTree::kPendingFaces + 100;
+    std::vector<mesh::FaceHandle> added;
+    for (std::size_t i = 0; i < n; ++i) {
+        const double x = 1.0 + 1e-3 * static_cast<double>(i);
+        const auto a = m.add_vertex(Vec3(x, 0, 0)), b = m.add_vertex(Vec3(x + 1e-4, 0, 0)),
+                   c = m.add_vertex(Vec3(x, 1e-4, 0));
+        added.push_back(m.add_face(a, b, c));
+        tree.insert(m, added.back());
+    }
+    EXPECT_EQ(tree.pending(), kerf::cut::detail::FaceTree::kPendingFaces);
+    auto found = [&](mesh::FaceHandle f) {
+        bool hit = false;
+        tree.for_each_near_point(m.point(m.to_vertex_handle(m.halfedge_handle(f))), 1e-5,
+                                 [&](std::int32_t g) { hit |= g == f.idx(); });
+        return hit;
+    };
+    for (const auto f : {added.front(), added[n / 2], added.back()}) EXPECT_TRUE(found(f));
+    tree.flush_pending(kerf::cut::detail::FaceTree::kPendingFaces);
+    EXPECT_EQ(tree.pending(), 0u);
+    for (const auto f : {added.front(), added[n / 2], added.back()}) EXPECT_TRUE(found(f));
+    // Every new face lies in z = 0, inside x in [1, 17.5], y in [0, 1e-4]: the patch of the
+    // plane z = 0 around that, in its own frame.
+    const Plane z0 = *Plane::make(Vec3(0, 0, 0), Vec3(0, 0, 1));
+    Vec2 lo(1e300, 1e300), hi(-1e300, -1e300);
+    for (const Vec3& corner :
+         {Vec3(0.9, -0.1, 0), Vec3(18, -0.1, 0), Vec3(0.9, 1, 0), Vec3(18, 1, 0)})
+        lo.minimize(z0.to_2d(corner)), hi.maximize(z0.to_2d(corner));
+    int on_plane = 0;
+    tree.for_each_near_plane(z0, lo, hi, 1e-9,
+                             [&](std::int32_t g) { on_plane += g >= added.front().idx(); });
+    EXPECT_EQ(on_plane, static_cast<int>(n));
 }
 
 }  // namespace
