@@ -29,7 +29,7 @@ void read_ids(TableReader ids, DeviceIds& out) {
     bool printable = true;
     for (const char c : out.serial) printable = printable && c >= 0x20 && c <= 0x7E;
     if (out.serial.size() > 16 || !printable) {
-        ids.fail("serial", ConfigErrorKind::kBadValue, "at most 16 printable ASCII characters");
+        ids.fail("serial", ConfigErrc::kBadValue, "at most 16 printable ASCII characters");
     }
 }
 
@@ -59,12 +59,12 @@ void read_kinematics(TableReader k, DeviceProfile& p, Stated stated) {
     if (p.kinematic_model == KinematicModel::kFalconDelta && has_model) {
         read_falcon_delta(k, p.falcon_delta);
         if (p.dof != 3 && stated.dof)
-            k.fail("model", ConfigErrorKind::kBadValue, "", "falcon_delta needs dof = 3");
+            k.fail("model", ConfigErrc::kBadValue, "", "falcon_delta needs dof = 3");
     }
     bool joint_model = p.kinematic_model != KinematicModel::kCartesian;
     if (has_model && stated.reporting_space &&
         joint_model != (p.reporting_space == ReportingSpace::kJoint)) {
-        k.fail("model", ConfigErrorKind::kBadValue, "",
+        k.fail("model", ConfigErrc::kBadValue, "",
                "reporting_space = \"" + std::string(to_string(p.reporting_space)) +
                    "\" needs model = \"" + (joint_model ? "cartesian" : "falcon_delta") + "\"");
     }
@@ -90,7 +90,7 @@ void read_limits(TableReader l, DeviceLimits& out) {
     out.max_slew_n_per_s = l.number("max_slew_n_per_s", positive(1e6, "N/s"));
     out.watchdog_ms = static_cast<std::uint32_t>(l.integer("watchdog_ms", 1, 1000));
     if (out.continuous_force_n > out.peak_force_n && out.peak_force_n > 0) {
-        l.fail("continuous_force_n", ConfigErrorKind::kOutOfRange,
+        l.fail("continuous_force_n", ConfigErrc::kOutOfRange,
                "<= limits.peak_force_n (" + detail::format_number(out.peak_force_n) + " N)");
     }
 }
@@ -101,8 +101,7 @@ void read_workspace(TableReader w, Workspace& out) {
     out.max_m = w.numbers<3>("max_m", range);
     for (int axis = 0; axis < 3; ++axis) {
         if (out.min_m[axis] >= out.max_m[axis] && w.problems().empty()) {
-            w.fail("max_m", ConfigErrorKind::kOutOfRange,
-                   "each component > the same component of min_m",
+            w.fail("max_m", ConfigErrc::kOutOfRange, "each component > the same component of min_m",
                    std::string("axis ") + "xyz"[axis] + " is empty");
             return;
         }
@@ -114,9 +113,9 @@ void read_emulator(TableReader e, EmulatorSpec& out) {
     out.socket_path = e.string("socket_path");
     std::string bad;
     if (out.socket_path.empty() && e.has("socket_path")) {
-        e.fail("socket_path", ConfigErrorKind::kBadValue, "a non-empty path");
+        e.fail("socket_path", ConfigErrc::kBadValue, "a non-empty path");
     } else if (!check_path_template(out.socket_path, &bad)) {
-        e.fail("socket_path", ConfigErrorKind::kBadReference,
+        e.fail("socket_path", ConfigErrc::kBadReference,
                "a path; variables ${config}, ${shared}, ${tmp}, ${runtime}",
                "cannot expand " + bad);
     }
@@ -193,10 +192,10 @@ Result<std::vector<NamedDeviceProfile>, ConfigError> load_device_profiles(
     }
     if (ec) {
         ConfigError e;
-        e.kind = ConfigErrorKind::kIo;
+        e.code = ConfigErrc::kIo;
         e.source = devices_dir.string();
         e.note = ec.message();
-        return Err{e};
+        return Err{described(e)};
     }
     std::sort(files.begin(), files.end());
     std::vector<NamedDeviceProfile> out;

@@ -73,11 +73,11 @@ Result<std::filesystem::path, ConfigError> expand_path(std::string_view raw, con
         });
     if (!ok || raw.empty()) {
         ConfigError e;
-        e.kind = ConfigErrorKind::kBadReference;
+        e.code = ConfigErrc::kBadReference;
         e.value = "\"" + std::string(raw.substr(0, 60)) + "\"";
         e.expected = "a path; variables ${config}, ${shared}, ${tmp}, ${runtime}";
         e.note = raw.empty() ? "empty path" : "cannot expand " + bad;
-        return Err{e};
+        return Err{described(e)};
     }
     std::filesystem::path p(out);
     if (p.is_relative()) p = vars.config_dir / p;

@@ -66,30 +66,29 @@ std::string full_key(const FieldSpec& f) { return std::string(f.table) + "." + s
 
 std::string number_text(double v) { return detail::format_number(v); }
 
-ConfigError problem(ConfigErrorKind kind, std::string key, double value, std::string expected) {
+ConfigError problem(ConfigErrc kind, std::string key, double value, std::string expected) {
     ConfigError e;
-    e.kind = kind;
+    e.code = kind;
     e.key = std::move(key);
     e.value = number_text(value);
     e.expected = std::move(expected);
-    return e;
+    return described(e);
 }
 
 /// Rules that relate two fields; each names the field to change.
 void check_cross_fields(const ForceProfile& p, std::vector<ConfigError>& out) {
     if (p.contact.dynamic_friction_n > p.contact.static_friction_n) {
         out.push_back(problem(
-            ConfigErrorKind::kOutOfRange, "contact.dynamic_friction_n",
-            p.contact.dynamic_friction_n,
+            ConfigErrc::kOutOfRange, "contact.dynamic_friction_n", p.contact.dynamic_friction_n,
             "<= contact.static_friction_n (" + number_text(p.contact.static_friction_n) + " N)"));
     }
     if (p.limits.engage_threshold_n > p.limits.max_force_n) {
         out.push_back(problem(
-            ConfigErrorKind::kOutOfRange, "limits.engage_threshold_n", p.limits.engage_threshold_n,
+            ConfigErrc::kOutOfRange, "limits.engage_threshold_n", p.limits.engage_threshold_n,
             "<= limits.max_force_n (" + number_text(p.limits.max_force_n) + " N)"));
     }
     if (p.saw.kerf_width_m >= p.saw.blade_depth_m) {
-        out.push_back(problem(ConfigErrorKind::kOutOfRange, "saw.kerf_width_m", p.saw.kerf_width_m,
+        out.push_back(problem(ConfigErrc::kOutOfRange, "saw.kerf_width_m", p.saw.kerf_width_m,
                               "< saw.blade_depth_m (" + number_text(p.saw.blade_depth_m) +
                                   " m): a blade is thinner than it is deep"));
     }
@@ -120,7 +119,7 @@ ForceProfile read_force_profile(detail::TableReader& root) {
         check_cross_fields(p, cross);
         for (const ConfigError& e : cross) {
             toml::node_view<const toml::node> node = root.raw().at_path(e.key);
-            root.problems().add(e.kind, node ? node.node()->source() : root.raw().source(), e.key,
+            root.problems().add(e.code, node ? node.node()->source() : root.raw().source(), e.key,
                                 e.value, e.expected, e.note);
         }
     }
@@ -135,15 +134,14 @@ std::vector<ConfigError> validate_force_profile(const ForceProfile& profile) {
     for (const FieldSpec& f : kFields) {
         double v = f.ref(copy);
         if (!std::isfinite(v)) {
-            out.push_back(problem(ConfigErrorKind::kNonFinite, full_key(f), v,
+            out.push_back(problem(ConfigErrc::kNonFinite, full_key(f), v,
                                   "a finite number, " + f.range.describe()));
         } else if (!f.range.contains(v)) {
-            out.push_back(
-                problem(ConfigErrorKind::kOutOfRange, full_key(f), v, f.range.describe()));
+            out.push_back(problem(ConfigErrc::kOutOfRange, full_key(f), v, f.range.describe()));
         }
     }
     if (profile.limits.engage_quiet_ticks > kMaxQuietTicks) {
-        out.push_back(problem(ConfigErrorKind::kOutOfRange, "limits.engage_quiet_ticks",
+        out.push_back(problem(ConfigErrc::kOutOfRange, "limits.engage_quiet_ticks",
                               profile.limits.engage_quiet_ticks,
                               "0 <= value <= " + std::to_string(kMaxQuietTicks)));
     }

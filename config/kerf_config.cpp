@@ -35,7 +35,7 @@ constexpr std::int64_t kMaxRing = 1 << 20;
 std::string profile_name(TableReader& t, std::string_view key) {
     std::string name = t.string(key);
     if (t.has(key) && t.raw().get(key)->is_string() && !detail::is_plain_name(name)) {
-        t.fail(key, ConfigErrorKind::kBadValue,
+        t.fail(key, ConfigErrc::kBadValue,
                "a profile name: 1-64 letters, digits, '_' or '-' (no paths, no extension)");
     }
     return name;
@@ -46,9 +46,9 @@ std::string path_template(TableReader& t, std::string_view key, std::string fall
     std::string raw = t.string_or(key, std::move(fallback));
     std::string bad;
     if (raw.empty() && t.has(key)) {
-        t.fail(key, ConfigErrorKind::kBadValue, "a non-empty path");
+        t.fail(key, ConfigErrc::kBadValue, "a non-empty path");
     } else if (!check_path_template(raw, &bad)) {
-        t.fail(key, ConfigErrorKind::kBadReference,
+        t.fail(key, ConfigErrc::kBadReference,
                "a path; variables ${config}, ${shared}, ${tmp}, ${runtime}",
                "cannot expand " + bad);
     }
@@ -69,7 +69,7 @@ void read_realtime(TableReader t, RealtimeSettings& r) {
     bool realtime_policy = r.policy != SchedPolicy::kOther;
     if (!t.has("priority") && !realtime_policy) r.priority = 0;
     if (t.has("priority") && realtime_policy == (r.priority == 0)) {
-        t.fail("priority", ConfigErrorKind::kOutOfRange,
+        t.fail("priority", ConfigErrc::kOutOfRange,
                realtime_policy ? "1..99 for policy \"fifo\" or \"rr\"" : "0 for policy \"other\"");
     }
     for (auto cpu : t.integer_list_or("cpu_affinity", 0, 1023, 64))
@@ -77,7 +77,7 @@ void read_realtime(TableReader t, RealtimeSettings& r) {
     auto sorted = r.cpu_affinity;
     std::sort(sorted.begin(), sorted.end());
     if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
-        t.fail("cpu_affinity", ConfigErrorKind::kBadValue, "distinct CPU numbers");
+        t.fail("cpu_affinity", ConfigErrc::kBadValue, "distinct CPU numbers");
     r.consecutive_misses_to_safe_state = static_cast<std::uint32_t>(t.integer_or(
         "consecutive_misses_to_safe_state", r.consecutive_misses_to_safe_state, 1, 1000));
     r.mlockall = t.boolean_or("mlockall", r.mlockall);
@@ -87,7 +87,7 @@ void read_realtime(TableReader t, RealtimeSettings& r) {
 std::uint32_t ring_capacity(TableReader& t, std::string_view key, std::uint32_t fallback) {
     auto v = t.integer_or(key, fallback, kMinRing, kMaxRing);
     if ((v & (v - 1)) != 0) {
-        t.fail(key, ConfigErrorKind::kOutOfRange,
+        t.fail(key, ConfigErrc::kOutOfRange,
                "a power of two, " + std::to_string(kMinRing) + ".." + std::to_string(kMaxRing));
         return fallback;
     }
@@ -97,12 +97,12 @@ std::uint32_t ring_capacity(TableReader& t, std::string_view key, std::uint32_t 
 void read_shm(TableReader t, ShmSettings& s) {
     s.session_name = t.string_or("session_name", s.session_name);
     if (!detail::is_plain_name(s.session_name))
-        t.fail("session_name", ConfigErrorKind::kBadValue, "1-64 letters, digits, '_' or '-'");
+        t.fail("session_name", ConfigErrc::kBadValue, "1-64 letters, digits, '_' or '-'");
     s.group = t.string_or("group", s.group);
     if (!s.group.empty() && (!detail::is_plain_name(s.group) || s.group.size() > 32)) {
-        t.fail("group", ConfigErrorKind::kBadValue, "empty (owner-only) or a group name");
+        t.fail("group", ConfigErrc::kBadValue, "empty (owner-only) or a group name");
     } else if (!s.group.empty() && !group_exists(s.group)) {
-        t.fail("group", ConfigErrorKind::kBadValue, "empty (owner-only) or an existing group",
+        t.fail("group", ConfigErrc::kBadValue, "empty (owner-only) or an existing group",
                "no group '" + s.group + "' on this system (see getent group)");
     }
     s.event_ring_capacity = ring_capacity(t, "event_ring_capacity", s.event_ring_capacity);
@@ -112,7 +112,7 @@ void read_shm(TableReader t, ShmSettings& s) {
     // tools (or asks for more than the segment has) is refused, not clamped.
     const auto slots = t.integer_or("consumer_slots", s.consumer_slots, INT32_MIN, INT32_MAX);
     if (slots <= kReservedConsumerSlots || slots > kSegmentConsumerSlots) {
-        t.fail("consumer_slots", ConfigErrorKind::kOutOfRange,
+        t.fail("consumer_slots", ConfigErrc::kOutOfRange,
                std::to_string(kReservedConsumerSlots + 1) + ".." +
                    std::to_string(kSegmentConsumerSlots),
                "slot 0 is kerf-display's and slot 1 the soak monitor's, at least one must be "

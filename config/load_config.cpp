@@ -15,15 +15,15 @@ namespace fs = std::filesystem;
 ConfigError located(ConfigError e, const fs::path& file, std::string_view key) {
     e.source = file.string();
     auto text = detail::read_text_file(file.string());
-    if (!text) return e;
+    if (!text) return described(e);
     auto doc = detail::parse_toml(*text, e.source);
-    if (!doc) return e;
+    if (!doc) return described(e);
     toml::node_view<const toml::node> node = std::as_const(*doc).at_path(key);
     if (node) {
         e.line = node.node()->source().begin.line;
         e.column = node.node()->source().begin.column;
     }
-    return e;
+    return described(e);
 }
 
 /// The profile names available in `dir` (file stems of *.toml), sorted, comma-separated.
@@ -49,7 +49,7 @@ Result<fs::path, ConfigError> profile_path(const fs::path& kerf_toml, std::strin
     // a device) instead of "no file".
     if (fs::exists(file, ec)) return file;
     ConfigError e;
-    e.kind = ConfigErrorKind::kBadReference;
+    e.code = ConfigErrc::kBadReference;
     e.key = std::string(key);
     e.value = "\"" + name + "\"";
     e.expected = "one of: " + available_names(dir);
@@ -65,9 +65,9 @@ Status<ConfigError> check_meshes(const Config& c, const fs::path& scene_file) {
         auto path = resolve_mesh_path(body, path_vars(c));
         if (!path) {
             std::string key = "bodies[" + std::to_string(i) + "].mesh.path";
-            ConfigError e = located(path.error(), scene_file, key);
+            ConfigError e = path.error();
             e.key = key;
-            return Err{e};
+            return Err{located(e, scene_file, key)};
         }
     }
     return {};
@@ -112,7 +112,7 @@ Status<ConfigError> check_force_within_device(const Config& c, const fs::path& f
                                               const fs::path& device_file) {
     if (c.force.limits.max_force_n <= c.device.limits.peak_force_n) return {};
     ConfigError e;
-    e.kind = ConfigErrorKind::kOutOfRange;
+    e.code = ConfigErrc::kOutOfRange;
     e.key = "limits.max_force_n";
     e.value = detail::format_number(c.force.limits.max_force_n);
     e.expected = "<= the device's peak_force_n (" +

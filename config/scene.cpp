@@ -29,14 +29,13 @@ void read_mesh(TableReader m, MeshSource& out) {
         out.path = m.string("path");
         std::string bad;
         if (m.has("path") && out.path.empty()) {
-            m.fail("path", ConfigErrorKind::kBadValue, "a non-empty path");
+            m.fail("path", ConfigErrc::kBadValue, "a non-empty path");
         } else if (!check_path_template(out.path, &bad)) {
-            m.fail("path", ConfigErrorKind::kBadReference,
+            m.fail("path", ConfigErrc::kBadReference,
                    "a path; variables ${config}, ${shared}, ${tmp}, ${runtime}",
                    "cannot expand " + bad);
         }
-        out.units =
-            static_cast<LengthUnit>(m.choice("units", kUnitNames, ConfigErrorKind::kBadUnit));
+        out.units = static_cast<LengthUnit>(m.choice("units", kUnitNames, ConfigErrc::kBadUnit));
         for (auto key : {"target_triangles", "seed"})
             m.forbid(key, "only for source = \"builtin_foot\"");
     } else {
@@ -54,7 +53,7 @@ std::array<double, 4> axis_angle(TableReader& t) {
     double norm = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
     if (norm < 1e-12) {
         if (t.problems().empty())
-            t.fail("rotation_axis", ConfigErrorKind::kOutOfRange, "a non-zero axis");
+            t.fail("rotation_axis", ConfigErrc::kOutOfRange, "a non-zero axis");
         return {1, 0, 0, 0};
     }
     double half = angle_deg * kPi / 360.0;
@@ -67,7 +66,7 @@ std::array<double, 4> quaternion(TableReader& t) {
     double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
     if (std::abs(norm - 1.0) > kQuaternionTolerance) {
         if (t.problems().empty())
-            t.fail("rotation_quaternion_wxyz", ConfigErrorKind::kOutOfRange,
+            t.fail("rotation_quaternion_wxyz", ConfigErrc::kOutOfRange,
                    "a unit quaternion [w, x, y, z] (|q| = 1 +- 0.001)",
                    "|q| = " + detail::format_number(norm));
         return {1, 0, 0, 0};
@@ -82,7 +81,7 @@ void read_rotation(TableReader& t, std::array<double, 4>& out) {
     for (auto key : {"rotation_axis", "rotation_angle_deg", "rotation_quaternion_wxyz"})
         t.problems().mark_known(&t.raw(), key);
     if (quat && axis) {
-        t.fail("rotation_quaternion_wxyz", ConfigErrorKind::kBadValue, "",
+        t.fail("rotation_quaternion_wxyz", ConfigErrc::kBadValue, "",
                "write the rotation once: rotation_axis + rotation_angle_deg, or "
                "rotation_quaternion_wxyz");
         return;
@@ -114,7 +113,7 @@ std::array<double, 3> unit_vector(TableReader& t, std::string_view key) {
     auto v = t.numbers<3>(key, closed(-1e6, 1e6, ""));
     const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     if (n < 1e-9) {
-        if (t.problems().empty()) t.fail(key, ConfigErrorKind::kOutOfRange, "a non-zero vector");
+        if (t.problems().empty()) t.fail(key, ConfigErrc::kOutOfRange, "a non-zero vector");
         return {0, 0, 1};
     }
     return {v[0] / n, v[1] / n, v[2] / n};
@@ -140,7 +139,7 @@ void read_planned_cut(TableReader t, PlannedCut& out) {
     const double len = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
     if (len < 0.1) {  // within ~6 degrees of the normal: not a direction in the plane
         if (t.problems().empty())
-            t.fail("edge", ConfigErrorKind::kBadValue,
+            t.fail("edge", ConfigErrc::kBadValue,
                    "a direction in the plane (at least 6 degrees off the normal)");
         return;
     }
@@ -162,7 +161,7 @@ Scene read_scene(TableReader& root) {
     s.description = root.string_or("description", "");
     auto bodies = root.tables("bodies");
     if (bodies.empty() && root.has("bodies"))
-        root.fail("bodies", ConfigErrorKind::kOutOfRange, "at least one [[bodies]] table");
+        root.fail("bodies", ConfigErrc::kOutOfRange, "at least one [[bodies]] table");
     read_device_mapping(root.table("device_mapping", false), s.device_mapping);
     s.has_planned_cut = root.has("planned_cut");
     if (s.has_planned_cut) read_planned_cut(root.table("planned_cut"), s.planned_cut);
@@ -171,7 +170,7 @@ Scene read_scene(TableReader& root) {
         const std::string& name = s.bodies.back().name;
         for (std::size_t i = 0; i + 1 < s.bodies.size(); ++i) {
             if (!name.empty() && s.bodies[i].name == name) {
-                b.fail("name", ConfigErrorKind::kBadValue, "a name unique within the scene",
+                b.fail("name", ConfigErrc::kBadValue, "a name unique within the scene",
                        "body " + std::to_string(i) + " has the same name");
             }
         }
@@ -237,17 +236,17 @@ Result<std::filesystem::path, ConfigError> resolve_mesh_path(const SceneBody& bo
     if (!path) {
         ConfigError e = path.error();
         e.key = "bodies." + body.name + ".mesh.path";
-        return Err{e};
+        return Err{described(e)};
     }
     std::error_code ec;
     if (!std::filesystem::is_regular_file(*path, ec)) {
         ConfigError e;
-        e.kind = ConfigErrorKind::kBadReference;
+        e.code = ConfigErrc::kBadReference;
         e.key = "bodies." + body.name + ".mesh.path";
         e.value = "\"" + body.mesh.path + "\"";
         e.expected = "an existing mesh file";
         e.note = "no such file: " + path->string();
-        return Err{e};
+        return Err{described(e)};
     }
     return *path;
 }

@@ -45,7 +45,7 @@ const toml::node* TableReader::lookup(std::string_view key, std::string_view exp
     problems_->mark_known(table_, key);
     const toml::node* n = table_->get(key);
     if (n == nullptr && !expected.empty() && !stand_in_) {
-        problems_->add(ConfigErrorKind::kMissingKey, table_->source(), key_path(key), "",
+        problems_->add(ConfigErrc::kMissingKey, table_->source(), key_path(key), "",
                        std::string(expected), "required key is missing");
     }
     return n;
@@ -53,11 +53,11 @@ const toml::node* TableReader::lookup(std::string_view key, std::string_view exp
 
 void TableReader::wrong_type(std::string_view key, const toml::node& node,
                              std::string_view expected) {
-    problems_->add(ConfigErrorKind::kWrongType, node.source(), key_path(key), describe_value(node),
+    problems_->add(ConfigErrc::kWrongType, node.source(), key_path(key), describe_value(node),
                    std::string(expected), "got " + std::string(node_type_name(node)));
 }
 
-void TableReader::fail(std::string_view key, ConfigErrorKind kind, std::string expected,
+void TableReader::fail(std::string_view key, ConfigErrc kind, std::string expected,
                        std::string note) {
     const toml::node* n = table_->get(key);
     problems_->add(kind, n ? n->source() : table_->source(), key_path(key),
@@ -65,7 +65,7 @@ void TableReader::fail(std::string_view key, ConfigErrorKind kind, std::string e
 }
 
 void TableReader::forbid(std::string_view key, std::string why) {
-    if (lookup(key, "") != nullptr) fail(key, ConfigErrorKind::kBadValue, "", std::move(why));
+    if (lookup(key, "") != nullptr) fail(key, ConfigErrc::kBadValue, "", std::move(why));
 }
 
 double TableReader::number_or(std::string_view key, double fallback, const Range& range) {
@@ -77,11 +77,11 @@ double TableReader::number_or(std::string_view key, double fallback, const Range
     }
     double v = n->value<double>().value_or(fallback);
     if (!std::isfinite(v)) {
-        fail(key, ConfigErrorKind::kNonFinite, "a finite number, " + range.describe());
+        fail(key, ConfigErrc::kNonFinite, "a finite number, " + range.describe());
         return fallback;
     }
     if (!range.contains(v)) {
-        fail(key, ConfigErrorKind::kOutOfRange, range.describe());
+        fail(key, ConfigErrc::kOutOfRange, range.describe());
         return fallback;
     }
     return v;
@@ -103,7 +103,7 @@ std::int64_t TableReader::integer_or(std::string_view key, std::int64_t fallback
     }
     std::int64_t v = n->as_integer()->get();
     if (v < min || v > max) {
-        fail(key, ConfigErrorKind::kOutOfRange, "an integer, " + range);
+        fail(key, ConfigErrc::kOutOfRange, "an integer, " + range);
         return fallback;
     }
     return v;
@@ -150,7 +150,7 @@ std::size_t TableReader::choice_or(std::string_view key, std::size_t fallback,
 }
 
 std::size_t TableReader::choice(std::string_view key, const std::vector<std::string_view>& names,
-                                ConfigErrorKind bad_kind) {
+                                ConfigErrc bad_kind) {
     const toml::node* n = lookup(key, choices(names));
     if (n == nullptr) return 0;
     if (!n->is_string()) {
@@ -183,7 +183,7 @@ void TableReader::numbers_into(std::string_view key, const Range& range, double*
         return;
     }
     if (arr->size() != n) {
-        fail(key, ConfigErrorKind::kOutOfRange, expected,
+        fail(key, ConfigErrc::kOutOfRange, expected,
              "has " + std::to_string(arr->size()) + " elements");
         return;
     }
@@ -191,17 +191,17 @@ void TableReader::numbers_into(std::string_view key, const Range& range, double*
         const toml::node& e = *arr->get(i);
         std::string element = key_path(key) + "[" + std::to_string(i) + "]";
         if (!e.is_number()) {
-            problems_->add(ConfigErrorKind::kWrongType, e.source(), element, describe_value(e),
+            problems_->add(ConfigErrc::kWrongType, e.source(), element, describe_value(e),
                            "a number, " + range.describe(),
                            "got " + std::string(node_type_name(e)));
             continue;
         }
         double v = e.value<double>().value_or(0.0);
         if (!std::isfinite(v)) {
-            problems_->add(ConfigErrorKind::kNonFinite, e.source(), element, describe_value(e),
+            problems_->add(ConfigErrc::kNonFinite, e.source(), element, describe_value(e),
                            "a finite number, " + range.describe());
         } else if (!range.contains(v)) {
-            problems_->add(ConfigErrorKind::kOutOfRange, e.source(), element, describe_value(e),
+            problems_->add(ConfigErrc::kOutOfRange, e.source(), element, describe_value(e),
                            range.describe());
         } else {
             out[i] = v;
@@ -222,7 +222,7 @@ std::vector<std::int64_t> TableReader::integer_list_or(std::string_view key, std
         return out;
     }
     if (arr->size() > max_len) {
-        fail(key, ConfigErrorKind::kOutOfRange, expected,
+        fail(key, ConfigErrc::kOutOfRange, expected,
              "has " + std::to_string(arr->size()) + " elements");
         return out;
     }
@@ -230,11 +230,10 @@ std::vector<std::int64_t> TableReader::integer_list_or(std::string_view key, std
         const toml::node& e = *arr->get(i);
         std::string element = key_path(key) + "[" + std::to_string(i) + "]";
         if (!e.is_integer()) {
-            problems_->add(ConfigErrorKind::kWrongType, e.source(), element, describe_value(e),
+            problems_->add(ConfigErrc::kWrongType, e.source(), element, describe_value(e),
                            "an integer, " + each, "got " + std::string(node_type_name(e)));
         } else if (auto v = e.as_integer()->get(); v < min || v > max) {
-            problems_->add(ConfigErrorKind::kOutOfRange, e.source(), element, describe_value(e),
-                           each);
+            problems_->add(ConfigErrc::kOutOfRange, e.source(), element, describe_value(e), each);
         } else {
             out.push_back(v);
         }
@@ -269,8 +268,8 @@ std::vector<TableReader> TableReader::tables(std::string_view key) {
         if (const toml::table* t = e.as_table()) {
             out.emplace_back(*t, path, *problems_);
         } else {
-            problems_->add(ConfigErrorKind::kWrongType, e.source(), path, describe_value(e),
-                           "a table", "got " + std::string(node_type_name(e)));
+            problems_->add(ConfigErrc::kWrongType, e.source(), path, describe_value(e), "a table",
+                           "got " + std::string(node_type_name(e)));
         }
     }
     return out;

@@ -125,10 +125,10 @@ Range closed(double min, double max, std::string_view unit) {
 
 // ---- Problems -----------------------------------------------------------------------------
 
-void Problems::add(ConfigErrorKind kind, const toml::source_region& where, std::string key,
+void Problems::add(ConfigErrc kind, const toml::source_region& where, std::string key,
                    std::string value, std::string expected, std::string note) {
     ConfigError e;
-    e.kind = kind;
+    e.code = kind;
     e.source = source_;
     e.line = where.begin.line;
     e.column = where.begin.column;
@@ -136,7 +136,7 @@ void Problems::add(ConfigErrorKind kind, const toml::source_region& where, std::
     e.value = std::move(value);
     e.expected = std::move(expected);
     e.note = std::move(note);
-    list_.push_back(std::move(e));
+    list_.push_back(described(std::move(e)));
 }
 
 ConfigError Problems::first() const {
@@ -147,9 +147,9 @@ ConfigError Problems::first() const {
     // A misspelt key explains the "missing key" it causes; a value problem is more specific
     // than a missing key. Within a rank, document order.
     auto rank = [](const ConfigError& e) {
-        if (e.kind == ConfigErrorKind::kUnknownKey) return 0;
-        if (e.kind == ConfigErrorKind::kBadUnit && e.value.empty()) return 0;
-        return e.kind == ConfigErrorKind::kMissingKey ? 2 : 1;
+        if (e.code == ConfigErrc::kUnknownKey) return 0;
+        if (e.code == ConfigErrc::kBadUnit && e.value.empty()) return 0;
+        return e.code == ConfigErrc::kMissingKey ? 2 : 1;
     };
     const ConfigError* best = nullptr;
     for (const auto& e : list_) {
@@ -162,7 +162,7 @@ ConfigError Problems::first() const {
     }
     ConfigError out = *best;
     out.more_problems = list_.size() - 1;
-    return out;
+    return described(std::move(out));
 }
 
 void Problems::mark_known(const toml::table* table, std::string_view key) {
@@ -183,11 +183,11 @@ void Problems::report_unknown(const toml::key& key, const std::string& full,
                               const std::vector<std::string>& known) {
     std::string name(key.str());
     std::string hint;
-    ConfigErrorKind kind = ConfigErrorKind::kUnknownKey;
+    ConfigErrc kind = ConfigErrc::kUnknownKey;
     std::size_t best = 4;
     for (const auto& k : known) {
         if (differs_only_in_unit(name, k)) {
-            kind = ConfigErrorKind::kBadUnit;
+            kind = ConfigErrc::kBadUnit;
             hint = "units are fixed in the key name: write '" + k + "' (SI)";
             break;
         }
@@ -254,10 +254,10 @@ Result<std::string, ConfigError> read_text_file(const std::string& path) {
     auto bytes = files::read_regular_file(path, kMaxFileBytes);
     if (!bytes) {
         ConfigError e;
-        e.kind = ConfigErrorKind::kIo;
+        e.code = ConfigErrc::kIo;
         e.source = path;
         e.note = bytes.error().what;
-        return Err{e};
+        return Err{described(e)};
     }
     return std::string(reinterpret_cast<const char*>(bytes->data()), bytes->size());
 }
@@ -272,7 +272,7 @@ bool is_plain_name(std::string_view name) noexcept {
 
 Result<toml::table, ConfigError> parse_toml(std::string_view text, std::string_view source) {
     ConfigError e;
-    e.kind = ConfigErrorKind::kSyntax;
+    e.code = ConfigErrc::kSyntax;
     e.source = std::string(source);
     try {
         return toml::parse(text, std::string(source));
@@ -283,7 +283,7 @@ Result<toml::table, ConfigError> parse_toml(std::string_view text, std::string_v
     } catch (const std::exception& err) {
         e.note = err.what();
     }
-    return Err{e};
+    return Err{described(e)};
 }
 
 }  // namespace kerf::config::detail

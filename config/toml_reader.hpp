@@ -45,9 +45,9 @@ public:
     const std::string& source() const noexcept { return source_; }
     bool empty() const noexcept { return list_.empty(); }
     /// Records a problem at `where` (a node's or key's source region).
-    void add(ConfigErrorKind kind, const toml::source_region& where, std::string key,
-             std::string value, std::string expected, std::string note = {});
-    void add(ConfigError error) { list_.push_back(std::move(error)); }
+    void add(ConfigErrc kind, const toml::source_region& where, std::string key, std::string value,
+             std::string expected, std::string note = {});
+    void add(ConfigError error) { list_.push_back(described(std::move(error))); }
     /// The most useful problem: unknown keys (and unit-suffix mistakes) first, then bad values,
     /// then missing keys; document order within each.
     /// @pre !empty()
@@ -83,7 +83,7 @@ public:
     std::string string_or(std::string_view key, std::string fallback);
     /// A string that must be one of `names`; returns its index (0 on error).
     std::size_t choice(std::string_view key, const std::vector<std::string_view>& names,
-                       ConfigErrorKind bad_kind = ConfigErrorKind::kBadValue);
+                       ConfigErrc bad_kind = ConfigErrc::kBadValue);
     std::size_t choice_or(std::string_view key, std::size_t fallback,
                           const std::vector<std::string_view>& names);
     /// A list of exactly N numbers, each in `range`.
@@ -98,8 +98,7 @@ public:
     /// Accepts `key` as known but records kBadValue with `why` when it is present.
     void forbid(std::string_view key, std::string why);
     /// Records a problem about `key` of this table (its value's position, or the table's).
-    void fail(std::string_view key, ConfigErrorKind kind, std::string expected,
-              std::string note = {});
+    void fail(std::string_view key, ConfigErrc kind, std::string expected, std::string note = {});
     std::string key_path(std::string_view key) const;
     const toml::table& raw() const noexcept { return *table_; }
     Problems& problems() noexcept { return *problems_; }
@@ -154,7 +153,7 @@ Result<T, ConfigError> parse_document(std::string_view text, std::string_view so
         ConfigError first = problems.first();
         if (doc->empty())  // say why everything is missing
             first.note = "the file holds no settings (empty, or only comments)";
-        return Err{first};
+        return Err{described(std::move(first))};
     }
     return value;
 }

@@ -379,13 +379,13 @@ int run_display(const DisplayOptions& o) {
     }
     auto output = open_output(o, *cfg);
     if (!output) {
-        spdlog::error("kerf-display: {}", output.error().message);
+        spdlog::error("kerf-display: {}", output.error().message());
         return 3;
     }
     auto renderer =
         render::Renderer::create({output->width(), output->height(), {0.10f, 0.12f, 0.15f}});
     if (!renderer) {
-        spdlog::error("kerf-display: renderer: {}", renderer.error().message);
+        spdlog::error("kerf-display: renderer: {}", renderer.error().message());
         return 3;
     }
     spdlog::info("kerf-display: {}", output->description());
@@ -472,7 +472,7 @@ int run_display(const DisplayOptions& o) {
         const bool last_frame = (o.frames && frame >= o.frames) || exiting;
         if (!shot_taken && wants_screenshot(o, frame, in.cut_ended, last_frame)) {
             if (auto saved = renderer->save_png(o.screenshot); !saved) {
-                spdlog::error("kerf-display: screenshot: {}", saved.error().message);
+                spdlog::error("kerf-display: screenshot: {}", saved.error().message());
             }
             shot_taken = true;
         }

@@ -64,7 +64,7 @@ Result<mesh::TriMesh, std::string> build_scene_mesh(const config::Config& config
         auto path = config::resolve_mesh_path(body, vars);
         if (!path) return Err{where + path.error().message()};
         auto loaded = mesh::load_mesh(*path, units_of(body.mesh.units));
-        if (!loaded) return Err{where + loaded.error().to_string()};
+        if (!loaded) return Err{where + loaded.error().message()};
         append_placed(scene, *loaded, body.transform);
     }
     scene.update_face_normals();

@@ -45,7 +45,7 @@ ApplyReport ignored(const char* why) {
 
 }  // namespace
 
-const char* to_string(EventOutcome outcome) noexcept {
+std::string_view to_string(EventOutcome outcome) noexcept {
     switch (outcome) {
         case EventOutcome::kApplied:
             return "applied";

@@ -33,6 +33,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "display/cut/cut_result.hpp"
@@ -61,7 +62,7 @@ enum class EventOutcome : std::uint8_t {
     kRefused,  ///< invalid event or a cut the geometry refused (`status`); nothing changed
     kIgnored,  ///< nothing to do (no open cut with that id, an empty swept region)
 };
-const char* to_string(EventOutcome outcome) noexcept;
+std::string_view to_string(EventOutcome outcome) noexcept;
 
 struct ApplyReport {
     EventOutcome outcome = EventOutcome::kIgnored;

@@ -13,7 +13,7 @@ std::array<double, 9> rotation(const std::array<double, 4>& q) noexcept {
 
 }  // namespace
 
-const char* to_string(CutEndKind kind) noexcept {
+std::string_view to_string(CutEndKind kind) noexcept {
     switch (kind) {
         case CutEndKind::kCompleted:
             return "completed";

@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string_view>
 
 #include "display/cut/plane.hpp"
 
@@ -53,7 +54,7 @@ enum class CutEndKind : std::uint8_t {
     kWithdrawn,  ///< blade pulled back: the partial cut stays as it is
     kAborted,    ///< stopped by a fault: treated like kWithdrawn
 };
-const char* to_string(CutEndKind kind) noexcept;
+std::string_view to_string(CutEndKind kind) noexcept;
 
 struct CutEnd {
     std::uint32_t cut_id = 0;

@@ -13,22 +13,59 @@
 
 namespace kerf::cut {
 
-std::string_view to_string(TriangulateFailure f) noexcept {
+std::string_view to_string(TriangulateErrc f) noexcept {
     switch (f) {
-        case TriangulateFailure::kNoLoops:
-            return "no loops";
-        case TriangulateFailure::kTooFewPoints:
-            return "loop has fewer than 3 points";
-        case TriangulateFailure::kNonFinite:
-            return "non-finite coordinate";
-        case TriangulateFailure::kZeroArea:
-            return "loop encloses zero area";
-        case TriangulateFailure::kSelfIntersecting:
-            return "loops cross or touch";
-        case TriangulateFailure::kTooManyPoints:
-            return "too many points";
+        case TriangulateErrc::kNoLoops:
+            return "no_loops";
+        case TriangulateErrc::kTooFewPoints:
+            return "too_few_points";
+        case TriangulateErrc::kNonFinite:
+            return "non_finite";
+        case TriangulateErrc::kZeroArea:
+            return "zero_area";
+        case TriangulateErrc::kSelfIntersecting:
+            return "self_intersecting";
+        case TriangulateErrc::kTooManyPoints:
+            return "too_many_points";
     }
     return "unknown";
+}
+
+TriangulateError triangulate_error(TriangulateErrc code, std::int32_t loop,
+                                   std::int32_t other_loop) {
+    TriangulateError e;
+    e.code = code;
+    e.loop = loop;
+    e.other_loop = other_loop;
+    if (loop >= 0 && other_loop >= 0 && other_loop != loop) {
+        e.where = "loops " + std::to_string(loop) + " and " + std::to_string(other_loop);
+    } else if (loop >= 0) {
+        e.where = "loop " + std::to_string(loop);
+    } else {
+        e.where = "loops";
+    }
+    switch (code) {
+        case TriangulateErrc::kNoLoops:
+            e.what = "no loop given";
+            break;
+        case TriangulateErrc::kTooFewPoints:
+            e.what = "fewer than 3 points";
+            break;
+        case TriangulateErrc::kNonFinite:
+            e.what = "a coordinate is NaN or infinite";
+            break;
+        case TriangulateErrc::kZeroArea:
+            e.what = "encloses (relatively) zero area";
+            break;
+        case TriangulateErrc::kSelfIntersecting:
+            e.what = other_loop == loop ? "two of its edges cross or touch"
+                                        : "an edge of one crosses or touches an edge of the other";
+            break;
+        case TriangulateErrc::kTooManyPoints:
+            e.what = "more points than a 32-bit index can name";
+            break;
+    }
+    return e;
 }
 
 double signed_area(std::span<const Point2> loop) noexcept {
@@ -154,21 +191,20 @@ struct Triangulator::Impl {
 Status<TriangulateError> Triangulator::Impl::load(std::span<const std::span<const Point2>> in) {
     pts.clear();
     begin.clear();
-    if (in.empty()) return Err{TriangulateError{TriangulateFailure::kNoLoops, -1, -1}};
+    if (in.empty()) return Err{triangulate_error(TriangulateErrc::kNoLoops)};
     std::size_t total = 0;
     for (const auto& l : in) total += l.size();
     if (total + 2 * in.size() >= kNone / 2) {
-        return Err{TriangulateError{TriangulateFailure::kTooManyPoints, -1, -1}};
+        return Err{triangulate_error(TriangulateErrc::kTooManyPoints)};
     }
     pts.reserve(total);
     for (std::size_t l = 0; l < in.size(); ++l) {
         const auto li = static_cast<std::int32_t>(l);
-        if (in[l].size() < 3)
-            return Err{TriangulateError{TriangulateFailure::kTooFewPoints, li, -1}};
+        if (in[l].size() < 3) return Err{triangulate_error(TriangulateErrc::kTooFewPoints, li)};
         begin.push_back(static_cast<std::uint32_t>(pts.size()));
         for (const Point2& p : in[l]) {
             if (!std::isfinite(p[0]) || !std::isfinite(p[1])) {
-                return Err{TriangulateError{TriangulateFailure::kNonFinite, li, -1}};
+                return Err{triangulate_error(TriangulateErrc::kNonFinite, li)};
             }
             pts.push_back(p);
         }
@@ -188,8 +224,7 @@ Status<TriangulateError> Triangulator::Impl::measure() {
         const double noise =
             4.0 * loop_size(l) * std::numeric_limits<double>::epsilon() * (dx * dx + dy * dy);
         if (!(std::abs(area[l]) > noise)) {
-            return Err{
-                TriangulateError{TriangulateFailure::kZeroArea, static_cast<std::int32_t>(l), -1}};
+            return Err{triangulate_error(TriangulateErrc::kZeroArea, static_cast<std::int32_t>(l))};
         }
     }
     return {};
@@ -311,8 +346,8 @@ Status<TriangulateError> Triangulator::Impl::check_crossings() {
                 const std::size_t home =
                     std::size_t{cy_of(std::max(bs.y0, bt.y0))} * gx + cx_of(std::max(bs.x0, bt.x0));
                 if (home != c || !segments_meet(cell_items[i], cell_items[j])) continue;
-                return Err{TriangulateError{TriangulateFailure::kSelfIntersecting,
-                                            seg_loop[cell_items[i]], seg_loop[cell_items[j]]}};
+                return Err{triangulate_error(TriangulateErrc::kSelfIntersecting,
+                                             seg_loop[cell_items[i]], seg_loop[cell_items[j]])};
             }
         }
     }

@@ -32,6 +32,7 @@
 #include <string_view>
 #include <vector>
 
+#include "config/base/error.hpp"
 #include "config/base/result.hpp"
 
 namespace kerf::cut {
@@ -47,7 +48,7 @@ struct Triangle {
 };
 
 /// Why a set of loops cannot be triangulated.
-enum class TriangulateFailure : std::uint8_t {
+enum class TriangulateErrc : std::uint8_t {
     kNoLoops = 0,           ///< the loop list is empty
     kTooFewPoints = 1,      ///< a loop has fewer than 3 points
     kNonFinite = 2,         ///< a coordinate is NaN or infinite
@@ -55,15 +56,20 @@ enum class TriangulateFailure : std::uint8_t {
     kSelfIntersecting = 4,  ///< two loop edges cross or touch (same loop or two loops)
     kTooManyPoints = 5,     ///< more points than a 32-bit index can name
 };
-std::string_view to_string(TriangulateFailure f) noexcept;
+/// Stable snake_case name ("self_intersecting").
+std::string_view to_string(TriangulateErrc f) noexcept;
 
-/// A refusal: what is wrong and which loop(s) (indices into the input; `other_loop` is the second
+/// A refusal (kerf::Error): where names the loop(s) ("loop 2", "loops 0 and 3"; indices into the
+/// input), what says what is wrong; the indices are kept as numbers (`other_loop` is the second
 /// loop of a crossing, equal to `loop` for a self-crossing, -1 where not applicable).
-struct TriangulateError {
-    TriangulateFailure failure = TriangulateFailure::kNoLoops;
+struct TriangulateError : Error<TriangulateErrc> {
     std::int32_t loop = -1;
     std::int32_t other_loop = -1;
 };
+
+/// A TriangulateError with where and what made from the code and the loop indices.
+TriangulateError triangulate_error(TriangulateErrc code, std::int32_t loop = -1,
+                                   std::int32_t other_loop = -1);
 
 /// What one triangulation did.
 struct TriangulateStats {

@@ -37,8 +37,8 @@ namespace detail {
 std::string egl_failure(const char* step);
 /// True if `name` is a whole word of the space-separated `list`.
 bool has_extension(const char* list, const char* name) noexcept;
-/// eglInitialize + eglBindAPI(GLES); "" on success, else one line.
-std::string initialize(EGLDisplay display, const char* platform);
+/// eglInitialize + eglBindAPI(GLES); "" on success, else the step that failed.
+std::string initialize(EGLDisplay display);
 /// An EGLConfig for GLES 3 with RGBA8 + depth 24 for `surface_bit`, and the context on it.
 std::string choose_config(EGLDisplay display, EGLint surface_bit, EGLConfig& config,
                           EGLint native_visual = -1);

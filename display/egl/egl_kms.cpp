@@ -113,7 +113,7 @@ std::string find_card(std::string& why) {
         if (std::filesystem::exists(path, ec)) return path;
     }
     why =
-        "kms: no DRM device (/dev/dri/card* absent): the KMS kiosk output needs a GPU with a "
+        "no DRM device (/dev/dri/card* absent): the KMS kiosk output needs a GPU with a "
         "display; use --display headless or x11";
     return {};
 }
@@ -122,8 +122,8 @@ std::string find_card(std::string& why) {
 // CRTC's primary plane. "" on success.
 std::string pick_pipe(Kms& k) {
     drmModeRes* res = drmModeGetResources(k.fd);
-    if (!res) return "kms: drmModeGetResources failed (not a modesetting device?)";
-    std::string why = "kms: no connected connector with a mode";
+    if (!res) return "drmModeGetResources failed (not a modesetting device?)";
+    std::string why = "no connected connector with a mode";
     for (int i = 0; i < res->count_connectors && !k.connector; ++i) {
         drmModeConnector* c = drmModeGetConnector(k.fd, res->connectors[i]);
         if (c && c->connection == DRM_MODE_CONNECTED && c->count_modes > 0) {
@@ -160,9 +160,9 @@ std::string pick_pipe(Kms& k) {
         drmModeFreePlane(p);
     }
     drmModeFreePlaneResources(planes);
-    if (!k.plane) return "kms: no primary plane for the CRTC";
+    if (!k.plane) return "no primary plane for the CRTC";
     if (drmModeCreatePropertyBlob(k.fd, &k.mode, sizeof k.mode, &k.mode_blob) != 0)
-        return "kms: cannot create the mode blob";
+        return "cannot create the mode blob";
     return {};
 }
 
@@ -173,38 +173,40 @@ Result<std::unique_ptr<EglOutput::Backend>, EglError> make_kms(const EglOptions&
     k->platform = EglPlatform::kKms;
     std::string why;
     const std::string path = o.drm_device.empty() ? find_card(why) : o.drm_device;
-    if (path.empty()) return Err{EglError{why}};
+    if (path.empty()) return Err{EglError{EglErrc::kUnavailable, "kms", why}};
     k->fd = open(path.c_str(), O_RDWR | O_CLOEXEC);
-    if (k->fd < 0) return Err{EglError{"kms: cannot open " + path + ": " + std::strerror(errno)}};
+    if (k->fd < 0) return Err{EglError{EglErrc::kOpenFailed, path, std::strerror(errno)}};
     if (drmSetClientCap(k->fd, DRM_CLIENT_CAP_UNIVERSAL_PLANES, 1) != 0 ||
         drmSetClientCap(k->fd, DRM_CLIENT_CAP_ATOMIC, 1) != 0) {
-        return Err{EglError{"kms: " + path + " has no atomic modesetting"}};
+        return Err{EglError{EglErrc::kUnavailable, path, "no atomic modesetting"}};
     }
-    if (auto e = pick_pipe(*k); !e.empty()) return Err{EglError{e + " on " + path}};
+    if (auto e = pick_pipe(*k); !e.empty()) return Err{EglError{EglErrc::kUnavailable, path, e}};
     k->width = k->mode.hdisplay;
     k->height = k->mode.vdisplay;
     k->gbm = gbm_create_device(k->fd);
-    if (!k->gbm) return Err{EglError{"kms: gbm_create_device failed on " + path}};
+    if (!k->gbm) return Err{EglError{EglErrc::kOpenFailed, path, "gbm_create_device failed"}};
     k->gbm_surf = gbm_surface_create(k->gbm, static_cast<std::uint32_t>(k->width),
                                      static_cast<std::uint32_t>(k->height), GBM_FORMAT_XRGB8888,
                                      GBM_BO_USE_SCANOUT | GBM_BO_USE_RENDERING);
-    if (!k->gbm_surf) return Err{EglError{"kms: gbm_surface_create failed"}};
+    if (!k->gbm_surf) return Err{EglError{EglErrc::kOpenFailed, path, "gbm_surface_create failed"}};
     k->display = eglGetPlatformDisplay(EGL_PLATFORM_GBM_KHR, k->gbm, nullptr);
-    if (auto e = initialize(k->display, "kms"); !e.empty()) return Err{EglError{e}};
+    if (auto e = initialize(k->display); !e.empty())
+        return Err{EglError{EglErrc::kEglCall, "kms", e}};
     EGLConfig config = nullptr;
     if (auto e = choose_config(k->display, EGL_WINDOW_BIT, config, GBM_FORMAT_XRGB8888);
         !e.empty()) {
-        return Err{EglError{"kms: " + e}};
+        return Err{EglError{EglErrc::kEglCall, "kms", e}};
     }
     if (auto e = make_context(k->display, config, k->context); !e.empty()) {
-        return Err{EglError{"kms: " + e}};
+        return Err{EglError{EglErrc::kEglCall, "kms", e}};
     }
     k->surface = eglCreatePlatformWindowSurface(k->display, config, k->gbm_surf, nullptr);
     if (k->surface == EGL_NO_SURFACE) {
-        return Err{EglError{"kms: " + egl_failure("eglCreatePlatformWindowSurface(gbm)")}};
+        return Err{
+            EglError{EglErrc::kEglCall, "kms", egl_failure("eglCreatePlatformWindowSurface(gbm)")}};
     }
     if (!eglMakeCurrent(k->display, k->surface, k->surface, k->context)) {
-        return Err{EglError{"kms: " + egl_failure("eglMakeCurrent")}};
+        return Err{EglError{EglErrc::kEglCall, "kms", egl_failure("eglMakeCurrent")}};
     }
     describe(*k);
     return std::unique_ptr<EglOutput::Backend>(std::move(k));

@@ -49,6 +49,20 @@ void EglOutput::Backend::release_egl() noexcept {
     surface = EGL_NO_SURFACE;
 }
 
+std::string_view to_string(EglErrc code) noexcept {
+    switch (code) {
+        case EglErrc::kUnavailable:
+            return "unavailable";
+        case EglErrc::kOpenFailed:
+            return "open_failed";
+        case EglErrc::kEglCall:
+            return "egl_call";
+        case EglErrc::kBadOption:
+            return "bad_option";
+    }
+    return "unknown";
+}
+
 namespace detail {
 
 std::string egl_failure(const char* step) {
@@ -108,16 +122,11 @@ bool has_extension(const char* list, const char* name) noexcept {
     return false;
 }
 
-std::string initialize(EGLDisplay display, const char* platform) {
-    if (display == EGL_NO_DISPLAY)
-        return std::string(platform) + ": " + egl_failure("eglGetPlatformDisplay");
+std::string initialize(EGLDisplay display) {
+    if (display == EGL_NO_DISPLAY) return egl_failure("eglGetPlatformDisplay");
     EGLint major = 0, minor = 0;
-    if (!eglInitialize(display, &major, &minor)) {
-        return std::string(platform) + ": " + egl_failure("eglInitialize");
-    }
-    if (!eglBindAPI(EGL_OPENGL_ES_API)) {
-        return std::string(platform) + ": " + egl_failure("eglBindAPI(EGL_OPENGL_ES_API)");
-    }
+    if (!eglInitialize(display, &major, &minor)) return egl_failure("eglInitialize");
+    if (!eglBindAPI(EGL_OPENGL_ES_API)) return egl_failure("eglBindAPI(EGL_OPENGL_ES_API)");
     return {};
 }
 
@@ -170,9 +179,8 @@ struct Headless final : EglOutput::Backend {
 Result<std::unique_ptr<EglOutput::Backend>, EglError> make_headless(const EglOptions& o) {
     const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     if (!has_extension(client, "EGL_MESA_platform_surfaceless")) {
-        return Err{
-            EglError{"headless: EGL has no EGL_MESA_platform_surfaceless (install "
-                     "libegl-mesa0)"}};
+        return Err{EglError{EglErrc::kUnavailable, "headless",
+                            "EGL has no EGL_MESA_platform_surfaceless (install libegl-mesa0)"}};
     }
     auto b = std::make_unique<Headless>();
     b->platform = EglPlatform::kHeadless;
@@ -180,22 +188,25 @@ Result<std::unique_ptr<EglOutput::Backend>, EglError> make_headless(const EglOpt
     b->height = o.height;
     b->display = eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA,
                                        reinterpret_cast<void*>(EGL_DEFAULT_DISPLAY), nullptr);
-    if (auto e = initialize(b->display, "headless"); !e.empty()) return Err{EglError{e}};
+    if (auto e = initialize(b->display); !e.empty())
+        return Err{EglError{EglErrc::kEglCall, "headless", e}};
     const char* ext = eglQueryString(b->display, EGL_EXTENSIONS);
     if (!has_extension(ext, "EGL_KHR_surfaceless_context")) {
-        return Err{EglError{"headless: display lacks EGL_KHR_surfaceless_context"}};
+        return Err{EglError{EglErrc::kUnavailable, "headless",
+                            "display lacks EGL_KHR_surfaceless_context"}};
     }
     EGLConfig config = nullptr;  // EGL_NO_CONFIG_KHR when config-less contexts exist
     if (!has_extension(ext, "EGL_KHR_no_config_context")) {
         if (auto e = choose_config(b->display, EGL_PBUFFER_BIT, config); !e.empty()) {
-            return Err{EglError{"headless: " + e}};
+            return Err{EglError{EglErrc::kEglCall, "headless", e}};
         }
     }
     if (auto e = make_context(b->display, config, b->context); !e.empty()) {
-        return Err{EglError{"headless: " + e}};
+        return Err{EglError{EglErrc::kEglCall, "headless", e}};
     }
     if (!eglMakeCurrent(b->display, EGL_NO_SURFACE, EGL_NO_SURFACE, b->context)) {
-        return Err{EglError{"headless: " + egl_failure("eglMakeCurrent(no surface)")}};
+        return Err{
+            EglError{EglErrc::kEglCall, "headless", egl_failure("eglMakeCurrent(no surface)")}};
     }
     describe(*b);
     return std::unique_ptr<EglOutput::Backend>(std::move(b));
@@ -205,8 +216,9 @@ Result<std::unique_ptr<EglOutput::Backend>, EglError> make_headless(const EglOpt
 
 Result<EglOutput, EglError> EglOutput::create(const EglOptions& o) {
     if (o.width < 1 || o.height < 1 || o.width > 8192 || o.height > 8192) {
-        return Err{EglError{"egl: size " + std::to_string(o.width) + "x" +
-                            std::to_string(o.height) + " is outside 1..8192"}};
+        return Err{EglError{EglErrc::kBadOption, "egl",
+                            "size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
+                                " is outside 1..8192"}};
     }
     Result<std::unique_ptr<Backend>, EglError> b =
         o.platform == EglPlatform::kX11   ? detail::make_x11(o)

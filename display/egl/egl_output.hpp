@@ -19,6 +19,7 @@
 #include <string>
 #include <string_view>
 
+#include "config/base/error.hpp"
 #include "config/base/result.hpp"
 
 namespace kerf::render {
@@ -32,10 +33,19 @@ std::string_view to_string(EglPlatform p) noexcept;
 /// Parses "headless" / "x11" / "kms"; false for anything else.
 bool parse_platform(std::string_view text, EglPlatform& out) noexcept;
 
-/// Why an output could not be made; `message` is one line naming the step that failed.
-struct EglError {
-    std::string message;
+/// Why an output could not be made.
+enum class EglErrc : std::uint8_t {
+    kUnavailable,  ///< the platform, an extension or the device is missing here
+    kOpenFailed,   ///< the X display, DRM device or GBM device could not be opened
+    kEglCall,      ///< an EGL call failed (initialize, config, context, surface, make current)
+    kBadOption,    ///< an option outside its range (size)
 };
+/// Stable snake_case name ("egl_call").
+std::string_view to_string(EglErrc code) noexcept;
+
+/// An output failure (kerf::Error): where is the platform ("headless", "x11", "kms") or the
+/// device, what is the step that failed and why.
+using EglError = Error<EglErrc>;
 
 struct EglOptions {
     EglPlatform platform = EglPlatform::kHeadless;

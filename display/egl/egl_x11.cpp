@@ -92,19 +92,22 @@ Result<std::unique_ptr<EglOutput::Backend>, EglError> make_x11(const EglOptions&
     b->x = XOpenDisplay(name);
     if (!b->x) {
         const char* env = std::getenv("DISPLAY");
-        return Err{EglError{std::string("x11: cannot open X display '") +
-                            (name ? name : (env ? env : "(DISPLAY unset)")) + "'"}};
+        return Err{EglError{EglErrc::kOpenFailed, "x11",
+                            std::string("cannot open X display '") +
+                                (name ? name : (env ? env : "(DISPLAY unset)")) + "'"}};
     }
     const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     if (!has_extension(client, "EGL_KHR_platform_x11") &&
         !has_extension(client, "EGL_EXT_platform_x11")) {
-        return Err{EglError{"x11: EGL has no X11 platform (EGL_KHR_platform_x11)"}};
+        return Err{EglError{EglErrc::kUnavailable, "x11",
+                            "EGL has no X11 platform (EGL_KHR_platform_x11)"}};
     }
     b->display = eglGetPlatformDisplay(EGL_PLATFORM_X11_KHR, b->x, nullptr);
-    if (auto e = initialize(b->display, "x11"); !e.empty()) return Err{EglError{e}};
+    if (auto e = initialize(b->display); !e.empty())
+        return Err{EglError{EglErrc::kEglCall, "x11", e}};
     EGLConfig config = nullptr;
     if (auto e = choose_config(b->display, EGL_WINDOW_BIT, config); !e.empty()) {
-        return Err{EglError{"x11: " + e}};
+        return Err{EglError{EglErrc::kEglCall, "x11", e}};
     }
     EGLint visual_id = 0;
     eglGetConfigAttrib(b->display, config, EGL_NATIVE_VISUAL_ID, &visual_id);
@@ -112,7 +115,8 @@ Result<std::unique_ptr<EglOutput::Backend>, EglError> make_x11(const EglOptions&
     want.visualid = static_cast<VisualID>(visual_id);
     int count = 0;
     XVisualInfo* vi = XGetVisualInfo(b->x, VisualIDMask, &want, &count);
-    if (!vi || count < 1) return Err{EglError{"x11: no X visual for the EGL config"}};
+    if (!vi || count < 1)
+        return Err{EglError{EglErrc::kUnavailable, "x11", "no X visual for the EGL config"}};
     const Window root = DefaultRootWindow(b->x);
     XSetWindowAttributes swa{};
     b->colormap = XCreateColormap(b->x, root, vi->visual, AllocNone);
@@ -130,13 +134,14 @@ Result<std::unique_ptr<EglOutput::Backend>, EglError> make_x11(const EglOptions&
     XSync(b->x, False);
     b->surface = eglCreatePlatformWindowSurface(b->display, config, &b->window, nullptr);
     if (b->surface == EGL_NO_SURFACE) {
-        return Err{EglError{"x11: " + egl_failure("eglCreatePlatformWindowSurface")}};
+        return Err{
+            EglError{EglErrc::kEglCall, "x11", egl_failure("eglCreatePlatformWindowSurface")}};
     }
     if (auto e = make_context(b->display, config, b->context); !e.empty()) {
-        return Err{EglError{"x11: " + e}};
+        return Err{EglError{EglErrc::kEglCall, "x11", e}};
     }
     if (!eglMakeCurrent(b->display, b->surface, b->surface, b->context)) {
-        return Err{EglError{"x11: " + egl_failure("eglMakeCurrent(window)")}};
+        return Err{EglError{EglErrc::kEglCall, "x11", egl_failure("eglMakeCurrent(window)")}};
     }
     eglSwapInterval(b->display, o.vsync ? 1 : 0);
     describe(*b);

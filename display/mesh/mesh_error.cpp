@@ -2,44 +2,46 @@
 
 namespace kerf::mesh {
 
-std::string_view to_string(MeshErrorKind kind) noexcept {
-    switch (kind) {
-        case MeshErrorKind::kIo:
+std::string_view to_string(MeshErrc code) noexcept {
+    switch (code) {
+        case MeshErrc::kIo:
             return "io";
-        case MeshErrorKind::kEmpty:
+        case MeshErrc::kEmpty:
             return "empty";
-        case MeshErrorKind::kUnknownFormat:
+        case MeshErrc::kUnknownFormat:
             return "unknown_format";
-        case MeshErrorKind::kTruncated:
+        case MeshErrc::kTruncated:
             return "truncated";
-        case MeshErrorKind::kSyntax:
+        case MeshErrc::kSyntax:
             return "syntax";
-        case MeshErrorKind::kNonFinite:
+        case MeshErrc::kNonFinite:
             return "non_finite";
-        case MeshErrorKind::kIndexOutOfRange:
+        case MeshErrc::kIndexOutOfRange:
             return "index_out_of_range";
-        case MeshErrorKind::kBadCount:
+        case MeshErrc::kBadCount:
             return "bad_count";
-        case MeshErrorKind::kUnsupported:
+        case MeshErrc::kUnsupported:
             return "unsupported";
-        case MeshErrorKind::kTooLarge:
+        case MeshErrc::kTooLarge:
             return "too_large";
     }
     return "unknown";
 }
 
-std::string MeshError::to_string() const {
-    std::string out = file.empty() ? std::string{"<memory>"} : file;
+MeshError mesh_error(MeshErrc code, std::string_view file, std::size_t line,
+                     std::size_t byte_offset, std::string what) {
+    MeshError e;
+    e.code = code;
+    e.where = file.empty() ? std::string{"<memory>"} : std::string(file);
     if (line > 0) {
-        out += ":" + std::to_string(line);
-    } else if (kind != MeshErrorKind::kIo && kind != MeshErrorKind::kUnknownFormat) {
-        out += ": byte " + std::to_string(byte_offset);
+        e.where += ":" + std::to_string(line);
+    } else if (code != MeshErrc::kIo && code != MeshErrc::kUnknownFormat) {
+        e.where += ": byte " + std::to_string(byte_offset);
     }
-    out += ": ";
-    out += mesh::to_string(kind);
-    out += ": ";
-    out += detail;
-    return out;
+    e.what = std::move(what);
+    e.line = line;
+    e.byte_offset = byte_offset;
+    return e;
 }
 
 }  // namespace kerf::mesh

@@ -12,7 +12,7 @@ namespace kerf::mesh {
 namespace {
 
 MeshError io_error(const std::filesystem::path& path, std::string detail) {
-    return MeshError{MeshErrorKind::kIo, path.string(), 0, 0, std::move(detail)};
+    return mesh_error(MeshErrc::kIo, path.string(), 0, 0, std::move(detail));
 }
 
 Result<std::vector<std::byte>, MeshError> read_file(const std::filesystem::path& path) {
@@ -63,7 +63,7 @@ std::optional<Format> format_from_path(const std::filesystem::path& path) {
 Result<IndexedMesh, MeshError> parse_indexed(std::span<const std::byte> bytes, Format format,
                                              Units units, std::string_view name) {
     const detail::ParseContext ctx{name, metres_per_unit(units)};
-    if (bytes.empty()) return Err{ctx.error(MeshErrorKind::kEmpty, 0, 0, "the file is empty")};
+    if (bytes.empty()) return Err{ctx.error(MeshErrc::kEmpty, 0, 0, "the file is empty")};
     switch (format) {
         case Format::kStl:
             return detail::parse_stl(bytes, ctx);
@@ -74,7 +74,7 @@ Result<IndexedMesh, MeshError> parse_indexed(std::span<const std::byte> bytes, F
         case Format::kOff:
             return detail::parse_off(bytes, ctx);
     }
-    return Err{ctx.error(MeshErrorKind::kUnknownFormat, 0, 0, "unknown format")};
+    return Err{ctx.error(MeshErrc::kUnknownFormat, 0, 0, "unknown format")};
 }
 
 Result<LoadedMesh, MeshError> parse_mesh(std::span<const std::byte> bytes, Format format,
@@ -88,9 +88,9 @@ Result<LoadedMesh, MeshError> parse_mesh(std::span<const std::byte> bytes, Forma
 Result<LoadedMesh, MeshError> load_mesh_file(const std::filesystem::path& path, Units units) {
     const auto format = format_from_path(path);
     if (!format) {
-        return Err{MeshError{
-            MeshErrorKind::kUnknownFormat, path.string(), 0, 0,
-            "extension '" + path.extension().string() + "' is not one of .stl .obj .ply .off"}};
+        return Err{mesh_error(
+            MeshErrc::kUnknownFormat, path.string(), 0, 0,
+            "extension '" + path.extension().string() + "' is not one of .stl .obj .ply .off")};
     }
     auto bytes = read_file(path);
     if (!bytes) return Err{std::move(bytes).error()};
@@ -123,9 +123,9 @@ std::string serialize_mesh(const TriMesh& mesh, Format format, Units units, Enco
 Status<MeshError> save_mesh(const TriMesh& mesh, const std::filesystem::path& path, Units units) {
     const auto format = format_from_path(path);
     if (!format) {
-        return Err{MeshError{
-            MeshErrorKind::kUnknownFormat, path.string(), 0, 0,
-            "extension '" + path.extension().string() + "' is not one of .stl .obj .ply .off"}};
+        return Err{mesh_error(
+            MeshErrc::kUnknownFormat, path.string(), 0, 0,
+            "extension '" + path.extension().string() + "' is not one of .stl .obj .ply .off")};
     }
     // Temp file in the target folder, then rename: a failed write never damages an old file.
     auto written = files::write_file_atomically(path, serialize_mesh(mesh, *format, units));

@@ -2,7 +2,7 @@
 // and OFF, read by Kerf's own parsers (OpenMesh's readers are not trusted with hostile input).
 //
 //   Result<TriMesh, MeshError> r = load_mesh("calcaneus.stl", Units::kMillimetres);
-//   if (!r) { std::cerr << r.error().to_string() << '\n'; return 1; }
+//   if (!r) { std::cerr << r.error().message() << '\n'; return 1; }
 //
 // Every loader: converts the file's units to metres; welds vertices whose coordinates are
 // bit-identical (deterministic first-seen order, also for indexed formats, so seams split for

@@ -17,9 +17,25 @@
 
 namespace kerf::render {
 
+std::string_view to_string(RenderErrc code) noexcept {
+    switch (code) {
+        case RenderErrc::kBadOption:
+            return "bad_option";
+        case RenderErrc::kNoContext:
+            return "no_context";
+        case RenderErrc::kGl:
+            return "gl";
+        case RenderErrc::kIo:
+            return "io";
+    }
+    return "unknown";
+}
+
 namespace {
 
-Err<RenderError> fail(std::string what) { return Err{RenderError{std::move(what)}}; }
+Err<RenderError> fail(RenderErrc code, std::string what) {
+    return Err{RenderError{code, "render", std::move(what)}};
+}
 
 // Compiles one shader; on failure writes the info log into `log`.
 GLuint compile(GLenum type, const char* src, std::string& log) {
@@ -190,9 +206,9 @@ Status<RenderError> Renderer::State::make_targets() {
     const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE) {
         char buf[96];
-        std::snprintf(buf, sizeof buf, "render: framebuffer %dx%d incomplete (status 0x%04x)",
+        std::snprintf(buf, sizeof buf, "framebuffer %dx%d incomplete (status 0x%04x)",
                       options.width, options.height, status);
-        return fail(buf);
+        return fail(RenderErrc::kGl, buf);
     }
     return {};
 }
@@ -207,7 +223,7 @@ Status<RenderError> Renderer::State::make_programs() {
     if (solid_program) {
         text_program = link("text", detail::kTextVertexShader, detail::kTextFragmentShader, log);
     }
-    if (!text_program) return fail("render: " + log);
+    if (!text_program) return fail(RenderErrc::kGl, log);
     u_body = glGetUniformLocation(bone_program, "u_body");
     u_view_proj = glGetUniformLocation(bone_program, "u_view_proj");
     u_eye = glGetUniformLocation(bone_program, "u_eye");
@@ -281,13 +297,15 @@ void Renderer::State::make_mesh_buffers() {
 
 Result<Renderer, RenderError> Renderer::create(const RendererOptions& options) {
     if (options.width < 1 || options.height < 1 || options.width > 8192 || options.height > 8192) {
-        return fail("render: framebuffer size " + std::to_string(options.width) + "x" +
-                    std::to_string(options.height) + " is outside 1..8192");
+        return fail(RenderErrc::kBadOption, "framebuffer size " + std::to_string(options.width) +
+                                                "x" + std::to_string(options.height) +
+                                                " is outside 1..8192");
     }
     const char* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
     if (!version || std::strncmp(version, "OpenGL ES 3", 11) != 0) {
-        return fail(std::string("render: needs a current OpenGL ES 3 context, found '") +
-                    (version ? version : "no context") + "'");
+        return fail(RenderErrc::kNoContext,
+                    std::string("needs a current OpenGL ES 3 context, found '") +
+                        (version ? version : "no context") + "'");
     }
     auto s = std::make_unique<State>();
     s->options = options;
@@ -298,8 +316,8 @@ Result<Renderer, RenderError> Renderer::create(const RendererOptions& options) {
     s->make_mesh_buffers();
     if (const GLenum e = glGetError(); e != GL_NO_ERROR) {
         char buf[64];
-        std::snprintf(buf, sizeof buf, "render: GL error 0x%04x while creating", e);
-        return fail(buf);
+        std::snprintf(buf, sizeof buf, "GL error 0x%04x while creating", e);
+        return fail(RenderErrc::kGl, buf);
     }
     return Renderer(std::move(s));
 }

@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "config/base/error.hpp"
 #include "config/base/result.hpp"
 #include "display/render/camera.hpp"
 #include "display/render/chunk_issue.hpp"
@@ -34,10 +35,19 @@
 
 namespace kerf::render {
 
-/// Why the renderer could not do something; `message` names what and where.
-struct RenderError {
-    std::string message;
+/// Why the renderer could not do something.
+enum class RenderErrc : std::uint8_t {
+    kBadOption,  ///< an option outside its range (framebuffer size)
+    kNoContext,  ///< no current OpenGL ES 3 context
+    kGl,         ///< a GL object could not be made (framebuffer, shader, GL error)
+    kIo,         ///< a screenshot could not be written
 };
+/// Stable snake_case name ("no_context").
+std::string_view to_string(RenderErrc code) noexcept;
+
+/// A renderer failure (kerf::Error): where is "render" or the screenshot's path, what the step
+/// that failed and why.
+using RenderError = Error<RenderErrc>;
 
 struct RendererOptions {
     int width = 1280;                                      ///< framebuffer width, pixels (1..8192)

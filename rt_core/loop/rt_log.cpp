@@ -7,7 +7,7 @@
 
 namespace kerf::rt {
 
-const char* to_string(LogCode code) noexcept {
+std::string_view to_string(LogCode code) noexcept {
     switch (code) {
         case LogCode::kSafeStateEntered:
             return "timing: safe state (zero force) at tick {} after {} missed deadlines in a row";

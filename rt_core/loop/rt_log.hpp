@@ -10,6 +10,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <string_view>
 #include <thread>
 
 #include "rt_core/ipc/spsc_ring.hpp"
@@ -29,7 +30,7 @@ enum class LogCode : std::uint16_t {
     kDeviceLost,          ///< a = tick, b = losses so far
     kDeviceReopened,      ///< a = re-open generation, b = tick
 };
-const char* to_string(LogCode code) noexcept;
+std::string_view to_string(LogCode code) noexcept;
 
 struct LogRecord {
     std::uint64_t time_ns;  ///< CLOCK_MONOTONIC

@@ -56,7 +56,7 @@ Result<std::uint64_t, std::string> WorldBuilder::build(const ipc::CollisionMesh&
                            : physics::CollisionBody::build(view);
         if (!body) {
             return Err{"collision mesh body " + std::to_string(b) + ": " +
-                       physics::to_string(body.error().error) + " at element " +
+                       std::string(physics::to_string(body.error().error)) + " at element " +
                        std::to_string(body.error().index)};
         }
         // The first build of a body also runs one throwaway update: its fresh copies fault in

@@ -5,7 +5,7 @@
 
 namespace kerf::physics {
 
-const char* to_string(Material material) noexcept {
+std::string_view to_string(Material material) noexcept {
     switch (material) {
         case Material::kCortical:
             return "cortical";
@@ -17,7 +17,7 @@ const char* to_string(Material material) noexcept {
     return "unknown material";
 }
 
-const char* to_string(MeshError error) noexcept {
+std::string_view to_string(MeshError error) noexcept {
     switch (error) {
         case MeshError::kNone:
             return "no error";

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string_view>
 
 #include "rt_core/physics/vec3.hpp"
 
@@ -20,7 +21,7 @@ enum class Material : std::uint8_t {
     kCancellous = 1,  ///< spongy inner bone
     kCutSurface = 2,  ///< a cap left by an earlier cut (cancellous inside a cortical rim)
 };
-const char* to_string(Material material) noexcept;
+std::string_view to_string(Material material) noexcept;
 
 /// One body's mesh, borrowed: x y z per vertex (m, body frame), 3 indices per triangle.
 struct CollisionMeshView {
@@ -47,7 +48,7 @@ enum class MeshError : std::uint8_t {
     kTooLarge,             ///< more than kMaxTriangles triangles
     kBadTransform,         ///< world_from_body not finite or not a rotation
 };
-const char* to_string(MeshError error) noexcept;
+std::string_view to_string(MeshError error) noexcept;
 
 inline constexpr float kMaxCoordinate_m = 10.0f;                    ///< bound on |x|, |y|, |z|
 inline constexpr std::size_t kMaxTriangles = std::size_t{1} << 26;  ///< 67M triangles

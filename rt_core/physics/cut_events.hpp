@@ -9,17 +9,18 @@
 #pragma once
 
 #include <cstdint>
+#include <string_view>
 
 #include "rt_core/physics/collision_body.hpp"
 
 namespace kerf::physics {
 
 enum class CutEventType : std::uint8_t { kBegin = 1, kProgress = 2, kEnd = 3 };
-const char* to_string(CutEventType type) noexcept;
+std::string_view to_string(CutEventType type) noexcept;
 
 /// Why a cut ended; values equal ipc::CutEndReason.
 enum class CutEndReason : std::uint32_t { kNone = 0, kCompleted = 1, kWithdrawn = 2, kAborted = 3 };
-const char* to_string(CutEndReason reason) noexcept;
+std::string_view to_string(CutEndReason reason) noexcept;
 
 /// The blade as an oriented thin box: edge along u (length), from the edge towards the back along
 /// v (depth), thickness along the normal (kerf width). m.

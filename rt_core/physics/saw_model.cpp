@@ -6,7 +6,7 @@
 
 namespace kerf::physics {
 
-const char* to_string(CutEventType type) noexcept {
+std::string_view to_string(CutEventType type) noexcept {
     switch (type) {
         case CutEventType::kBegin:
             return "begin";
@@ -18,7 +18,7 @@ const char* to_string(CutEventType type) noexcept {
     return "unknown cut event";
 }
 
-const char* to_string(CutEndReason reason) noexcept {
+std::string_view to_string(CutEndReason reason) noexcept {
     switch (reason) {
         case CutEndReason::kNone:
             return "none";

@@ -15,7 +15,7 @@
 
 namespace kerf::config {
 /// Lets gtest print error kinds by name.
-inline void PrintTo(ConfigErrorKind kind, std::ostream* os) { *os << to_string(kind); }
+inline void PrintTo(ConfigErrc kind, std::ostream* os) { *os << to_string(kind); }
 }  // namespace kerf::config
 
 namespace kerf::config::test {

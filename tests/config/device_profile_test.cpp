@@ -44,7 +44,7 @@ TEST(DeviceProfileParse, SimulatedDeviceCarriesItsEmulatorSettings) {
 TEST(DeviceProfileParse, UnknownKindListsTheAcceptedKinds) {
     auto text = edit(kFalcon, "kind = \"falcon\"", "kind = \"falcom\"");
     auto e = parse_error(text);
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue);
+    EXPECT_EQ(e.code, ConfigErrc::kBadValue);
     EXPECT_EQ(e.key, "kind");
     EXPECT_EQ(e.line, line_of(text, "kind ="));
     EXPECT_EQ(e.expected, "one of \"falcon\", \"kerf_hid\", \"simulated\"");
@@ -55,7 +55,7 @@ TEST(DeviceProfileParse, ASerialLongerThan16OrNotPrintableAsciiIsRefusedNotTrunc
         auto text = edit(kSimulated, "serial = \"HAPSIM-0001\"",
                          std::string("serial = \"") + serial + "\"");
         auto e = parse_error(text);
-        EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue) << serial;
+        EXPECT_EQ(e.code, ConfigErrc::kBadValue) << serial;
         EXPECT_EQ(e.key, "ids.serial") << serial;
         EXPECT_EQ(e.expected, "at most 16 printable ASCII characters");
     }
@@ -63,7 +63,7 @@ TEST(DeviceProfileParse, ASerialLongerThan16OrNotPrintableAsciiIsRefusedNotTrunc
 
 TEST(DeviceProfileParse, VendorIdBeyondSixteenBitsIsOutOfRange) {
     auto e = parse_error(edit(kFalcon, "vendor_id = 0x0403", "vendor_id = 0x10403"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.code, ConfigErrc::kOutOfRange);
     EXPECT_EQ(e.key, "ids.vendor_id");
     EXPECT_EQ(e.value, "66563");
     EXPECT_EQ(e.expected, "an integer, 1 <= value <= 65535");
@@ -71,7 +71,7 @@ TEST(DeviceProfileParse, VendorIdBeyondSixteenBitsIsOutOfRange) {
 
 TEST(DeviceProfileParse, ContinuousForceAbovePeakIsRejected) {
     auto e = parse_error(edit(kFalcon, "continuous_force_n = 4.0", "continuous_force_n = 9.5"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.code, ConfigErrc::kOutOfRange);
     EXPECT_EQ(e.key, "limits.continuous_force_n");
     EXPECT_NE(e.expected.find("limits.peak_force_n (8.9 N)"), std::string::npos) << e.expected;
 }
@@ -79,34 +79,34 @@ TEST(DeviceProfileParse, ContinuousForceAbovePeakIsRejected) {
 TEST(DeviceProfileParse, WorkspaceMinAboveMaxIsRejected) {
     auto text = edit(kFalcon, "min_m = [-0.06, -0.06, 0.075]", "min_m = [-0.06, 0.07, 0.075]");
     auto e = parse_error(text);
-    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.code, ConfigErrc::kOutOfRange);
     EXPECT_EQ(e.key, "workspace.max_m");
     EXPECT_NE(e.note.find("axis y"), std::string::npos);
 }
 
 TEST(DeviceProfileParse, WorkspaceWithTwoComponentsIsOutOfRange) {
     auto e = parse_error(edit(kFalcon, "max_m = [0.06, 0.06, 0.175]", "max_m = [0.06, 0.06]"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.code, ConfigErrc::kOutOfRange);
     EXPECT_EQ(e.key, "workspace.max_m");
     EXPECT_NE(e.note.find("has 2 elements"), std::string::npos);
 }
 
 TEST(DeviceProfileParse, NonNumberInsideAListNamesTheElement) {
     auto e = parse_error(edit(kFalcon, "[105.0, -15.0, -135.0]", "[105.0, \"x\", -135.0]"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kWrongType);
+    EXPECT_EQ(e.code, ConfigErrc::kWrongType);
     EXPECT_EQ(e.key, "kinematics.leg_angles_deg[1]");
     EXPECT_EQ(e.value, "\"x\"");
 }
 
 TEST(DeviceProfileParse, NanLinkLengthIsNotFinite) {
     auto e = parse_error(edit(kFalcon, "a_m = 0.060", "a_m = nan"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kNonFinite);
+    EXPECT_EQ(e.code, ConfigErrc::kNonFinite);
     EXPECT_EQ(e.key, "kinematics.a_m");
 }
 
 TEST(DeviceProfileParse, LinkLengthInMillimetresIsABadUnit) {
     auto e = parse_error(edit(kFalcon, "b_m = 0.1025", "b_mm = 102.5"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadUnit);
+    EXPECT_EQ(e.code, ConfigErrc::kBadUnit);
     EXPECT_EQ(e.key, "kinematics.b_mm");
     EXPECT_NE(e.note.find("'b_m'"), std::string::npos);
 }
@@ -114,7 +114,7 @@ TEST(DeviceProfileParse, LinkLengthInMillimetresIsABadUnit) {
 TEST(DeviceProfileParse, JointSpaceDeviceWithoutMotorTableIsMissingIt) {
     auto text = edit(kFalcon, "[motor]", "[unused]");
     auto e = parse_error(text);
-    EXPECT_EQ(e.kind, ConfigErrorKind::kUnknownKey);  // the renamed table, reported first
+    EXPECT_EQ(e.code, ConfigErrc::kUnknownKey);  // the renamed table, reported first
     EXPECT_EQ(e.key, "unused");
     EXPECT_EQ(e.more_problems, 1u);  // and the missing [motor]
 }
@@ -123,14 +123,14 @@ TEST(DeviceProfileParse, CartesianResolutionOnAJointDeviceIsABadValue) {
     auto e = parse_error(edit(kFalcon, "counts_per_rev = 1280",
                               "counts_per_rev = 1280\n"
                               "resolution_m = 1e-5"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue);
+    EXPECT_EQ(e.code, ConfigErrc::kBadValue);
     EXPECT_EQ(e.key, "encoder.resolution_m");
     EXPECT_NE(e.note.find("reporting_space = \"cartesian\""), std::string::npos);
 }
 
 TEST(DeviceProfileParse, EmulatorTableOnARealDeviceIsABadValue) {
     auto e = parse_error(kFalcon + "\n[emulator]\nprotocol = \"falcon\"\n");
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue);
+    EXPECT_EQ(e.code, ConfigErrc::kBadValue);
     EXPECT_EQ(e.key, "emulator");
     EXPECT_NE(e.note.find("kind = \"simulated\""), std::string::npos);
 }
@@ -138,13 +138,13 @@ TEST(DeviceProfileParse, EmulatorTableOnARealDeviceIsABadValue) {
 TEST(DeviceProfileParse, JointReportingWithCartesianModelIsInconsistent) {
     auto e =
         parse_error(edit(kHid, "reporting_space = \"cartesian\"", "reporting_space = \"joint\""));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue);
+    EXPECT_EQ(e.code, ConfigErrc::kBadValue);
     EXPECT_EQ(e.key, "kinematics.model");
 }
 
 TEST(DeviceProfileParse, SimulatedDeviceNeedsItsSocketPath) {
     auto e = parse_error(edit(kSimulated, "socket_path = \"${runtime}/kerf-hapsim.sock\"", ""));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kMissingKey);
+    EXPECT_EQ(e.code, ConfigErrc::kMissingKey);
     EXPECT_EQ(e.key, "emulator.socket_path");
     EXPECT_EQ(e.line, line_of(kSimulated, "[emulator]"));
 }
@@ -155,7 +155,7 @@ TEST(DeviceProfileParse, UnknownVariableInTheSocketPathIsABadReferenceAtItsLine)
     const std::string text =
         edit(kSimulated, "${runtime}/kerf-hapsim.sock", "${home}/kerf-hapsim.sock");
     auto e = parse_error(text);
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadReference);
+    EXPECT_EQ(e.code, ConfigErrc::kBadReference);
     EXPECT_EQ(e.key, "emulator.socket_path");
     EXPECT_EQ(e.line, line_of(text, "socket_path ="));
     EXPECT_NE(e.message().find("cannot expand ${home}"), std::string::npos) << e.message();
@@ -165,7 +165,7 @@ TEST(DeviceProfileParse, UnknownVariableInTheSocketPathIsABadReferenceAtItsLine)
 TEST(DeviceProfileParse, AnEmptyProfileReportsAMissingKeyAndThatTheFileIsEmpty) {
     for (const char* text : {"", "# only a comment\n"}) {
         auto e = parse_error(text);
-        EXPECT_EQ(e.kind, ConfigErrorKind::kMissingKey) << e.message();
+        EXPECT_EQ(e.code, ConfigErrc::kMissingKey) << e.message();
         EXPECT_EQ(e.message().find("falcon_delta"), std::string::npos) << e.message();
         EXPECT_NE(e.message().find("holds no settings"), std::string::npos) << e.message();
     }
@@ -173,7 +173,7 @@ TEST(DeviceProfileParse, AnEmptyProfileReportsAMissingKeyAndThatTheFileIsEmpty) 
 
 TEST(DeviceProfileParse, WatchdogOfZeroIsOutOfRange) {
     auto e = parse_error(edit(kFalcon, "watchdog_ms = 20", "watchdog_ms = 0"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.code, ConfigErrc::kOutOfRange);
     EXPECT_EQ(e.key, "limits.watchdog_ms");
 }
 
@@ -201,7 +201,7 @@ TEST(DeviceProfileList, LoadsEveryShippedProfileSortedByName) {
 
 TEST(DeviceProfileList, MissingFolderIsAnIoError) {
     auto e = test::error_of(load_device_profiles("/nonexistent/devices"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kIo);
+    EXPECT_EQ(e.code, ConfigErrc::kIo);
     EXPECT_EQ(e.source, "/nonexistent/devices");
 }
 

@@ -26,7 +26,7 @@ ConfigError parse_error(const std::string& text) {
 TEST(ForceProfileParse, SyntaxErrorNamesFileLineAndColumn) {
     auto text = edit(kDefault, "[limits]", "[limits");
     auto e = parse_error(text);
-    EXPECT_EQ(e.kind, ConfigErrorKind::kSyntax);
+    EXPECT_EQ(e.code, ConfigErrc::kSyntax);
     EXPECT_EQ(e.line, line_of(text, "[limits"));
     EXPECT_GT(e.column, 0u);
     EXPECT_NE(e.message().find("force/test.toml:" + std::to_string(e.line) + ":"),
@@ -38,7 +38,7 @@ TEST(ForceProfileParse, SyntaxErrorNamesFileLineAndColumn) {
 TEST(ForceProfileParse, MisspeltKeyIsUnknownWithSuggestionAndReportedBeforeTheMissingKey) {
     auto text = edit(kDefault, "stiffness_n_per_m = 1500.0", "stifness_n_per_m = 1500.0");
     auto e = parse_error(text);
-    EXPECT_EQ(e.kind, ConfigErrorKind::kUnknownKey);
+    EXPECT_EQ(e.code, ConfigErrc::kUnknownKey);
     EXPECT_EQ(e.key, "contact.stifness_n_per_m");
     EXPECT_EQ(e.line, line_of(text, "stifness_n_per_m"));
     EXPECT_EQ(e.column, 1u);
@@ -50,7 +50,7 @@ TEST(ForceProfileParse, MisspeltKeyIsUnknownWithSuggestionAndReportedBeforeTheMi
 TEST(ForceProfileParse, MisspeltTableIsUnknownWithSuggestion) {
     auto text = edit(kDefault, "[saw]", "[sawe]");
     auto e = parse_error(text);
-    EXPECT_EQ(e.kind, ConfigErrorKind::kUnknownKey);
+    EXPECT_EQ(e.code, ConfigErrc::kUnknownKey);
     EXPECT_EQ(e.key, "sawe");
     EXPECT_NE(e.note.find("'saw'"), std::string::npos);
 }
@@ -58,7 +58,7 @@ TEST(ForceProfileParse, MisspeltTableIsUnknownWithSuggestion) {
 TEST(ForceProfileParse, StringWhereANumberBelongsIsAWrongType) {
     auto text = edit(kDefault, "damping_n_s_per_m = 2.0", "damping_n_s_per_m = \"2.0\"");
     auto e = parse_error(text);
-    EXPECT_EQ(e.kind, ConfigErrorKind::kWrongType);
+    EXPECT_EQ(e.code, ConfigErrc::kWrongType);
     EXPECT_EQ(e.key, "contact.damping_n_s_per_m");
     EXPECT_EQ(e.value, "\"2.0\"");
     EXPECT_EQ(e.line, line_of(text, "damping_n_s_per_m"));
@@ -68,7 +68,7 @@ TEST(ForceProfileParse, StringWhereANumberBelongsIsAWrongType) {
 
 TEST(ForceProfileParse, FractionWhereAnIntegerBelongsIsAWrongType) {
     auto e = parse_error(edit(kDefault, "engage_quiet_ticks = 50", "engage_quiet_ticks = 50.5"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kWrongType);
+    EXPECT_EQ(e.code, ConfigErrc::kWrongType);
     EXPECT_EQ(e.key, "limits.engage_quiet_ticks");
     EXPECT_NE(e.expected.find("an integer"), std::string::npos);
 }
@@ -76,18 +76,18 @@ TEST(ForceProfileParse, FractionWhereAnIntegerBelongsIsAWrongType) {
 TEST(ForceProfileParse, NegativeStiffnessIsOutOfRangeAndSaysTheRange) {
     auto text = edit(kDefault, "stiffness_n_per_m = 1500.0", "stiffness_n_per_m = -1500.0");
     auto e = parse_error(text);
-    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.code, ConfigErrc::kOutOfRange);
     EXPECT_EQ(e.value, "-1500");
     EXPECT_EQ(e.expected, "0 < value <= 100000 N/m");
     EXPECT_EQ(e.message(), "force/test.toml:" + std::to_string(line_of(text, "stiffness_n")) +
                                ":21: contact.stiffness_n_per_m = -1500: out of range "
-                               "(expected 0 < value <= 100000 N/m)");
+                               "(expected 0 < value <= 100000 N/m) (out_of_range)");
 }
 
 TEST(ForceProfileParse, MissingRequiredKeyIsNamedWithItsTable) {
     auto text = edit(kDefault, "ramp_in_s = 0.5", "");
     auto e = parse_error(text);
-    EXPECT_EQ(e.kind, ConfigErrorKind::kMissingKey);
+    EXPECT_EQ(e.code, ConfigErrc::kMissingKey);
     EXPECT_EQ(e.key, "limits.ramp_in_s");
     EXPECT_EQ(e.line, line_of(text, "[limits]"));
     EXPECT_NE(e.expected.find("0 <= value <= 10 s"), std::string::npos);
@@ -96,7 +96,7 @@ TEST(ForceProfileParse, MissingRequiredKeyIsNamedWithItsTable) {
 TEST(ForceProfileParse, MissingRequiredTableIsNamed) {
     auto text = kDefault.substr(0, kDefault.find("[saw]"));
     auto e = parse_error(text);
-    EXPECT_EQ(e.kind, ConfigErrorKind::kMissingKey);
+    EXPECT_EQ(e.code, ConfigErrc::kMissingKey);
     EXPECT_EQ(e.key, "saw");
 }
 
@@ -104,7 +104,7 @@ TEST(ForceProfileParse, InfinityAndNanAreNotFinite) {
     for (const char* bad : {"inf", "-inf", "nan", "+nan"}) {
         auto e =
             parse_error(edit(kDefault, "max_force_n = 8.0", std::string("max_force_n = ") + bad));
-        EXPECT_EQ(e.kind, ConfigErrorKind::kNonFinite) << bad;
+        EXPECT_EQ(e.code, ConfigErrc::kNonFinite) << bad;
         EXPECT_EQ(e.key, "limits.max_force_n");
         EXPECT_NE(e.expected.find("a finite number"), std::string::npos);
     }
@@ -113,7 +113,7 @@ TEST(ForceProfileParse, InfinityAndNanAreNotFinite) {
 TEST(ForceProfileParse, UnitSuffixOtherThanTheSchemaIsABadUnit) {
     auto text = edit(kDefault, "kerf_width_m = 0.0008", "kerf_width_mm = 0.8");
     auto e = parse_error(text);
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadUnit);
+    EXPECT_EQ(e.code, ConfigErrc::kBadUnit);
     EXPECT_EQ(e.key, "saw.kerf_width_mm");
     EXPECT_EQ(e.line, line_of(text, "kerf_width_mm"));
     EXPECT_NE(e.note.find("'kerf_width_m'"), std::string::npos) << e.note;
@@ -121,7 +121,7 @@ TEST(ForceProfileParse, UnitSuffixOtherThanTheSchemaIsABadUnit) {
 
 TEST(ForceProfileParse, KeyWithoutItsUnitIsABadUnit) {
     auto e = parse_error(edit(kDefault, "stiffness_n_per_m = 1500.0", "stiffness = 1500.0"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadUnit);
+    EXPECT_EQ(e.code, ConfigErrc::kBadUnit);
     EXPECT_EQ(e.key, "contact.stiffness");
     EXPECT_NE(e.note.find("'stiffness_n_per_m'"), std::string::npos);
 }
@@ -129,7 +129,7 @@ TEST(ForceProfileParse, KeyWithoutItsUnitIsABadUnit) {
 TEST(ForceProfileParse, DynamicFrictionAboveStaticIsReportedAtTheDynamicKey) {
     auto text = edit(kDefault, "dynamic_friction_n = 0.25", "dynamic_friction_n = 0.5");
     auto e = parse_error(text);
-    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.code, ConfigErrc::kOutOfRange);
     EXPECT_EQ(e.key, "contact.dynamic_friction_n");
     EXPECT_EQ(e.line, line_of(text, "dynamic_friction_n"));
     EXPECT_NE(e.expected.find("contact.static_friction_n (0.4 N)"), std::string::npos);
@@ -139,7 +139,7 @@ TEST(ForceProfileParse, KerfWiderThanTheBladeIsDeepIsRejected) {
     auto e = parse_error(
         edit(kDefault, "kerf_width_m = 0.0008", "kerf_width_m = 0.004")
             .replace(kDefault.find("blade_depth_m = 0.010"), 21, "blade_depth_m = 0.003"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.code, ConfigErrc::kOutOfRange);
     EXPECT_EQ(e.key, "saw.kerf_width_m");
 }
 
@@ -148,28 +148,28 @@ TEST(ForceProfileParse, EveryProblemIsCounted) {
                           "speed_rpm = 12000.0", "speed_rpm = \"fast\""),
                      "[saw]", "[saw]\nteeth = 24");
     auto e = parse_error(text);
-    EXPECT_EQ(e.kind, ConfigErrorKind::kUnknownKey);
+    EXPECT_EQ(e.code, ConfigErrc::kUnknownKey);
     EXPECT_EQ(e.key, "saw.teeth");
     EXPECT_EQ(e.more_problems, 2u);
 }
 
 TEST(ForceProfileParse, EmptyAndBinaryInputAreErrorsNotCrashes) {
-    EXPECT_EQ(parse_error("").kind, ConfigErrorKind::kMissingKey);
-    EXPECT_EQ(parse_error(std::string("\0\xff\xfe", 3)).kind, ConfigErrorKind::kSyntax);
-    EXPECT_EQ(parse_error("name = 3\n").kind, ConfigErrorKind::kWrongType);
+    EXPECT_EQ(parse_error("").code, ConfigErrc::kMissingKey);
+    EXPECT_EQ(parse_error(std::string("\0\xff\xfe", 3)).code, ConfigErrc::kSyntax);
+    EXPECT_EQ(parse_error("name = 3\n").code, ConfigErrc::kWrongType);
 }
 
 TEST(ForceProfileParse, DuplicateKeyIsASyntaxErrorAtTheSecondDefinition) {
     auto text = edit(kDefault, "ramp_in_s = 0.5", "ramp_in_s = 0.5\nramp_in_s = 0.7");
     auto e = parse_error(text);
-    EXPECT_EQ(e.kind, ConfigErrorKind::kSyntax);
+    EXPECT_EQ(e.code, ConfigErrc::kSyntax);
     EXPECT_EQ(e.line, line_of(text, "ramp_in_s = 0.7"));
 }
 
 TEST(ForceProfileParse, HugeOrControlCharacterValuesAreQuotedAndTruncated) {
     std::string huge(5000, 'x');
     auto e = parse_error(edit(kDefault, "speed_rpm = 12000.0", "speed_rpm = \"" + huge + "\""));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kWrongType);
+    EXPECT_EQ(e.code, ConfigErrc::kWrongType);
     EXPECT_LE(e.value.size(), 60u);
     EXPECT_LT(e.message().size(), 400u);
     auto c = parse_error(edit(kDefault, "speed_rpm = 12000.0", "speed_rpm = \"a\\u0007b\""));
@@ -178,7 +178,7 @@ TEST(ForceProfileParse, HugeOrControlCharacterValuesAreQuotedAndTruncated) {
 
 TEST(ForceProfileLoad, MissingFileIsAnIoErrorNamingThePath) {
     auto e = error_of(load_force_profile("/nonexistent/kerf/force.toml"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kIo);
+    EXPECT_EQ(e.code, ConfigErrc::kIo);
     EXPECT_EQ(e.source, "/nonexistent/kerf/force.toml");
     EXPECT_NE(e.message().find("/nonexistent/kerf/force.toml: cannot read: no such file"),
               std::string::npos)
@@ -187,7 +187,7 @@ TEST(ForceProfileLoad, MissingFileIsAnIoErrorNamingThePath) {
 
 TEST(ForceProfileLoad, DirectoryIsAnIoError) {
     auto e = error_of(load_force_profile(test::kConfigDir / "force"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kIo);
+    EXPECT_EQ(e.code, ConfigErrc::kIo);
     EXPECT_NE(e.note.find("not a regular file"), std::string::npos);
 }
 
@@ -209,10 +209,10 @@ TEST(ForceProfileValidator, ReportsEveryProblemWithKeyAndValue) {
     p.limits.engage_quiet_ticks = 20'000;
     auto problems = validate_force_profile(p);
     ASSERT_EQ(problems.size(), 4u);
-    EXPECT_EQ(problems[0].kind, ConfigErrorKind::kNonFinite);
+    EXPECT_EQ(problems[0].code, ConfigErrc::kNonFinite);
     EXPECT_EQ(problems[0].key, "contact.stiffness_n_per_m");
     EXPECT_EQ(problems[0].value, "nan");
-    EXPECT_EQ(problems[1].kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(problems[1].code, ConfigErrc::kOutOfRange);
     EXPECT_EQ(problems[1].key, "limits.slew_rate_n_per_s");
     EXPECT_EQ(problems[2].key, "cutting.cancellous.plane_lock_stiffness_n_per_m");
     EXPECT_EQ(problems[3].key, "limits.engage_quiet_ticks");

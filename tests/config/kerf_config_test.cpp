@@ -52,61 +52,61 @@ TEST(KerfConfigParse, PolicyOtherDefaultsToPriorityZero) {
 
 TEST(KerfConfigParse, FifoWithPriorityZeroIsOutOfRange) {
     auto e = parse_error(edit(kMain, "priority = 80", "priority = 0"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.code, ConfigErrc::kOutOfRange);
     EXPECT_EQ(e.key, "realtime.priority");
     EXPECT_NE(e.expected.find("1..99"), std::string::npos);
 }
 
 TEST(KerfConfigParse, PolicyOtherWithARealtimePriorityIsOutOfRange) {
     auto e = parse_error(edit(kMain, "policy = \"fifo\"", "policy = \"other\""));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.code, ConfigErrc::kOutOfRange);
     EXPECT_EQ(e.key, "realtime.priority");
     EXPECT_NE(e.expected.find("0 for policy \"other\""), std::string::npos);
 }
 
 TEST(KerfConfigParse, PeriodBelowAHundredMicrosecondsIsOutOfRange) {
     auto e = parse_error(edit(kMain, "period_ns = 1_000_000", "period_ns = 1_000"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.code, ConfigErrc::kOutOfRange);
     EXPECT_EQ(e.key, "realtime.period_ns");
     EXPECT_EQ(e.value, "1000");
 }
 
 TEST(KerfConfigParse, PeriodInMillisecondsIsABadUnit) {
     auto e = parse_error(edit(kMain, "period_ns = 1_000_000", "period_ms = 1"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadUnit);
+    EXPECT_EQ(e.code, ConfigErrc::kBadUnit);
     EXPECT_EQ(e.key, "realtime.period_ms");
     EXPECT_NE(e.note.find("'period_ns'"), std::string::npos);
 }
 
 TEST(KerfConfigParse, RingCapacityMustBeAPowerOfTwo) {
     auto e = parse_error(edit(kMain, "event_ring_capacity = 4096", "event_ring_capacity = 4000"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.code, ConfigErrc::kOutOfRange);
     EXPECT_EQ(e.key, "shm.event_ring_capacity");
     EXPECT_NE(e.expected.find("a power of two"), std::string::npos);
 }
 
 TEST(KerfConfigParse, DuplicateCpuInAffinityIsRejected) {
     auto e = parse_error(edit(kMain, "cpu_affinity = [1]", "cpu_affinity = [1, 0, 1]"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue);
+    EXPECT_EQ(e.code, ConfigErrc::kBadValue);
     EXPECT_EQ(e.key, "realtime.cpu_affinity");
 }
 
 TEST(KerfConfigParse, UnknownDisplayModeSuggestsTheNearestOne) {
     auto e = parse_error(edit(kMain, "mode = \"headless\"", "mode = \"kmsdrm\""));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue);
+    EXPECT_EQ(e.code, ConfigErrc::kBadValue);
     EXPECT_EQ(e.key, "display.mode");
     EXPECT_NE(e.note.find("\"kms\""), std::string::npos);
 }
 
 TEST(KerfConfigParse, ProfileNameWithAPathIsRejected) {
     auto e = parse_error(edit(kMain, "device = \"simulated\"", "device = \"../../etc/passwd\""));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue);
+    EXPECT_EQ(e.code, ConfigErrc::kBadValue);
     EXPECT_EQ(e.key, "profiles.device");
 }
 
 TEST(KerfConfigParse, MissingProfilesTableIsAMissingKey) {
     auto e = parse_error(edit(kMain, "[profiles]", "[profile]"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kUnknownKey);  // the typo first...
+    EXPECT_EQ(e.code, ConfigErrc::kUnknownKey);  // the typo first...
     EXPECT_NE(e.note.find("'profiles'"), std::string::npos);
     EXPECT_GE(e.more_problems, 1u);  // ...then the missing [profiles]
 }
@@ -114,14 +114,14 @@ TEST(KerfConfigParse, MissingProfilesTableIsAMissingKey) {
 TEST(KerfConfigParse, UnknownJournalVariableIsADanglingReference) {
     auto text = edit(kMain, "${tmp}/kerf-journal", "${home}/kerf-journal");
     auto e = parse_error(text);
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadReference);
+    EXPECT_EQ(e.code, ConfigErrc::kBadReference);
     EXPECT_EQ(e.key, "journal.dir");
     EXPECT_EQ(e.line, line_of(text, "dir ="));
 }
 
 TEST(KerfConfigParse, BadGroupNameIsRejected) {
     auto e = parse_error(edit(kMain, "group = \"\"", "group = \"kiosk users\""));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue);
+    EXPECT_EQ(e.code, ConfigErrc::kBadValue);
     EXPECT_EQ(e.key, "shm.group");
 }
 
@@ -130,7 +130,7 @@ TEST(KerfConfigParse, BadGroupNameIsRejected) {
 TEST(KerfConfigParse, AGroupThatDoesNotExistIsRejectedAtItsLine) {
     const std::string text = edit(kMain, "group = \"\"", "group = \"no_such_kerf_group\"");
     auto e = parse_error(text);
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue);
+    EXPECT_EQ(e.code, ConfigErrc::kBadValue);
     EXPECT_EQ(e.key, "shm.group");
     EXPECT_EQ(e.line, line_of(text, "group ="));
     EXPECT_NE(e.message().find("no group 'no_such_kerf_group'"), std::string::npos) << e.message();
@@ -146,7 +146,7 @@ TEST(KerfConfigParse, ConsumerSlotsMustLeaveAToolSlotAndFitTheSegment) {
         const std::string text =
             edit(kMain, "consumer_slots = 4", std::string("consumer_slots = ") + bad);
         auto e = parse_error(text);
-        EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange) << bad << ": " << e.message();
+        EXPECT_EQ(e.code, ConfigErrc::kOutOfRange) << bad << ": " << e.message();
         EXPECT_EQ(e.key, "shm.consumer_slots");
         EXPECT_EQ(e.line, line_of(text, "consumer_slots ="));
         EXPECT_NE(e.message().find("left for tools"), std::string::npos) << e.message();
@@ -165,7 +165,7 @@ TEST(LoadConfig, DanglingDeviceReferenceListsTheProfilesThatExist) {
     auto text = edit(kMain, "device = \"simulated\"", "device = \"falconn\"");
     test::write_file(dir / "kerf.toml", text);
     auto e = error_of(load_config(dir / "kerf.toml"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadReference);
+    EXPECT_EQ(e.code, ConfigErrc::kBadReference);
     EXPECT_EQ(e.key, "profiles.device");
     EXPECT_EQ(e.value, "\"falconn\"");
     EXPECT_EQ(e.source, (dir / "kerf.toml").string());
@@ -179,7 +179,7 @@ TEST(LoadConfig, DanglingSceneReferenceIsReported) {
     test::write_file(dir / "kerf.toml",
                      edit(kMain, "scene = \"builtin_foot\"", "scene = \"tibia\""));
     auto e = error_of(load_config(dir / "kerf.toml"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadReference);
+    EXPECT_EQ(e.code, ConfigErrc::kBadReference);
     EXPECT_EQ(e.key, "profiles.scene");
 }
 
@@ -188,7 +188,7 @@ TEST(LoadConfig, ErrorInAReferencedProfileNamesThatProfile) {
     test::write_file(dir / "force" / "default.toml",
                      edit(shipped("force/default.toml"), "ramp_in_s = 0.5", "ramp_in_s = 50.0"));
     auto e = error_of(load_config(dir / "kerf.toml"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.code, ConfigErrc::kOutOfRange);
     EXPECT_EQ(e.source, (dir / "force" / "default.toml").string());
     EXPECT_EQ(e.key, "limits.ramp_in_s");
 }
@@ -200,7 +200,7 @@ TEST(LoadConfig, ForceProfileAskingMoreThanTheDevicePeakIsRejected) {
     auto force = edit(shipped("force/default.toml"), "max_force_n = 8.0", "max_force_n = 9.5");
     test::write_file(dir / "force" / "default.toml", force);
     auto e = error_of(load_config(dir / "kerf.toml"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.code, ConfigErrc::kOutOfRange);
     EXPECT_EQ(e.key, "limits.max_force_n");
     EXPECT_EQ(e.line, line_of(force, "max_force_n"));
     EXPECT_NE(e.expected.find("peak_force_n (8.9 N"), std::string::npos) << e.expected;
@@ -214,7 +214,7 @@ TEST(LoadConfig, SceneWithAMissingMeshFileIsADanglingReference) {
                       "no_such_bone.stl");
     test::write_file(dir / "scenes" / "calcaneus.toml", scene);
     auto e = error_of(load_config(dir / "kerf.toml"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadReference);
+    EXPECT_EQ(e.code, ConfigErrc::kBadReference);
     EXPECT_EQ(e.key, "bodies[0].mesh.path");
     EXPECT_EQ(e.line, line_of(scene, "path ="));
     EXPECT_NE(e.note.find("no_such_bone.stl"), std::string::npos);
@@ -237,7 +237,7 @@ TEST(LoadConfig, ShippedCalcaneusSceneLoadsWhenTheSharedMeshesArePresent) {
 
 TEST(LoadConfig, MissingKerfTomlIsAnIoError) {
     auto e = error_of(load_config("/nonexistent/kerf.toml"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kIo);
+    EXPECT_EQ(e.code, ConfigErrc::kIo);
     EXPECT_EQ(e.source, "/nonexistent/kerf.toml");
 }
 

@@ -92,26 +92,26 @@ TEST(SceneParse, BadMappingAndPlannedCutValuesNameTheirFileLineAndKey) {
         const char* from;
         const char* to;
         const char* key;
-        ConfigErrorKind kind;
+        ConfigErrc kind;
     };
     const Case cases[] = {
-        {"scale = 1.0 ", "scale = 0.0 ", "device_mapping.scale", ConfigErrorKind::kOutOfRange},
+        {"scale = 1.0 ", "scale = 0.0 ", "device_mapping.scale", ConfigErrc::kOutOfRange},
         {"scale = 1.0 ", "scale = 1.0 \norigin_m = [0, 20, 0]\n#", "device_mapping.origin_m[1]",
-         ConfigErrorKind::kOutOfRange},
+         ConfigErrc::kOutOfRange},
         {"normal = [0.0, 0.0, 1.0]", "normal = [0.0, 0.0, 0.0]", "planned_cut.normal",
-         ConfigErrorKind::kOutOfRange},
+         ConfigErrc::kOutOfRange},
         {"edge = [1.0, 0.0, 0.0]", "edge = [0.0, 0.0, 3.0]", "planned_cut.edge",
-         ConfigErrorKind::kBadValue},
+         ConfigErrc::kBadValue},
         {"point_m = [0.0, 0.0, 0.025]", "point_m = [0.0, 0.025]", "planned_cut.point_m",
-         ConfigErrorKind::kOutOfRange},
+         ConfigErrc::kOutOfRange},
         {"scale = 1.0 ", "scale = 1.0 \norigin_mm = [0, 0, 0]\n#", "device_mapping.origin_mm",
-         ConfigErrorKind::kBadUnit},
+         ConfigErrc::kBadUnit},
     };
     for (const Case& c : cases) {
         const std::string text = edit(kCalcaneus, c.from, c.to);
         const ConfigError e = parse_error(text);
         EXPECT_EQ(e.key, c.key) << c.to << ": " << e.message();
-        EXPECT_EQ(e.kind, c.kind) << c.to << ": " << e.message();
+        EXPECT_EQ(e.code, c.kind) << c.to << ": " << e.message();
         EXPECT_NE(e.message().find("scenes/test.toml:"), std::string::npos) << e.message();
         EXPECT_GT(e.line, 0) << e.message();
     }
@@ -131,7 +131,7 @@ TEST(SceneParse, AxisAngleBecomesANormalisedQuaternion) {
 TEST(SceneParse, UnknownLengthUnitIsABadUnitListingTheAcceptedOnes) {
     auto text = edit(kCalcaneus, "units = \"mm\"", "units = \"furlong\"");
     auto e = parse_error(text);
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadUnit);
+    EXPECT_EQ(e.code, ConfigErrc::kBadUnit);
     EXPECT_EQ(e.key, "bodies[0].mesh.units");
     EXPECT_EQ(e.value, "\"furlong\"");
     EXPECT_EQ(e.line, line_of(text, "units ="));
@@ -140,20 +140,20 @@ TEST(SceneParse, UnknownLengthUnitIsABadUnitListingTheAcceptedOnes) {
 
 TEST(SceneParse, AngleInRadiansIsABadUnit) {
     auto e = parse_error(edit(kBuiltin, "rotation_angle_deg = 0.0", "rotation_angle_rad = 0.0"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadUnit);
+    EXPECT_EQ(e.code, ConfigErrc::kBadUnit);
     EXPECT_EQ(e.key, "bodies[0].transform.rotation_angle_rad");
 }
 
 TEST(SceneParse, BothRotationFormsAtOnceAreRejected) {
     auto e = parse_error(edit(kBuiltin, "rotation_angle_deg = 0.0",
                               "rotation_angle_deg = 0.0\nrotation_quaternion_wxyz = [1, 0, 0, 0]"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue);
+    EXPECT_EQ(e.code, ConfigErrc::kBadValue);
     EXPECT_NE(e.note.find("write the rotation once"), std::string::npos);
 }
 
 TEST(SceneParse, NonUnitQuaternionIsOutOfRange) {
     auto e = parse_error(edit(kCalcaneus, "[1.0, 0.0, 0.0, 0.0]", "[0.5, 0.0, 0.0, 0.0]"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.code, ConfigErrc::kOutOfRange);
     EXPECT_EQ(e.key, "bodies[0].transform.rotation_quaternion_wxyz");
     EXPECT_NE(e.note.find("|q| = 0.5"), std::string::npos);
 }
@@ -161,44 +161,44 @@ TEST(SceneParse, NonUnitQuaternionIsOutOfRange) {
 TEST(SceneParse, ZeroRotationAxisIsOutOfRange) {
     auto e =
         parse_error(edit(kBuiltin, "rotation_axis = [0.0, 0.0, 1.0]", "rotation_axis = [0, 0, 0]"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.code, ConfigErrc::kOutOfRange);
     EXPECT_EQ(e.key, "bodies[0].transform.rotation_axis");
 }
 
 TEST(SceneParse, AxisWithoutAngleIsAMissingKey) {
     auto e = parse_error(edit(kBuiltin, "rotation_angle_deg = 0.0", ""));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kMissingKey);
+    EXPECT_EQ(e.code, ConfigErrc::kMissingKey);
     EXPECT_EQ(e.key, "bodies[0].transform.rotation_angle_deg");
 }
 
 TEST(SceneParse, TooFewTrianglesIsOutOfRange) {
     auto e = parse_error(edit(kBuiltin, "target_triangles = 200_000", "target_triangles = 12"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kOutOfRange);
+    EXPECT_EQ(e.code, ConfigErrc::kOutOfRange);
     EXPECT_EQ(e.expected, "an integer, 10000 <= value <= 4000000");
 }
 
 TEST(SceneParse, FileKeysOnABuiltinMeshAreBadValues) {
     auto e = parse_error(edit(kBuiltin, "seed = 1", "seed = 1\nunits = \"mm\""));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue);
+    EXPECT_EQ(e.code, ConfigErrc::kBadValue);
     EXPECT_EQ(e.key, "bodies[0].mesh.units");
 }
 
 TEST(SceneParse, UnknownPathVariableIsADanglingReference) {
     auto e = parse_error(edit(kCalcaneus, "${shared}/meshes", "${home}/meshes"));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadReference);
+    EXPECT_EQ(e.code, ConfigErrc::kBadReference);
     EXPECT_NE(e.note.find("${home}"), std::string::npos);
 }
 
 TEST(SceneParse, DuplicateBodyNamesAreRejected) {
     auto body = kBuiltin.substr(kBuiltin.find("[[bodies]]"));
     auto e = parse_error(kBuiltin + "\n" + body);
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadValue);
+    EXPECT_EQ(e.code, ConfigErrc::kBadValue);
     EXPECT_EQ(e.key, "bodies[1].name");
 }
 
 TEST(SceneParse, BodiesMustBeAnArrayOfTables) {
     auto e = parse_error("name = \"x\"\nbodies = 3\n");
-    EXPECT_EQ(e.kind, ConfigErrorKind::kWrongType);
+    EXPECT_EQ(e.code, ConfigErrc::kWrongType);
     EXPECT_EQ(e.key, "bodies");
     EXPECT_EQ(e.line, 2u);
 }
@@ -207,7 +207,7 @@ TEST(SceneResolve, MissingMeshFileIsADanglingReference) {
     auto s = parse_scene(kCalcaneus, "c");
     ASSERT_TRUE(s);
     auto e = error_of(resolve_mesh_path(s->bodies[0], {"/nonexistent", "/nonexistent/shared"}));
-    EXPECT_EQ(e.kind, ConfigErrorKind::kBadReference);
+    EXPECT_EQ(e.code, ConfigErrc::kBadReference);
     EXPECT_NE(e.note.find("/nonexistent/shared/meshes/jma_norm01_calcaneus_right.stl"),
               std::string::npos)
         << e.note;

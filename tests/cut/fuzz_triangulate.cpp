@@ -83,7 +83,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (!tris.empty()) fail("refusal left triangles behind");
         if (mode == 0)
             fail(std::string("valid region refused: ") +
-                 std::string(to_string(status.error().failure)));
+                 std::string(to_string(status.error().code)));
         return 0;
     }
     if (mode == 2) {

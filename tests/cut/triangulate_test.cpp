@@ -38,14 +38,14 @@ std::vector<Triangle> expect_valid(const Loops& loops, bool exact = false,
     std::vector<Triangle> tris;
     const auto spans = spans_of(loops);
     const auto s = t.triangulate(spans, tris);
-    EXPECT_TRUE(s.has_value()) << to_string(s.error().failure) << " loop " << s.error().loop;
+    EXPECT_TRUE(s.has_value()) << to_string(s.error().code) << " loop " << s.error().loop;
     EXPECT_EQ(check_triangulation(loops, tris, exact), "");
     EXPECT_EQ(t.stats().degenerate_ears, 0u);
     if (stats != nullptr) *stats = t.stats();
     return tris;
 }
 
-TriangulateError expect_refused(const Loops& loops, TriangulateFailure why) {
+TriangulateError expect_refused(const Loops& loops, TriangulateErrc why) {
     std::vector<Triangle> tris{{0, 1, 2}};
     Triangulator t;
     const auto spans = spans_of(loops);
@@ -53,7 +53,7 @@ TriangulateError expect_refused(const Loops& loops, TriangulateFailure why) {
     EXPECT_FALSE(s.has_value());
     EXPECT_TRUE(tris.empty());
     if (s.has_value()) return {};
-    EXPECT_EQ(s.error().failure, why) << to_string(s.error().failure);
+    EXPECT_EQ(s.error().code, why) << to_string(s.error().code);
     return s.error();
 }
 
@@ -163,46 +163,49 @@ TEST(Triangulate, SameInputGivesTheSameTrianglesAndTheTriangulatorIsReusable) {
 }
 
 TEST(Triangulate, EmptyAndTooShortLoopsAreRefused) {
-    expect_refused({}, TriangulateFailure::kNoLoops);
+    expect_refused({}, TriangulateErrc::kNoLoops);
     const auto e =
-        expect_refused({square({0, 0}, 1), {{0, 0}, {1, 1}}}, TriangulateFailure::kTooFewPoints);
+        expect_refused({square({0, 0}, 1), {{0, 0}, {1, 1}}}, TriangulateErrc::kTooFewPoints);
     EXPECT_EQ(e.loop, 1);
 }
 
 TEST(Triangulate, NonFiniteCoordinatesAreRefused) {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     const double inf = std::numeric_limits<double>::infinity();
-    expect_refused({{{0, 0}, {1, 0}, {nan, 1}}}, TriangulateFailure::kNonFinite);
-    expect_refused({{{0, 0}, {inf, 0}, {0, 1}}}, TriangulateFailure::kNonFinite);
+    expect_refused({{{0, 0}, {1, 0}, {nan, 1}}}, TriangulateErrc::kNonFinite);
+    expect_refused({{{0, 0}, {inf, 0}, {0, 1}}}, TriangulateErrc::kNonFinite);
 }
 
 TEST(Triangulate, ZeroAreaLoopIsRefused) {
     const auto e = expect_refused({square({5, 5}, 1), {{0, 0}, {1, 1}, {2, 2}, {3, 3}}},
-                                  TriangulateFailure::kZeroArea);
+                                  TriangulateErrc::kZeroArea);
     EXPECT_EQ(e.loop, 1);
 }
 
 TEST(Triangulate, CrossingTouchingOrRepeatingLoopsAreRefusedWithTheLoopsNamed) {
     // A bow-tie crosses itself.
-    auto e =
-        expect_refused({{{0, 0}, {4, 4}, {4, 0}, {0, 2}}}, TriangulateFailure::kSelfIntersecting);
+    auto e = expect_refused({{{0, 0}, {4, 4}, {4, 0}, {0, 2}}}, TriangulateErrc::kSelfIntersecting);
     EXPECT_EQ(e.loop, 0);
     EXPECT_EQ(e.other_loop, 0);
     // Two overlapping squares.
-    e = expect_refused({square({0, 0}, 2), square({1, 1}, 2)},
-                       TriangulateFailure::kSelfIntersecting);
+    e = expect_refused({square({0, 0}, 2), square({1, 1}, 2)}, TriangulateErrc::kSelfIntersecting);
     EXPECT_NE(e.loop, e.other_loop);
     // A hole touching its outer loop at a vertex.
     expect_refused({square({0, 0}, 4), {{0, 2}, {1, 1}, {2, 2}, {1, 3}}},
-                   TriangulateFailure::kSelfIntersecting);
+                   TriangulateErrc::kSelfIntersecting);
     // A repeated point, and a spike folding back along an edge.
-    expect_refused({{{0, 0}, {1, 0}, {1, 0}, {1, 1}}}, TriangulateFailure::kSelfIntersecting);
-    expect_refused({{{0, 0}, {2, 0}, {1, 0}, {1, 1}}}, TriangulateFailure::kSelfIntersecting);
+    expect_refused({{{0, 0}, {1, 0}, {1, 0}, {1, 1}}}, TriangulateErrc::kSelfIntersecting);
+    expect_refused({{{0, 0}, {2, 0}, {1, 0}, {1, 1}}}, TriangulateErrc::kSelfIntersecting);
 }
 
 TEST(Triangulate, FailureNamesReadAsText) {
-    EXPECT_EQ(to_string(TriangulateFailure::kSelfIntersecting), "loops cross or touch");
-    EXPECT_EQ(to_string(TriangulateFailure::kZeroArea), "loop encloses zero area");
+    EXPECT_EQ(to_string(TriangulateErrc::kSelfIntersecting), "self_intersecting");
+    EXPECT_EQ(to_string(TriangulateErrc::kZeroArea), "zero_area");
+    EXPECT_EQ(triangulate_error(TriangulateErrc::kSelfIntersecting, 0, 3).message(),
+              "loops 0 and 3: an edge of one crosses or touches an edge of the other "
+              "(self_intersecting)");
+    EXPECT_EQ(triangulate_error(TriangulateErrc::kZeroArea, 2).message(),
+              "loop 2: encloses (relatively) zero area (zero_area)");
 }
 
 TEST(Triangulate, SignedAreaIsPositiveCounterClockwise) {

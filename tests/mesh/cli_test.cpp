@@ -66,7 +66,7 @@ TEST_F(KerfCli, MeshInfoJsonReportsTheReadmeCountsForTheCalcaneus) {
 TEST_F(KerfCli, MeshInfoOnAMissingFileFailsWithExitOneNamingThePath) {
     const ProcessRun r = kerf({"mesh", "info", "/no/such/bone.stl"});
     EXPECT_EQ(r.exit_code, 1);
-    EXPECT_EQ(r.err, "kerf mesh info: cannot load mesh: /no/such/bone.stl: io: no such file\n");
+    EXPECT_EQ(r.err, "kerf mesh info: cannot load mesh: /no/such/bone.stl: no such file (io)\n");
     EXPECT_TRUE(r.out.empty());
 }
 
@@ -75,7 +75,7 @@ TEST_F(KerfCli, MeshInfoOnAMalformedFileNamesTheLine) {
     std::ofstream(bad) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n";
     const ProcessRun r = kerf({"mesh", "info", bad.string()});
     EXPECT_EQ(r.exit_code, 1);
-    EXPECT_NE(r.err.find(bad.string() + ":4: index_out_of_range"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(bad.string() + ":4: face refers to vertex 9"), std::string::npos) << r.err;
 }
 
 TEST_F(KerfCli, UnknownUnitIsAUsageError) {

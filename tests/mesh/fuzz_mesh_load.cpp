@@ -18,7 +18,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (loaded) {
         const ValidationReport r = validate(loaded->indexed);
         if (r.triangles != loaded->mesh.n_faces()) __builtin_trap();  // nothing may be dropped
-    } else if (loaded.error().to_string().empty()) {
+    } else if (loaded.error().message().empty()) {
         __builtin_trap();
     }
     return 0;

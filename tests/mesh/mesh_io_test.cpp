@@ -29,7 +29,7 @@ TEST_P(RoundTrip, TorusSurvivesWithSameTopologyVolumeAndPositions) {
     const TriMesh torus = make_torus(0.03, 0.01, 24, 12);
     const std::string data = serialize_mesh(torus, c.format, Units::kMillimetres, c.encoding);
     auto back = parse_mesh(as_bytes(data), c.format, Units::kMillimetres, "roundtrip");
-    ASSERT_TRUE(back) << back.error().to_string();
+    ASSERT_TRUE(back) << back.error().message();
     const ValidationReport a = validate(torus);
     const ValidationReport b = validate(back->indexed);
     EXPECT_EQ(b.triangles, a.triangles);
@@ -71,7 +71,7 @@ TEST(MeshIo, PlyCarriesVertexMaterialsThroughARoundTrip) {
     const TriMesh tube = make_hollow_tube(0.04, 0.006, 0.003, 16, 4);
     const std::string data = serialize_mesh(tube, Format::kPly, Units::kMetres);
     auto back = parse_mesh(as_bytes(data), Format::kPly, Units::kMetres);
-    ASSERT_TRUE(back) << back.error().to_string();
+    ASSERT_TRUE(back) << back.error().message();
     std::size_t cancellous = 0;
     for (const VertexHandle v : back->mesh.vertices()) {
         cancellous += back->mesh.data(v).material() == Material::kCancellous ? 1 : 0;
@@ -85,7 +85,7 @@ TEST(MeshIo, UnitsScaleEveryCoordinateToMetres) {
          {std::pair{Units::kMillimetres, 0.01}, std::pair{Units::kCentimetres, 0.1},
           std::pair{Units::kInches, 0.254}, std::pair{Units::kMetres, 10.0}}) {
         auto m = parse_indexed(as_bytes(obj), Format::kObj, units);
-        ASSERT_TRUE(m) << m.error().to_string();
+        ASSERT_TRUE(m) << m.error().message();
         EXPECT_DOUBLE_EQ(m->positions_m[1][0], metres) << to_string(units);
         EXPECT_DOUBLE_EQ(m->positions_m[2][1], 2.0 * metres) << to_string(units);
     }
@@ -95,7 +95,7 @@ TEST(MeshIo, BinaryStlThatBeginsWithSolidIsReadAsBinary) {
     std::string data = serialize_mesh(make_box({0, 0, 0}, {1, 1, 1}), Format::kStl, Units::kMetres);
     std::memcpy(data.data(), "solid exported-by-a-cad-tool", 28);
     auto m = parse_indexed(as_bytes(data), Format::kStl, Units::kMetres);
-    ASSERT_TRUE(m) << m.error().to_string();
+    ASSERT_TRUE(m) << m.error().message();
     EXPECT_EQ(m->triangles.size(), 12u);
     EXPECT_EQ(m->positions_m.size(), 8u);
 }
@@ -105,7 +105,7 @@ TEST(MeshIo, StoredStlNormalsAreIgnoredEvenWhenGarbage) {
     const float nan = std::numeric_limits<float>::quiet_NaN();
     for (std::size_t f = 0; f < 12; ++f) std::memcpy(data.data() + 84 + 50 * f, &nan, 4);
     auto m = parse_mesh(as_bytes(data), Format::kStl, Units::kMetres);
-    ASSERT_TRUE(m) << m.error().to_string();
+    ASSERT_TRUE(m) << m.error().message();
     for (const FaceHandle f : m->mesh.faces()) EXPECT_NEAR(m->mesh.normal(f).norm(), 1.0, 1e-12);
 }
 
@@ -114,7 +114,7 @@ TEST(MeshIo, VerticesWeldOnlyWhenBitIdenticalWithNegativeZeroAsZero) {
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nv -0 0 0\nv 1.0000001 0 0\nv 0 1 0\n"
         "f 1 2 3\nf 4 5 6\n";
     auto m = parse_indexed(as_bytes(obj), Format::kObj, Units::kMetres);
-    ASSERT_TRUE(m) << m.error().to_string();
+    ASSERT_TRUE(m) << m.error().message();
     EXPECT_EQ(m->positions_m.size(), 4u);  // v4 = v1, v6 = v3, v5 is new
     EXPECT_EQ(m->triangles[1], (Triangle{0, 3, 2}));
 }
@@ -122,7 +122,7 @@ TEST(MeshIo, VerticesWeldOnlyWhenBitIdenticalWithNegativeZeroAsZero) {
 TEST(MeshIo, PolygonsBecomeTriangleFans) {
     const std::string off = "OFF\n5 1 0\n0 0 0\n1 0 0\n1 1 0\n0.5 1.5 0\n0 1 0\n5 0 1 2 3 4\n";
     auto m = parse_indexed(as_bytes(off), Format::kOff, Units::kMetres);
-    ASSERT_TRUE(m) << m.error().to_string();
+    ASSERT_TRUE(m) << m.error().message();
     ASSERT_EQ(m->triangles.size(), 3u);
     EXPECT_EQ(m->triangles[2], (Triangle{0, 3, 4}));
 }
@@ -133,7 +133,7 @@ TEST(MeshIo, NonManifoldEdgeIsKeptDetachedAndCountedNotDropped) {
         "v 0 0 0\nv 0 0 1\nv 1 0 0\nv 0 1 0\nv -1 0 0\n"
         "f 1 2 3\nf 2 1 4\nf 1 2 5\n";
     auto m = parse_mesh(as_bytes(obj), Format::kObj, Units::kMetres);
-    ASSERT_TRUE(m) << m.error().to_string();
+    ASSERT_TRUE(m) << m.error().message();
     EXPECT_EQ(m->mesh.n_faces(), 3u);
     EXPECT_EQ(m->detached_triangles, 1u);
     const ValidationReport r = validate(m->indexed);
@@ -146,7 +146,7 @@ TEST(MeshIo, NonManifoldEdgeIsKeptDetachedAndCountedNotDropped) {
 TEST(MeshIo, RepeatedIndexTriangleIsDegenerateAndDetached) {
     const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 1 2\n";
     auto m = parse_mesh(as_bytes(obj), Format::kObj, Units::kMetres);
-    ASSERT_TRUE(m) << m.error().to_string();
+    ASSERT_TRUE(m) << m.error().message();
     EXPECT_EQ(m->mesh.n_faces(), 2u);
     EXPECT_EQ(m->detached_triangles, 1u);
     EXPECT_EQ(validate(m->indexed).degenerate_triangles, 1u);
@@ -160,9 +160,9 @@ TEST(MeshIo, SaveAndLoadThroughTheFileSystem) {
     for (const char* name : {"s.stl", "s.obj", "s.ply", "s.off", "S.STL"}) {
         const auto path = dir / name;
         auto saved = save_mesh(sphere, path, Units::kMillimetres);
-        ASSERT_TRUE(saved) << saved.error().to_string();
+        ASSERT_TRUE(saved) << saved.error().message();
         auto loaded = load_mesh(path, Units::kMillimetres);
-        ASSERT_TRUE(loaded) << loaded.error().to_string();
+        ASSERT_TRUE(loaded) << loaded.error().message();
         EXPECT_EQ(loaded->n_faces(), sphere.n_faces()) << name;
     }
     std::filesystem::remove_all(dir);
@@ -171,18 +171,18 @@ TEST(MeshIo, SaveAndLoadThroughTheFileSystem) {
 TEST(MeshIo, FileErrorsNameThePathAndTheReason) {
     auto missing = load_mesh("/nonexistent/dir/bone.stl", Units::kMillimetres);
     ASSERT_FALSE(missing);
-    EXPECT_EQ(missing.error().kind, MeshErrorKind::kIo);
-    EXPECT_EQ(missing.error().to_string(), "/nonexistent/dir/bone.stl: io: no such file");
+    EXPECT_EQ(missing.error().code, MeshErrc::kIo);
+    EXPECT_EQ(missing.error().message(), "/nonexistent/dir/bone.stl: no such file (io)");
     auto directory = load_mesh_file(std::filesystem::temp_directory_path() / ".", Units::kMetres);
     ASSERT_FALSE(directory);
     auto unknown = load_mesh("bone.vtk", Units::kMillimetres);
     ASSERT_FALSE(unknown);
-    EXPECT_EQ(unknown.error().kind, MeshErrorKind::kUnknownFormat);
+    EXPECT_EQ(unknown.error().code, MeshErrc::kUnknownFormat);
     auto unwritable =
         save_mesh(make_box({0, 0, 0}, {1, 1, 1}), "/nonexistent/dir/x.stl", Units::kMetres);
     ASSERT_FALSE(unwritable);
-    EXPECT_EQ(unwritable.error().kind, MeshErrorKind::kIo);
-    EXPECT_NE(unwritable.error().to_string().find("/nonexistent/dir/x.stl"), std::string::npos);
+    EXPECT_EQ(unwritable.error().code, MeshErrc::kIo);
+    EXPECT_NE(unwritable.error().message().find("/nonexistent/dir/x.stl"), std::string::npos);
 }
 
 }  // namespace
@@ -203,7 +203,7 @@ TEST(MeshIo, EveryFuzzSeedParsesWithEveryTriangleKept) {
         const Format f = kFormats[static_cast<unsigned char>(bytes[0]) % 4];
         auto m = parse_mesh(as_bytes(std::string_view(bytes).substr(1)), f, Units::kMillimetres,
                             entry.path().filename().string());
-        ASSERT_TRUE(m) << m.error().to_string();
+        ASSERT_TRUE(m) << m.error().message();
         EXPECT_EQ(m->mesh.n_faces(), m->indexed.triangles.size()) << entry.path();
         ++seen;
     }

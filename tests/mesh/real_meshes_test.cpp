@@ -41,7 +41,7 @@ TEST_P(RealMeshes, ValidatorReportsWhatTheMeshesReadmeStates) {
     const auto path = meshes_dir() / x.file;
     if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared meshes not present: " << path;
     auto loaded = load_mesh_file(path, x.units);
-    ASSERT_TRUE(loaded) << loaded.error().to_string();
+    ASSERT_TRUE(loaded) << loaded.error().message();
     const ValidationReport r = validate(loaded->indexed);
     EXPECT_EQ(r.triangles, x.triangles);
     EXPECT_EQ(r.vertices, x.vertices);
@@ -72,7 +72,7 @@ TEST(RealMeshes, OpenFileNamesItsThreeBoundaryEdgesWhereTheReadmeSaysTheHoleIs) 
     const auto path = meshes_dir() / "opensim_gait2392_foot_OPEN_metres.stl";
     if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared meshes not present: " << path;
     auto loaded = load_mesh_file(path, Units::kMetres);
-    ASSERT_TRUE(loaded) << loaded.error().to_string();
+    ASSERT_TRUE(loaded) << loaded.error().message();
     const ValidationReport r = validate(loaded->indexed);
     ASSERT_EQ(r.boundary_samples_m.size(), 3u);
     const Point hole[3] = {
@@ -93,7 +93,7 @@ TEST(RealMeshes, ForefootBoundingBoxMatchesTheReadme) {
     const auto path = meshes_dir() / "bp3d_right_forefoot_24shells.stl";
     if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared meshes not present: " << path;
     auto loaded = load_mesh_file(path, Units::kMillimetres);
-    ASSERT_TRUE(loaded) << loaded.error().to_string();
+    ASSERT_TRUE(loaded) << loaded.error().message();
     const ValidationReport r = validate(loaded->indexed);
     EXPECT_NEAR(r.bbox_min_m[0], 0.0652, 1e-4);
     EXPECT_NEAR(r.bbox_max_m[2], 0.1411, 1e-4);

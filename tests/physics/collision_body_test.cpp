@@ -114,7 +114,7 @@ TEST(CollisionBody, BadMeshesAreRefusedNamingTheProblem) {
     bad.pose.rotation.m[0][0] = 2;
     EXPECT_EQ(validate_mesh(bad.view()).error, MeshError::kBadTransform);
     EXPECT_EQ(validate_mesh(TestMesh{}.view()).error, MeshError::kEmpty);
-    EXPECT_STREQ(to_string(MeshError::kEmpty), "mesh has no triangle");
+    EXPECT_EQ(to_string(MeshError::kEmpty), "mesh has no triangle");
 }
 
 TEST(CollisionBody, UpdateAfterACutRebuildsOnlyTouchedChunks) {

@@ -159,13 +159,13 @@ static int program_main(int argc, char** argv) {
     }
     auto out = kerf::egl::EglOutput::create({});
     if (!out) {
-        std::fprintf(stderr, "bench_render: %s\n", out.error().message.c_str());
+        std::fprintf(stderr, "bench_render: %s\n", out.error().message().c_str());
         return 1;
     }
     constexpr int kW = 1280, kH = 720;
     auto r = Renderer::create({kW, kH});
     if (!r) {
-        std::fprintf(stderr, "bench_render: %s\n", r.error().message.c_str());
+        std::fprintf(stderr, "bench_render: %s\n", r.error().message().c_str());
         return 1;
     }
     std::printf("bench_render: %s, %dx%d, %d frames x %d reps, nproc %ld\n",
@@ -215,7 +215,7 @@ static int program_main(int argc, char** argv) {
         if (!a.shot.empty()) {
             const std::string path = a.shot + "_" + std::to_string(tris) + ".png";
             if (auto st = r->save_png(path); !st)
-                std::fprintf(stderr, "%s\n", st.error().message.c_str());
+                std::fprintf(stderr, "%s\n", st.error().message().c_str());
         }
         std::vector<double> ours, ref;
         FrameStats stats;

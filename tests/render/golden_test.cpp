@@ -32,9 +32,9 @@ class GoldenTest : public ::testing::TestWithParam<Golden> {};
 
 TEST_P(GoldenTest, MatchesTheStoredImage) {
     auto out = egl::EglOutput::create({});
-    ASSERT_TRUE(out) << out.error().message;
+    ASSERT_TRUE(out) << out.error().message();
     auto r = Renderer::create({kW, kH});
-    ASSERT_TRUE(r) << r.error().message;
+    ASSERT_TRUE(r) << r.error().message();
     auto scene = testing::make_scene(GetParam().kind, 60000);
     ASSERT_LE(scene.render.triangle_count(), 100000u);
     testing::draw_scene(*r, scene, true);

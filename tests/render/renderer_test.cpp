@@ -29,10 +29,10 @@ class RendererTest : public ::testing::Test {
 protected:
     void SetUp() override {
         auto out = egl::EglOutput::create({});
-        ASSERT_TRUE(out) << out.error().message;
+        ASSERT_TRUE(out) << out.error().message();
         output_ = std::make_unique<egl::EglOutput>(std::move(*out));
         auto r = Renderer::create({kW, kH});
-        ASSERT_TRUE(r) << r.error().message;
+        ASSERT_TRUE(r) << r.error().message();
         renderer_ = std::make_unique<Renderer>(std::move(*r));
     }
     static constexpr int kW = 320, kH = 240;
@@ -186,7 +186,7 @@ TEST_F(RendererTest, ScreenshotIntoAMissingFolderFailsByName) {
     renderer_->begin_frame(Camera::framing({-1, -1, -1}, {1, 1, 1}));
     const auto st = renderer_->save_png("/nonexistent-kerf-dir/shot.png");
     ASSERT_FALSE(st);
-    EXPECT_NE(st.error().message.find("/nonexistent-kerf-dir/shot.png"), std::string::npos);
+    EXPECT_NE(st.error().message().find("/nonexistent-kerf-dir/shot.png"), std::string::npos);
 }
 
 }  // namespace

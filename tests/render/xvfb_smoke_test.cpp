@@ -87,10 +87,10 @@ TEST(XvfbSmoke, AWindowOpensAndShowsThePresentedFrame) {
     options.height = kH;
     options.x11_display = display;
     auto out = egl::EglOutput::create(options);
-    ASSERT_TRUE(out) << out.error().message;
+    ASSERT_TRUE(out) << out.error().message();
     EXPECT_NE(out->description().find("x11: "), std::string::npos);
     auto r = Renderer::create({kW, kH});
-    ASSERT_TRUE(r) << r.error().message;
+    ASSERT_TRUE(r) << r.error().message();
     auto scene = testing::make_scene(testing::SceneKind::kSevered, 20000);
     testing::draw_scene(*r, scene, true);
     const auto fbo = r->read_pixels();
@@ -127,7 +127,7 @@ TEST(KmsOutput, WithoutADrmDeviceFailsWithOneClearLine) {
     options.platform = egl::EglPlatform::kKms;
     auto out = egl::EglOutput::create(options);
     ASSERT_FALSE(out);
-    const std::string& m = out.error().message;
+    const std::string m = out.error().message();
     EXPECT_EQ(m.rfind("kms: no DRM device", 0), 0u) << m;
     EXPECT_EQ(m.find('\n'), std::string::npos) << m;
 }
@@ -138,8 +138,8 @@ TEST(X11Output, WithoutAServerFailsByName) {
     options.x11_display = ":987";
     auto out = egl::EglOutput::create(options);
     ASSERT_FALSE(out);
-    EXPECT_NE(out.error().message.find("x11: cannot open X display ':987'"), std::string::npos)
-        << out.error().message;
+    EXPECT_NE(out.error().message().find("x11: cannot open X display ':987'"), std::string::npos)
+        << out.error().message();
 }
 
 }  // namespace

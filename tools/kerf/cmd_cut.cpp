@@ -203,7 +203,7 @@ void run_cut(const CutOptions& o) {
     const double unit = mesh::metres_per_unit(*units);
     const CutJob job = job_from(o, unit);
     auto loaded = mesh::load_mesh(o.input, *units);
-    if (!loaded) fail(kExitFailure, "cannot load mesh", o.input, loaded.error().to_string());
+    if (!loaded) fail(kExitFailure, "cannot load mesh", o.input, loaded.error().message());
     if (loaded->n_vertices() > 0) {  // a metres file read as mm is a 0.2 mm "bone": say so
         mesh::Point lo = loaded->point(*loaded->vertices_begin()), hi = lo;
         for (const auto v : loaded->vertices()) {

@@ -154,7 +154,7 @@ std::string size_warning(const mesh::ValidationReport& r, mesh::Units units) {
 void run_mesh_info(const MeshInfoOptions& o) {
     const mesh::Units units = *mesh::parse_units(o.units);
     auto loaded = mesh::load_mesh_file(o.file, units);
-    if (!loaded) fail("mesh info", "cannot load mesh", loaded.error().to_string());
+    if (!loaded) fail("mesh info", "cannot load mesh", loaded.error().message());
     mesh::ValidationReport report = mesh::validate(loaded->indexed);
     report.detached_triangles = loaded->detached_triangles;
     const mesh::CoincidenceReport coincidence = mesh::find_coincidences(loaded->indexed);
@@ -182,7 +182,7 @@ void run_gen_foot(const GenFootOptions& o) {
     auto foot = mesh::generate_foot({o.triangles, o.seed});
     if (!foot) fail("gen foot", "--triangles", foot.error());
     auto saved = mesh::save_mesh(foot->mesh, o.output, *mesh::parse_units(o.units));
-    if (!saved) fail("gen foot", "cannot write mesh", saved.error().to_string());
+    if (!saved) fail("gen foot", "cannot write mesh", saved.error().message());
     const mesh::BoneInfo& m1 = foot->first_metatarsal();
     const double s = 1.0 / mesh::metres_per_unit(*mesh::parse_units(o.units));
     std::cout << "wrote " << o.output << ": " << foot->mesh.n_faces() << " triangles, "

@@ -48,11 +48,11 @@ struct Pictures {
 
     Result<bool, std::string> open() {
         auto out = egl::EglOutput::create({});
-        if (!out) return Err{"headless EGL: " + out.error().message};
+        if (!out) return Err{"headless EGL: " + out.error().message()};
         output.emplace(std::move(*out));
         auto r =
             render::Renderer::create({output->width(), output->height(), {0.10f, 0.12f, 0.15f}});
-        if (!r) return Err{"renderer: " + r.error().message};
+        if (!r) return Err{"renderer: " + r.error().message()};
         renderer.emplace(std::move(*r));
         return true;
     }
@@ -108,7 +108,7 @@ struct Pictures {
         renderer->draw_hud(hud);
         renderer->finish_frame();
         if (auto saved = renderer->save_png(shot.png.string()); !saved)
-            return Err{shot.png.string() + ": " + saved.error().message};
+            return Err{shot.png.string() + ": " + saved.error().message()};
         return true;
     }
 };

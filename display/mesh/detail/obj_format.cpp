@@ -51,7 +51,7 @@ public:
 private:
     std::optional<MeshError> vertex();
     std::optional<MeshError> face();
-    MeshError fail(MeshErrorKind kind, std::string what) const {
+    MeshError fail(MeshErrc kind, std::string what) const {
         return ctx_.error(kind, s_.line(), s_.offset(), std::move(what));
     }
 
@@ -66,10 +66,10 @@ std::optional<MeshError> ObjParser::vertex() {
     double c[3] = {0, 0, 0};
     for (double& v : c) {
         const std::string_view t = s_.next_token_on_line();
-        if (t.empty()) return fail(MeshErrorKind::kSyntax, "'v' needs 3 coordinates");
+        if (t.empty()) return fail(MeshErrc::kSyntax, "'v' needs 3 coordinates");
         const auto d = parse_double(t);
-        if (!d) return fail(MeshErrorKind::kSyntax, "expected a number, found " + quote(t));
-        if (!std::isfinite(*d)) return fail(MeshErrorKind::kNonFinite, "coordinate " + quote(t));
+        if (!d) return fail(MeshErrc::kSyntax, "expected a number, found " + quote(t));
+        if (!std::isfinite(*d)) return fail(MeshErrc::kNonFinite, "coordinate " + quote(t));
         v = *d;
     }
     // Optional: w, or r g b (a common extension), or w r g b; nothing else (`v 0 0 0 junk`).
@@ -78,17 +78,15 @@ std::optional<MeshError> ObjParser::vertex() {
         if (t.front() == '#') break;  // a comment ends the line
         const auto d = parse_double(t);
         if (!d || !std::isfinite(*d) || ++extra > 4) {
-            return fail(MeshErrorKind::kSyntax,
+            return fail(MeshErrc::kSyntax,
                         "after x y z, 'v' takes only w or r g b numbers, found " + quote(t));
         }
     }
-    if (extra == 2)
-        return fail(MeshErrorKind::kSyntax, "'v' with 5 numbers (expected 3, 4, 6 or 7)");
+    if (extra == 2) return fail(MeshErrc::kSyntax, "'v' with 5 numbers (expected 3, 4, 6 or 7)");
     s_.rest_of_line();
     const auto p = to_metres(c[0], c[1], c[2], ctx_.metres_per_unit);
-    if (!p) return fail(MeshErrorKind::kNonFinite, "coordinate overflows after unit scaling");
-    if (raw_.size() >= 0xFFFFFFFEu)
-        return fail(MeshErrorKind::kTooLarge, "more than 2^32 - 2 vertices");
+    if (!p) return fail(MeshErrc::kNonFinite, "coordinate overflows after unit scaling");
+    if (raw_.size() >= 0xFFFFFFFEu) return fail(MeshErrc::kTooLarge, "more than 2^32 - 2 vertices");
     raw_.push_back(*p);
     return std::nullopt;
 }
@@ -98,13 +96,13 @@ std::optional<MeshError> ObjParser::face() {
     std::size_t n = 0;
     for (std::string_view t = s_.next_token_on_line(); !t.empty(); t = s_.next_token_on_line()) {
         const auto ref = vertex_ref(t);
-        if (!ref) return fail(MeshErrorKind::kSyntax, "bad vertex reference " + quote(t));
+        if (!ref) return fail(MeshErrc::kSyntax, "bad vertex reference " + quote(t));
         long long index = *ref;
         if (index < 0) index += static_cast<long long>(raw_.size()) + 1;  // relative
         if (*ref == 0 || index <= 0 || index > 0xFFFFFFFFll) {
-            return fail(MeshErrorKind::kIndexOutOfRange, "vertex reference " + quote(t) + " with " +
-                                                             std::to_string(raw_.size()) +
-                                                             " vertices defined");
+            return fail(MeshErrc::kIndexOutOfRange, "vertex reference " + quote(t) + " with " +
+                                                        std::to_string(raw_.size()) +
+                                                        " vertices defined");
         }
         const auto v = static_cast<std::uint32_t>(index - 1);
         if (n < 2) {
@@ -117,7 +115,7 @@ std::optional<MeshError> ObjParser::face() {
         }
         ++n;
     }
-    if (n < 3) return fail(MeshErrorKind::kSyntax, "face with " + std::to_string(n) + " vertices");
+    if (n < 3) return fail(MeshErrc::kSyntax, "face with " + std::to_string(n) + " vertices");
     return std::nullopt;
 }
 
@@ -133,22 +131,21 @@ Result<IndexedMesh, MeshError> ObjParser::parse() {
         } else if (keyword.empty() || keyword.front() == '#' || ignored(keyword)) {
             s_.rest_of_line();
         } else {
-            e = fail(MeshErrorKind::kSyntax, "unknown statement " + quote(keyword));
+            e = fail(MeshErrc::kSyntax, "unknown statement " + quote(keyword));
         }
         if (e) return Err{*e};
     }
     for (std::size_t i = 0; i < triangles_.size(); ++i) {
         for (std::uint32_t v : triangles_[i]) {
             if (v >= raw_.size()) {
-                return Err{ctx_.error(MeshErrorKind::kIndexOutOfRange, face_lines_[i], 0,
+                return Err{ctx_.error(MeshErrc::kIndexOutOfRange, face_lines_[i], 0,
                                       "face refers to vertex " + std::to_string(v + 1) +
                                           " but only " + std::to_string(raw_.size()) +
                                           " vertices are defined")};
             }
         }
     }
-    if (triangles_.empty())
-        return Err{ctx_.error(MeshErrorKind::kEmpty, 0, 0, "OBJ without faces")};
+    if (triangles_.empty()) return Err{ctx_.error(MeshErrc::kEmpty, 0, 0, "OBJ without faces")};
     return weld_indexed(raw_, std::move(triangles_));
 }
 

@@ -22,7 +22,7 @@ private:
     std::optional<MeshError> vertex();
     std::optional<MeshError> face();
     std::optional<MeshError> integer(long long& v, std::string_view what);
-    MeshError fail(MeshErrorKind kind, std::string what) const {
+    MeshError fail(MeshErrc kind, std::string what) const {
         return ctx_.error(kind, s_.line(), s_.offset(), std::move(what));
     }
 
@@ -54,12 +54,9 @@ std::string_view OffParser::token() {
 std::optional<MeshError> OffParser::integer(long long& v, std::string_view what) {
     const std::string_view t = token();
     if (t.empty())
-        return fail(MeshErrorKind::kTruncated,
-                    "file ends where " + std::string(what) + " was expected");
+        return fail(MeshErrc::kTruncated, "file ends where " + std::string(what) + " was expected");
     const auto n = parse_integer(t);
-    if (!n)
-        return fail(MeshErrorKind::kSyntax,
-                    "expected " + std::string(what) + ", found " + quote(t));
+    if (!n) return fail(MeshErrc::kSyntax, "expected " + std::string(what) + ", found " + quote(t));
     v = *n;
     return std::nullopt;
 }
@@ -69,16 +66,15 @@ std::optional<MeshError> OffParser::counts() {
     if (magic == "OFF" || magic == "COFF" || magic == "NOFF" || magic == "CNOFF") {
         // counts follow, possibly on the same line
     } else if (magic.size() > 3 && magic.substr(magic.size() - 3) == "OFF") {
-        return fail(MeshErrorKind::kUnsupported, "OFF variant " + quote(magic));
+        return fail(MeshErrc::kUnsupported, "OFF variant " + quote(magic));
     } else {
-        return fail(MeshErrorKind::kSyntax, "an OFF file starts with 'OFF', found " + quote(magic));
+        return fail(MeshErrc::kSyntax, "an OFF file starts with 'OFF', found " + quote(magic));
     }
     long long edges = 0;
     const std::string_view first = token();
-    if (first == "BINARY") return fail(MeshErrorKind::kUnsupported, "binary OFF");
+    if (first == "BINARY") return fail(MeshErrc::kUnsupported, "binary OFF");
     const auto nv = parse_integer(first);
-    if (!nv)
-        return fail(MeshErrorKind::kSyntax, "expected the vertex count, found " + quote(first));
+    if (!nv) return fail(MeshErrc::kSyntax, "expected the vertex count, found " + quote(first));
     vertex_count_ = *nv;
     if (auto e = integer(face_count_, "the face count")) return e;
     if (auto e = integer(edges, "the edge count")) return e;
@@ -86,7 +82,7 @@ std::optional<MeshError> OffParser::counts() {
     const auto left = static_cast<long long>(s_.remaining());
     if (vertex_count_ < 0 || face_count_ < 0 || vertex_count_ > left / 6 ||
         face_count_ > left / 8 || vertex_count_ * 6 + face_count_ * 8 > left + 1) {
-        return fail(MeshErrorKind::kBadCount,
+        return fail(MeshErrc::kBadCount,
                     std::to_string(vertex_count_) + " vertices and " + std::to_string(face_count_) +
                         " faces cannot fit in the " + std::to_string(left) + " bytes left");
     }
@@ -99,17 +95,17 @@ std::optional<MeshError> OffParser::vertex() {
     for (double& v : c) {
         const std::string_view t = token();
         if (t.empty())
-            return fail(MeshErrorKind::kTruncated, "file ends after " +
-                                                       std::to_string(raw_.size()) + " of " +
-                                                       std::to_string(vertex_count_) + " vertices");
+            return fail(MeshErrc::kTruncated, "file ends after " + std::to_string(raw_.size()) +
+                                                  " of " + std::to_string(vertex_count_) +
+                                                  " vertices");
         const auto d = parse_double(t);
-        if (!d) return fail(MeshErrorKind::kSyntax, "expected a coordinate, found " + quote(t));
-        if (!std::isfinite(*d)) return fail(MeshErrorKind::kNonFinite, "coordinate " + quote(t));
+        if (!d) return fail(MeshErrc::kSyntax, "expected a coordinate, found " + quote(t));
+        if (!std::isfinite(*d)) return fail(MeshErrc::kNonFinite, "coordinate " + quote(t));
         v = *d;
     }
     finish_line();
     const auto p = to_metres(c[0], c[1], c[2], ctx_.metres_per_unit);
-    if (!p) return fail(MeshErrorKind::kNonFinite, "coordinate overflows after unit scaling");
+    if (!p) return fail(MeshErrc::kNonFinite, "coordinate overflows after unit scaling");
     raw_.push_back(*p);
     return std::nullopt;
 }
@@ -117,16 +113,16 @@ std::optional<MeshError> OffParser::vertex() {
 std::optional<MeshError> OffParser::face() {
     long long n = 0;
     if (auto e = integer(n, "a face's vertex count")) return e;
-    if (n < 3) return fail(MeshErrorKind::kSyntax, "face with " + std::to_string(n) + " vertices");
+    if (n < 3) return fail(MeshErrc::kSyntax, "face with " + std::to_string(n) + " vertices");
     if (n > static_cast<long long>(s_.remaining() / 2 + 1))
-        return fail(MeshErrorKind::kTruncated,
+        return fail(MeshErrc::kTruncated,
                     "face of " + std::to_string(n) + " vertices runs past the end of the file");
     std::uint32_t first = 0, previous = 0;
     for (long long k = 0; k < n; ++k) {
         long long v = 0;
         if (auto e = integer(v, "a vertex index")) return e;
         if (v < 0 || v >= vertex_count_) {
-            return fail(MeshErrorKind::kIndexOutOfRange,
+            return fail(MeshErrc::kIndexOutOfRange,
                         "vertex index " + std::to_string(v) + " but the file has " +
                             std::to_string(vertex_count_) + " vertices");
         }
@@ -142,7 +138,7 @@ std::optional<MeshError> OffParser::face() {
 Result<IndexedMesh, MeshError> OffParser::parse() {
     if (auto e = counts()) return Err{*e};
     if (vertex_count_ > 0xFFFFFFFEll)
-        return Err{fail(MeshErrorKind::kTooLarge, "more than 2^32 - 2 vertices")};
+        return Err{fail(MeshErrc::kTooLarge, "more than 2^32 - 2 vertices")};
     raw_.reserve(static_cast<std::size_t>(vertex_count_));
     triangles_.reserve(static_cast<std::size_t>(face_count_));
     for (long long i = 0; i < vertex_count_; ++i) {
@@ -151,7 +147,7 @@ Result<IndexedMesh, MeshError> OffParser::parse() {
     for (long long i = 0; i < face_count_; ++i) {
         if (auto e = face()) return Err{*e};
     }
-    if (triangles_.empty()) return Err{fail(MeshErrorKind::kEmpty, "OFF without faces")};
+    if (triangles_.empty()) return Err{fail(MeshErrc::kEmpty, "OFF without faces")};
     return weld_indexed(raw_, std::move(triangles_));
 }
 

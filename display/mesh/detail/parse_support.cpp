@@ -12,9 +12,9 @@ bool is_space(char c) noexcept {
 
 }  // namespace
 
-MeshError ParseContext::error(MeshErrorKind kind, std::size_t line, std::size_t offset,
+MeshError ParseContext::error(MeshErrc kind, std::size_t line, std::size_t offset,
                               std::string detail) const {
-    return MeshError{kind, std::string(name), line, offset, std::move(detail)};
+    return mesh_error(kind, name, line, offset, std::move(detail));
 }
 
 std::string quote(std::string_view token) {

@@ -19,8 +19,7 @@ struct ParseContext {
     std::string_view name;
     double metres_per_unit;
 
-    MeshError error(MeshErrorKind kind, std::size_t line, std::size_t offset,
-                    std::string detail) const;
+    MeshError error(MeshErrc kind, std::size_t line, std::size_t offset, std::string detail) const;
 };
 
 /// A token shown in an error message: at most 32 characters, non-printable bytes as '?'.

@@ -77,7 +77,7 @@ private:
     std::optional<MeshError> value(PlyType type, double& v);
     std::optional<MeshError> check_room(const PlyElement& e);
     std::optional<MeshError> face(const PlyProperty& p);
-    MeshError fail(MeshErrorKind kind, std::string what) const {
+    MeshError fail(MeshErrc kind, std::string what) const {
         const bool ascii = encoding_ == PlyEncoding::kAscii || !in_data_;
         return ctx_.error(kind, ascii ? s_.line() : 0, ascii ? s_.offset() : pos_, std::move(what));
     }
@@ -118,9 +118,8 @@ std::optional<MeshError> PlyParser::header_line(std::string_view keyword) {
         else if (f == "binary_big_endian")
             encoding_ = PlyEncoding::kBig;
         else
-            return fail(MeshErrorKind::kSyntax, "unknown PLY format " + quote(f));
-        if (version != "1.0")
-            return fail(MeshErrorKind::kUnsupported, "PLY version " + quote(version));
+            return fail(MeshErrc::kSyntax, "unknown PLY format " + quote(f));
+        if (version != "1.0") return fail(MeshErrc::kUnsupported, "PLY version " + quote(version));
     } else if (keyword == "element") {
         PlyElement e;
         e.name = std::string(s_.next_token_on_line());
@@ -128,48 +127,48 @@ std::optional<MeshError> PlyParser::header_line(std::string_view keyword) {
         const auto n = parse_integer(count);
         e.line = s_.line();
         if (e.name.empty() || !n || *n < 0)
-            return fail(MeshErrorKind::kBadCount, "bad element count " + quote(count));
+            return fail(MeshErrc::kBadCount, "bad element count " + quote(count));
         e.count = static_cast<std::uint64_t>(*n);
         elements_.push_back(std::move(e));
     } else if (keyword == "property") {
-        if (elements_.empty()) return fail(MeshErrorKind::kSyntax, "property before any element");
+        if (elements_.empty()) return fail(MeshErrc::kSyntax, "property before any element");
         PlyProperty p;
         std::string_view t = s_.next_token_on_line();
         if (t == "list") {
             p.is_list = true;
             const auto ct = parse_type(t = s_.next_token_on_line());
             if (!ct || !is_integer(*ct))
-                return fail(MeshErrorKind::kSyntax, "bad list count type " + quote(t));
+                return fail(MeshErrc::kSyntax, "bad list count type " + quote(t));
             p.count_type = *ct;
             t = s_.next_token_on_line();
         }
         const auto type = parse_type(t);
-        if (!type) return fail(MeshErrorKind::kSyntax, "unknown property type " + quote(t));
+        if (!type) return fail(MeshErrc::kSyntax, "unknown property type " + quote(t));
         p.type = *type;
         p.name = std::string(s_.next_token_on_line());
-        if (p.name.empty()) return fail(MeshErrorKind::kSyntax, "property without a name");
+        if (p.name.empty()) return fail(MeshErrc::kSyntax, "property without a name");
         elements_.back().props.push_back(std::move(p));
     } else {
-        return fail(MeshErrorKind::kSyntax, "unknown PLY header line " + quote(keyword));
+        return fail(MeshErrc::kSyntax, "unknown PLY header line " + quote(keyword));
     }
     if (!s_.next_token_on_line().empty())
-        return fail(MeshErrorKind::kSyntax, "extra words on header line");
+        return fail(MeshErrc::kSyntax, "extra words on header line");
     s_.rest_of_line();
     return std::nullopt;
 }
 
 std::optional<MeshError> PlyParser::header() {
     if (s_.rest_of_line() != "ply")
-        return fail(MeshErrorKind::kSyntax, "a PLY file starts with the line 'ply'");
+        return fail(MeshErrc::kSyntax, "a PLY file starts with the line 'ply'");
     bool has_format = false;
     while (true) {
-        if (s_.at_end()) return fail(MeshErrorKind::kTruncated, "file ends inside the PLY header");
+        if (s_.at_end()) return fail(MeshErrc::kTruncated, "file ends inside the PLY header");
         const std::string_view keyword = s_.next_token_on_line();
         if (keyword == "end_header") break;
         has_format = has_format || keyword == "format";
         if (auto e = header_line(keyword)) return e;
     }
-    if (!has_format) return fail(MeshErrorKind::kSyntax, "PLY header without a 'format' line");
+    if (!has_format) return fail(MeshErrc::kSyntax, "PLY header without a 'format' line");
     s_.rest_of_line();
     pos_ = s_.position();
     in_data_ = true;
@@ -179,18 +178,18 @@ std::optional<MeshError> PlyParser::header() {
 std::optional<MeshError> PlyParser::value(PlyType type, double& v) {
     if (encoding_ == PlyEncoding::kAscii) {
         const std::string_view t = s_.next_token();
-        if (t.empty()) return fail(MeshErrorKind::kTruncated, "file ends inside the PLY data");
+        if (t.empty()) return fail(MeshErrc::kTruncated, "file ends inside the PLY data");
         const auto d = parse_double(t);
-        if (!d) return fail(MeshErrorKind::kSyntax, "expected a number, found " + quote(t));
+        if (!d) return fail(MeshErrc::kSyntax, "expected a number, found " + quote(t));
         if (is_integer(type) && (*d != std::floor(*d) || !std::isfinite(*d))) {
-            return fail(MeshErrorKind::kSyntax, "expected an integer, found " + quote(t));
+            return fail(MeshErrc::kSyntax, "expected an integer, found " + quote(t));
         }
         v = *d;
         return std::nullopt;
     }
     const std::size_t n = size_of(type);
     if (bytes_.size() - pos_ < n)
-        return fail(MeshErrorKind::kTruncated, "file ends inside the PLY data");
+        return fail(MeshErrc::kTruncated, "file ends inside the PLY data");
     std::uint64_t bits = 0;
     for (std::size_t i = 0; i < n; ++i) {
         const std::size_t k = encoding_ == PlyEncoding::kBig ? i : n - 1 - i;
@@ -239,7 +238,7 @@ std::optional<MeshError> PlyParser::check_room(const PlyElement& e) {
     const std::size_t left =
         encoding_ == PlyEncoding::kAscii ? s_.remaining() + 1 : bytes_.size() - pos_;
     if (min_bytes > 0 && e.count > left / min_bytes) {
-        return ctx_.error(MeshErrorKind::kBadCount, e.line, 0,
+        return ctx_.error(MeshErrc::kBadCount, e.line, 0,
                           "element '" + e.name + "' claims " + std::to_string(e.count) +
                               " items, which needs at least " + std::to_string(min_bytes) +
                               " bytes each, but only " + std::to_string(left) + " bytes are left");
@@ -262,14 +261,14 @@ std::optional<MeshError> PlyParser::face(const PlyProperty& p) {
     double count = 0;
     if (auto e = value(p.count_type, count)) return e;
     if (!(count >= 3))  // NaN too
-        return fail(MeshErrorKind::kSyntax, "face with " + number_text(count) + " vertices");
+        return fail(MeshErrc::kSyntax, "face with " + number_text(count) + " vertices");
     const std::size_t per = encoding_ == PlyEncoding::kAscii ? 2 : size_of(p.type);
     const std::size_t left =
         encoding_ == PlyEncoding::kAscii ? s_.remaining() + 1 : bytes_.size() - pos_;
     if (count > static_cast<double>(left / per)) {
-        return fail(MeshErrorKind::kTruncated, "face list of " + number_text(count) +
-                                                   " entries but only " + std::to_string(left) +
-                                                   " bytes left");
+        return fail(MeshErrc::kTruncated, "face list of " + number_text(count) +
+                                              " entries but only " + std::to_string(left) +
+                                              " bytes left");
     }
     const auto n = static_cast<std::size_t>(count);
     const bool ascii = encoding_ == PlyEncoding::kAscii;
@@ -283,11 +282,11 @@ std::optional<MeshError> PlyParser::face(const PlyProperty& p) {
         const std::size_t at = pos_;  // binary: the index's own byte
         if (auto e = value(p.type, raw)) return e;
         if (raw < 0 || raw > 4294967294.0 || raw != std::floor(raw)) {
-            return fail(MeshErrorKind::kIndexOutOfRange, "vertex index " + number_text(raw));
+            return fail(MeshErrc::kIndexOutOfRange, "vertex index " + number_text(raw));
         }
         const auto v = static_cast<std::uint32_t>(raw);
         if (vertex_elements_left_ == 0 && v >= raw_.size()) {
-            return ctx_.error(MeshErrorKind::kIndexOutOfRange, ascii ? s_.line() : 0,
+            return ctx_.error(MeshErrc::kIndexOutOfRange, ascii ? s_.line() : 0,
                               ascii ? s_.offset() : at,
                               "a face refers to vertex " + std::to_string(v) + " but only " +
                                   std::to_string(raw_.size()) + " vertices exist");
@@ -305,7 +304,7 @@ std::optional<MeshError> PlyParser::element(const PlyElement& e) {
     const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
     int slot_of[64];  // property -> 0,1,2 (x,y,z), 3 (material), 4 (face list), -1 (skip)
     if (e.props.size() > 64)
-        return ctx_.error(MeshErrorKind::kUnsupported, e.line, 0, "more than 64 properties");
+        return ctx_.error(MeshErrc::kUnsupported, e.line, 0, "more than 64 properties");
     bool found[5] = {false, false, false, false, false};
     for (std::size_t i = 0; i < e.props.size(); ++i) {
         const PlyProperty& p = e.props[i];
@@ -324,11 +323,11 @@ std::optional<MeshError> PlyParser::element(const PlyElement& e) {
         slot_of[i] = slot;
     }
     if (is_vertex && !(found[0] && found[1] && found[2])) {
-        return ctx_.error(MeshErrorKind::kSyntax, e.line, 0,
+        return ctx_.error(MeshErrc::kSyntax, e.line, 0,
                           "element 'vertex' lacks an x, y or z property");
     }
     if (is_face && !found[4]) {
-        return ctx_.error(MeshErrorKind::kSyntax, e.line, 0,
+        return ctx_.error(MeshErrc::kSyntax, e.line, 0,
                           "element 'face' lacks a 'vertex_indices' list");
     }
     if (is_vertex) raw_.reserve(raw_.size() + e.count);
@@ -346,7 +345,7 @@ std::optional<MeshError> PlyParser::element(const PlyElement& e) {
                 const std::size_t left =
                     encoding_ == PlyEncoding::kAscii ? s_.remaining() + 1 : bytes_.size() - pos_;
                 if (!(n >= 0) || n > static_cast<double>(left / per))  // NaN too
-                    return fail(MeshErrorKind::kTruncated, "list longer than the data left");
+                    return fail(MeshErrc::kTruncated, "list longer than the data left");
                 for (auto k = static_cast<std::size_t>(n); k > 0; --k) {
                     if (auto err = value(p.type, ignored)) return err;
                 }
@@ -359,12 +358,12 @@ std::optional<MeshError> PlyParser::element(const PlyElement& e) {
         if (is_vertex) {
             const auto pt = to_metres(c[0], c[1], c[2], ctx_.metres_per_unit);
             if (!pt)
-                return fail(MeshErrorKind::kNonFinite,
+                return fail(MeshErrc::kNonFinite,
                             "vertex " + std::to_string(item) + " has a NaN or infinite coordinate");
             if (!(c[3] >= 0 && c[3] <= 2))  // NaN too
-                return fail(MeshErrorKind::kSyntax, "material must be 0, 1 or 2");
+                return fail(MeshErrc::kSyntax, "material must be 0, 1 or 2");
             if (raw_.size() >= 0xFFFFFFFEu)
-                return fail(MeshErrorKind::kTooLarge, "more than 2^32 - 2 vertices");
+                return fail(MeshErrc::kTooLarge, "more than 2^32 - 2 vertices");
             raw_.push_back(*pt);
             materials_.push_back(static_cast<Material>(static_cast<int>(c[3])));
         }
@@ -383,7 +382,7 @@ Result<IndexedMesh, MeshError> PlyParser::parse() {
         for (std::size_t i = f.first_triangle; i < f.first_triangle + f.triangles; ++i) {
             for (std::uint32_t v : triangles_[i]) {
                 if (v >= raw_.size()) {
-                    return Err{ctx_.error(MeshErrorKind::kIndexOutOfRange, f.line, f.offset,
+                    return Err{ctx_.error(MeshErrc::kIndexOutOfRange, f.line, f.offset,
                                           "a face refers to vertex " + std::to_string(v) +
                                               " but only " + std::to_string(raw_.size()) +
                                               " vertices exist")};
@@ -391,8 +390,7 @@ Result<IndexedMesh, MeshError> PlyParser::parse() {
             }
         }
     }
-    if (triangles_.empty())
-        return Err{ctx_.error(MeshErrorKind::kEmpty, 0, 0, "PLY without faces")};
+    if (triangles_.empty()) return Err{ctx_.error(MeshErrc::kEmpty, 0, 0, "PLY without faces")};
     return weld_indexed(raw_, std::move(triangles_), materials_);
 }
 

@@ -38,8 +38,7 @@ bool has_nul(std::string_view text) {
 Result<IndexedMesh, MeshError> parse_binary(std::span<const std::byte> bytes,
                                             const ParseContext& ctx) {
     const std::uint32_t count = read_u32_le(bytes.data() + 80);
-    if (count == 0)
-        return Err{ctx.error(MeshErrorKind::kEmpty, 0, 80, "binary STL with 0 triangles")};
+    if (count == 0) return Err{ctx.error(MeshErrc::kEmpty, 0, 80, "binary STL with 0 triangles")};
     IndexedMesh out;
     out.triangles.reserve(count);
     VertexWelder welder;
@@ -52,7 +51,7 @@ Result<IndexedMesh, MeshError> parse_binary(std::span<const std::byte> bytes,
                                      ctx.metres_per_unit);
             if (!p) {
                 return Err{ctx.error(
-                    MeshErrorKind::kNonFinite, 0, base + 12 + 12 * k,
+                    MeshErrc::kNonFinite, 0, base + 12 + 12 * k,
                     "triangle " + std::to_string(f) + " has a NaN or infinite coordinate")};
             }
             t[k] = welder.weld(*p, out);
@@ -72,7 +71,7 @@ private:
     std::optional<MeshError> expect(std::string_view word);
     std::optional<MeshError> facet();
     std::optional<MeshError> number(double& v, bool finite);
-    MeshError fail(MeshErrorKind kind, std::string what) const {
+    MeshError fail(MeshErrc kind, std::string what) const {
         return ctx_.error(kind, s_.line(), s_.offset(), std::move(what));
     }
 
@@ -86,18 +85,17 @@ std::optional<MeshError> AsciiStl::expect(std::string_view word) {
     const std::string_view t = s_.next_token();
     if (t == word) return std::nullopt;
     if (t.empty())
-        return fail(MeshErrorKind::kTruncated,
+        return fail(MeshErrc::kTruncated,
                     "file ends where '" + std::string(word) + "' was expected");
-    return fail(MeshErrorKind::kSyntax, "expected '" + std::string(word) + "', found " + quote(t));
+    return fail(MeshErrc::kSyntax, "expected '" + std::string(word) + "', found " + quote(t));
 }
 
 std::optional<MeshError> AsciiStl::number(double& v, bool finite) {
     const std::string_view t = s_.next_token();
-    if (t.empty()) return fail(MeshErrorKind::kTruncated, "file ends where a number was expected");
+    if (t.empty()) return fail(MeshErrc::kTruncated, "file ends where a number was expected");
     const auto d = parse_double(t);
-    if (!d) return fail(MeshErrorKind::kSyntax, "expected a number, found " + quote(t));
-    if (finite && !std::isfinite(*d))
-        return fail(MeshErrorKind::kNonFinite, "coordinate " + quote(t));
+    if (!d) return fail(MeshErrc::kSyntax, "expected a number, found " + quote(t));
+    if (finite && !std::isfinite(*d)) return fail(MeshErrc::kNonFinite, "coordinate " + quote(t));
     v = *d;
     return std::nullopt;
 }
@@ -113,22 +111,20 @@ std::optional<MeshError> AsciiStl::facet() {
     Triangle t{};
     int corners = 0;
     for (std::string_view w = s_.next_token(); w != "endloop"; w = s_.next_token()) {
-        if (w.empty()) return fail(MeshErrorKind::kTruncated, "file ends inside a facet");
+        if (w.empty()) return fail(MeshErrc::kTruncated, "file ends inside a facet");
         if (w != "vertex")
-            return fail(MeshErrorKind::kSyntax,
-                        "expected 'vertex' or 'endloop', found " + quote(w));
+            return fail(MeshErrc::kSyntax, "expected 'vertex' or 'endloop', found " + quote(w));
         double x = 0, y = 0, z = 0;
         if (auto e = number(x, true)) return e;
         if (auto e = number(y, true)) return e;
         if (auto e = number(z, true)) return e;
         const auto p = to_metres(x, y, z, ctx_.metres_per_unit);
-        if (!p) return fail(MeshErrorKind::kNonFinite, "coordinate overflows after unit scaling");
-        if (corners == 3)
-            return fail(MeshErrorKind::kUnsupported, "facet with more than 3 vertices");
+        if (!p) return fail(MeshErrc::kNonFinite, "coordinate overflows after unit scaling");
+        if (corners == 3) return fail(MeshErrc::kUnsupported, "facet with more than 3 vertices");
         t[static_cast<std::size_t>(corners++)] = welder_.weld(*p, out_);
     }
     if (corners != 3) {
-        return fail(MeshErrorKind::kSyntax, "facet with " + std::to_string(corners) + " vertices");
+        return fail(MeshErrc::kSyntax, "facet with " + std::to_string(corners) + " vertices");
     }
     out_.triangles.push_back(t);
     return expect("endfacet");
@@ -145,15 +141,15 @@ Result<IndexedMesh, MeshError> AsciiStl::parse() {
             const std::string_view next = s_.next_token();
             if (next.empty()) break;
             if (next != "solid")
-                return Err{fail(MeshErrorKind::kSyntax,
+                return Err{fail(MeshErrc::kSyntax,
                                 "expected 'solid' or end of file, found " + quote(next))};
             s_.rest_of_line();
         } else {
             return Err{
-                fail(MeshErrorKind::kSyntax, "expected 'facet' or 'endsolid', found " + quote(w))};
+                fail(MeshErrc::kSyntax, "expected 'facet' or 'endsolid', found " + quote(w))};
         }
     }
-    if (out_.triangles.empty()) return Err{fail(MeshErrorKind::kEmpty, "ASCII STL without facets")};
+    if (out_.triangles.empty()) return Err{fail(MeshErrc::kEmpty, "ASCII STL without facets")};
     return std::move(out_);
 }
 
@@ -181,15 +177,15 @@ Result<IndexedMesh, MeshError> parse_stl(std::span<const std::byte> bytes,
         if (expected == bytes.size()) return parse_binary(bytes, ctx);
         if (!starts_with_solid(text) || has_nul(text)) {
             const bool short_file = bytes.size() < expected;
-            return Err{
-                ctx.error(short_file ? MeshErrorKind::kTruncated : MeshErrorKind::kBadCount, 0, 80,
-                          "binary STL header claims " + std::to_string(count) + " triangles (" +
-                              std::to_string(expected) + " bytes) but the file has " +
-                              std::to_string(bytes.size()) + " bytes")};
+            return Err{ctx.error(short_file ? MeshErrc::kTruncated : MeshErrc::kBadCount, 0, 80,
+                                 "binary STL header claims " + std::to_string(count) +
+                                     " triangles (" + std::to_string(expected) +
+                                     " bytes) but the file has " + std::to_string(bytes.size()) +
+                                     " bytes")};
         }
     } else if (!starts_with_solid(text)) {
         return Err{
-            ctx.error(MeshErrorKind::kTruncated, 0, bytes.size(),
+            ctx.error(MeshErrc::kTruncated, 0, bytes.size(),
                       "only " + std::to_string(bytes.size()) +
                           " bytes: neither a binary STL (84-byte header) nor ASCII ('solid')")};
     }
