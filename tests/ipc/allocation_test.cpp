@@ -20,10 +20,15 @@ TEST(ProducerAllocations, TenThousandTicksOfPublishingAllocateNothing) {
     const auto name = test::unique_segment_name("alloc");
     auto producer = ProducerBuilder().segment_name(name).journal_dir(dir.path).create();
     ASSERT_TRUE(producer) << producer.error().message();
+    // Beat just before attaching, with a heartbeat limit fit for a loaded machine: the test can be
+    // descheduled for longer than the 40 ms default between the beat and an attach.
     producer->heartbeat(0, monotonic_ns());
-    auto reader = ConsumerBuilder().segment_name(name).telemetry(true).attach();
-    auto sleeper = ConsumerBuilder().segment_name(name).telemetry(true).attach();
-    ASSERT_TRUE(reader && sleeper);
+    const auto consumer = ConsumerBuilder().segment_name(name).telemetry(true).stale_after_ns(
+        test::kLoadedMachineStaleAfter_ns);
+    auto reader = consumer.attach();
+    auto sleeper = consumer.attach();
+    ASSERT_TRUE(reader) << reader.error().message();
+    ASSERT_TRUE(sleeper) << sleeper.error().message();
     EventRecord event = test::make_event(0);
     TelemetrySample sample = test::make_sample(0);
     LatestState state{};

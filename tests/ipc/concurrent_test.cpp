@@ -113,9 +113,17 @@ TEST(ConcurrentSession, ConsumersOnThreadsSeeTheIdenticalSequenceDespiteDrops) {
     ASSERT_TRUE(producer) << producer.error().message();
     producer->heartbeat(0, monotonic_ns());
     const std::uint64_t n = 40'000 / kScale;
+    std::atomic<int> attach_tries{0};
     auto run_consumer = [&](bool slow, std::uint64_t& drops_seen, bool& ok) {
-        auto c = ConsumerBuilder().segment_name(name).telemetry(true).attach();
+        // A heartbeat limit fit for a loaded machine: this thread may first run long after the
+        // producer's last beat.
+        auto c = ConsumerBuilder()
+                     .segment_name(name)
+                     .telemetry(true)
+                     .stale_after_ns(test::kLoadedMachineStaleAfter_ns)
+                     .attach();
         ok = bool(c);
+        attach_tries.fetch_add(1);
         if (!c) return;
         EventRecord r;
         std::uint64_t got = 0;
@@ -145,7 +153,12 @@ TEST(ConcurrentSession, ConsumersOnThreadsSeeTheIdenticalSequenceDespiteDrops) {
     bool fast_ok = false, slow_ok = false;
     std::thread fast([&] { run_consumer(false, fast_journal, fast_ok); });
     std::thread slow([&] { run_consumer(true, slow_journal, slow_ok); });
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));  // let them attach (or not)
+    // Lockstep: beat, as a ticking producer would, until both consumers have tried to attach.
+    const auto attach_deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (attach_tries.load() < 2 && std::chrono::steady_clock::now() < attach_deadline) {
+        producer->heartbeat(0, monotonic_ns());
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
     for (std::uint64_t i = 0; i < n; ++i) {
         EventRecord r = test::make_event(i);
         producer->publish_event(r);

@@ -16,6 +16,13 @@
 
 namespace kerf::ipc::test {
 
+/// Heartbeat limit for consumers attaching to a test producer that does not tick every
+/// millisecond: on a loaded 2-core CI machine the test can be descheduled for longer than the
+/// 40 ms default between the producer's beat and the consumer's attach, which then refuses a live
+/// producer as stale. The staleness check itself is tested with the default limit
+/// (segment_test.cpp, multiprocess_test.cpp).
+inline constexpr std::uint64_t kLoadedMachineStaleAfter_ns = 10'000'000'000;
+
 /// "kerf.test-<pid>-<n>": unique per process and call.
 inline std::string unique_segment_name(const char* what = "t") {
     static std::atomic<int> counter{0};

@@ -32,6 +32,13 @@ struct Session {
         if (p) producer.emplace(std::move(*p));
         producer->heartbeat(0, monotonic_ns());
     }
+    /// A consumer of this session: the producer beats just before the attach, as a ticking one
+    /// would, and the heartbeat limit fits a loaded machine (test::kLoadedMachineStaleAfter_ns).
+    ConsumerBuilder consumer() {
+        producer->heartbeat(0, monotonic_ns());
+        return ConsumerBuilder().segment_name(name).stale_after_ns(
+            test::kLoadedMachineStaleAfter_ns);
+    }
     void publish(std::uint64_t from, std::uint64_t to) {
         for (std::uint64_t i = from; i < to; ++i) {
             EventRecord r = test::make_event(i);
@@ -67,8 +74,7 @@ void expect_contiguous(const std::vector<std::uint64_t>& seqs, std::uint64_t fir
 
 TEST(ProducerConsumer, EventsArriveInSequenceThroughTheRing) {
     Session s;
-    auto c =
-        ConsumerBuilder().segment_name(s.name).from_sequence(ConsumerBuilder::kFromNow).attach();
+    auto c = s.consumer().from_sequence(ConsumerBuilder::kFromNow).attach();
     ASSERT_TRUE(c) << c.error().message();
     s.publish(0, 1000);  // < ring capacity: no drops
     expect_contiguous(drain(*c, 1000), 0, 1000);
@@ -79,7 +85,7 @@ TEST(ProducerConsumer, EventsArriveInSequenceThroughTheRing) {
 TEST(ProducerConsumer, LateConsumerReadsTheJournalThenFollowsTheRing) {
     Session s;
     s.publish(0, 3000);
-    auto c = ConsumerBuilder().segment_name(s.name).attach();  // from 0
+    auto c = s.consumer().attach();  // from 0
     ASSERT_TRUE(c) << c.error().message();
     s.publish(3000, 3500);
     expect_contiguous(drain(*c, 3500), 0, 3500);
@@ -89,8 +95,8 @@ TEST(ProducerConsumer, LateConsumerReadsTheJournalThenFollowsTheRing) {
 
 TEST(ProducerConsumer, OverflowDropsAreFilledFromTheJournalExactly) {
     Session s;
-    auto c = ConsumerBuilder().segment_name(s.name).attach();
-    ASSERT_TRUE(c);
+    auto c = s.consumer().attach();
+    ASSERT_TRUE(c) << c.error().message();
     s.publish(0, kEventCapacity + 1000);  // consumer asleep: 1000 dropped for it
     const auto& ring = s.producer->layout().slots[c->slot()].event_ring;
     EXPECT_EQ(ring.dropped_count.value.load(), 1000u);
@@ -106,9 +112,10 @@ TEST(ProducerConsumer, OverflowDropsAreFilledFromTheJournalExactly) {
 
 TEST(ProducerConsumer, PublishOutcomeCountsDeliveriesAndDrops) {
     Session s;
-    auto a = ConsumerBuilder().segment_name(s.name).attach();
-    auto b = ConsumerBuilder().segment_name(s.name).attach();
-    ASSERT_TRUE(a && b);
+    auto a = s.consumer().attach();
+    auto b = s.consumer().attach();
+    ASSERT_TRUE(a) << a.error().message();
+    ASSERT_TRUE(b) << b.error().message();
     EXPECT_NE(a->slot(), b->slot());
     EventRecord r = test::make_event(0);
     PublishOutcome o = s.producer->publish_event(r);
@@ -122,28 +129,28 @@ TEST(ProducerConsumer, ToolSlotsRunOutThenFreeOnReleaseButNeverLockOutDisplayOrM
     Session s;
     std::vector<Consumer> held;
     for (std::uint32_t i = kFirstToolSlot; i < kSlotCount; ++i) {
-        auto c = ConsumerBuilder().segment_name(s.name).attach();
+        auto c = s.consumer().attach();
         ASSERT_TRUE(c) << c.error().message();
         EXPECT_GE(c->slot(), kFirstToolSlot);
         held.push_back(std::move(*c));
     }
-    auto extra = ConsumerBuilder().segment_name(s.name).attach();
+    auto extra = s.consumer().attach();
     ASSERT_FALSE(extra);
     EXPECT_EQ(extra.error().code, IpcErrc::kNoFreeSlot);
     EXPECT_NE(extra.error().message().find("tool slots are held"), std::string::npos)
         << extra.error().message();
-    auto display = ConsumerBuilder().segment_name(s.name).role(ConsumerRole::kDisplay).attach();
+    auto display = s.consumer().role(ConsumerRole::kDisplay).attach();
     ASSERT_TRUE(display) << display.error().message();
     EXPECT_EQ(display->slot(), kDisplaySlot);
-    auto monitor = ConsumerBuilder().segment_name(s.name).role(ConsumerRole::kMonitor).attach();
+    auto monitor = s.consumer().role(ConsumerRole::kMonitor).attach();
     ASSERT_TRUE(monitor) << monitor.error().message();
     EXPECT_EQ(monitor->slot(), kMonitorSlot);
-    auto second = ConsumerBuilder().segment_name(s.name).role(ConsumerRole::kDisplay).attach();
+    auto second = s.consumer().role(ConsumerRole::kDisplay).attach();
     ASSERT_FALSE(second);
     EXPECT_NE(second.error().message().find("display slot is held"), std::string::npos)
         << second.error().message();
     held.pop_back();
-    EXPECT_TRUE(ConsumerBuilder().segment_name(s.name).attach());
+    EXPECT_TRUE(s.consumer().attach());
 }
 
 TEST(ProducerConsumer, SlotOfADeadConsumerIsReclaimed) {
@@ -153,7 +160,7 @@ TEST(ProducerConsumer, SlotOfADeadConsumerIsReclaimed) {
         seg.slots[i].control.claim_word.store(claim_word(1, 999'999'9, SlotState::kActive));
         seg.slots[i].control.heartbeat_ns.store(monotonic_ns());
     }
-    auto c = ConsumerBuilder().segment_name(s.name).attach();
+    auto c = s.consumer().attach();
     ASSERT_TRUE(c) << c.error().message();
     s.publish(0, 10);
     expect_contiguous(drain(*c, 10), 0, 10);
@@ -162,7 +169,7 @@ TEST(ProducerConsumer, SlotOfADeadConsumerIsReclaimed) {
 TEST(ProducerConsumer, ConsumerRefusesStoppedOrDeadProducer) {
     Session s;
     s.producer->stop();
-    auto c = ConsumerBuilder().segment_name(s.name).attach();
+    auto c = s.consumer().attach();
     ASSERT_FALSE(c);
     EXPECT_EQ(c.error().code, IpcErrc::kProducerGone);
     EXPECT_NE(c.error().message().find("stopped"), std::string::npos) << c.error().message();
@@ -170,8 +177,8 @@ TEST(ProducerConsumer, ConsumerRefusesStoppedOrDeadProducer) {
 
 TEST(ProducerConsumer, TelemetryGapsAreCountedNotFilled) {
     Session s;
-    auto c = ConsumerBuilder().segment_name(s.name).telemetry(true).attach();
-    ASSERT_TRUE(c);
+    auto c = s.consumer().telemetry(true).attach();
+    ASSERT_TRUE(c) << c.error().message();
     for (std::uint64_t i = 0; i < kTelemetryCapacity + 500; ++i) {
         TelemetrySample t = test::make_sample(i);
         s.producer->publish_telemetry(t);
@@ -192,8 +199,8 @@ TEST(ProducerConsumer, TelemetryGapsAreCountedNotFilled) {
 
 TEST(ProducerConsumer, ConsumersWithoutTelemetryGetNone) {
     Session s;
-    auto c = ConsumerBuilder().segment_name(s.name).attach();
-    ASSERT_TRUE(c);
+    auto c = s.consumer().attach();
+    ASSERT_TRUE(c) << c.error().message();
     TelemetrySample t = test::make_sample(0);
     s.producer->publish_telemetry(t);
     EXPECT_EQ(c->try_next_telemetry(t), Poll::kNothing);
@@ -201,8 +208,8 @@ TEST(ProducerConsumer, ConsumersWithoutTelemetryGetNone) {
 
 TEST(ProducerConsumer, StateSeqlockCarriesTheLatestValue) {
     Session s;
-    auto c = ConsumerBuilder().segment_name(s.name).attach();
-    ASSERT_TRUE(c);
+    auto c = s.consumer().attach();
+    ASSERT_TRUE(c) << c.error().message();
     LatestState out{};
     EXPECT_EQ(c->try_read_state(out), SeqlockRead::kNeverWritten);
     LatestState st{};
@@ -217,8 +224,8 @@ TEST(ProducerConsumer, StateSeqlockCarriesTheLatestValue) {
 
 TEST(ProducerConsumer, ScribbledRingRecordIsRejectedCountedAndRecoveredFromTheJournal) {
     Session s;
-    auto c = ConsumerBuilder().segment_name(s.name).attach();
-    ASSERT_TRUE(c);
+    auto c = s.consumer().attach();
+    ASSERT_TRUE(c) << c.error().message();
     s.publish(0, 10);
     SegmentLayout& seg = const_cast<SegmentLayout&>(s.producer->layout());
     const auto base = seg.slots[c->slot()].event_ring.read_index.value.load();
