@@ -6,6 +6,7 @@
 #include <cmath>
 #include <optional>
 
+#include "config/base/check.hpp"
 #include "display/cut/components.hpp"
 #include "display/cut/cross_section.hpp"
 #include "display/cut/cut_context.hpp"
@@ -96,7 +97,8 @@ void mark_swept(OpenCut& cut, const Vec2 (&quad)[4], double tol) {
 }  // namespace
 
 struct CutSession::State {
-    mesh::TriMesh mesh;
+    std::unique_ptr<mesh::TriMesh> owned;  // never null while the session lives
+    mesh::TriMesh& mesh;
     OpenMesh::FPropHandleT<std::uint32_t> face_body;
     OpenMesh::VPropHandleT<std::uint32_t> vertex_body;
     std::unique_ptr<CutContext> ctx;
@@ -119,7 +121,7 @@ struct CutSession::State {
     std::vector<std::uint32_t> dirty_vertices;
     std::vector<std::uint32_t> dirty_faces;
 
-    explicit State(mesh::TriMesh scene) : mesh(std::move(scene)) {}
+    explicit State(std::unique_ptr<mesh::TriMesh> scene) : owned(std::move(scene)), mesh(*owned) {}
 
     void find_scene_bodies();
     void mark_new_elements(std::size_t old_vertices, std::size_t old_faces, std::uint32_t body);
@@ -253,7 +255,12 @@ void CutSession::State::close_open_cut(CutEndKind kind, ApplyReport& report) {
     open.reset();
 }
 
-CutSession::CutSession(mesh::TriMesh scene) : s_(std::make_unique<State>(std::move(scene))) {
+CutSession::CutSession(const mesh::TriMesh& scene)
+    : CutSession(std::make_unique<mesh::TriMesh>(scene)) {}
+
+CutSession::CutSession(std::unique_ptr<mesh::TriMesh> scene) {
+    KERF_ENFORCE(scene != nullptr, "CutSession needs a mesh");
+    s_ = std::make_unique<State>(std::move(scene));
     State& s = *s_;
     s.mesh.add_property(s.face_body, "kerf:body");
     s.mesh.add_property(s.vertex_body, "kerf:vertex_body");
@@ -416,17 +423,19 @@ std::uint32_t CutSession::body_at(const Vec3& p) const noexcept {
     return body;
 }
 
-mesh::TriMesh CutSession::release() && {
+std::unique_ptr<mesh::TriMesh> CutSession::release_owned() && {
     State& s = *s_;
     s.open.reset();
     s.finder.reset();
     s.ctx.reset();
     s.mesh.remove_property(s.face_body);
     s.mesh.remove_property(s.vertex_body);
-    mesh::TriMesh out = std::move(s.mesh);
+    std::unique_ptr<mesh::TriMesh> out = std::move(s.owned);
     s_.reset();
     return out;
 }
+
+mesh::TriMesh CutSession::release() && { return *std::move(*this).release_owned(); }
 
 bool CutSession::cut_open() const noexcept { return s_->open.has_value(); }
 std::uint32_t CutSession::open_cut_id() const noexcept { return s_->open ? s_->open->id : 0; }

@@ -87,7 +87,11 @@ class CutSession {
 public:
     /// Takes the scene (vertices in the world frame) and finds its bodies: connected pieces,
     /// cavities joined to the piece around them (group_cavities), ordered by lowest face. O(n).
-    explicit CutSession(mesh::TriMesh scene);
+    /// The mesh is used where it lives: no copy (OpenMesh meshes have no move constructor, so
+    /// moving a TriMesh copies it: a 1M-triangle scene is 136 MiB).
+    explicit CutSession(std::unique_ptr<mesh::TriMesh> scene);
+    /// The same from a mesh value: one copy of it (to the heap).
+    explicit CutSession(const mesh::TriMesh& scene);
     ~CutSession();
     CutSession(CutSession&&) noexcept;
     CutSession& operator=(CutSession&&) noexcept;
@@ -122,7 +126,9 @@ public:
     /// poses) and starts collecting afresh. The first call after construction reports everything.
     void take_changes(SessionChanges& out);
 
-    /// Ends the session and hands the mesh back, without the session's properties.
+    /// Ends the session and hands the mesh back, without the session's properties: as it lives
+    /// (no copy), or as a value (one copy).
+    std::unique_ptr<mesh::TriMesh> release_owned() &&;
     mesh::TriMesh release() &&;
 
 private:

@@ -55,7 +55,12 @@ void clear_attributes(TriMesh& m, VertexHandle v) {
 
 BuiltMesh build_tri_mesh(const IndexedMesh& in) {
     BuiltMesh out{make_mesh(), 0};
-    TriMesh& m = out.mesh;
+    out.detached_triangles = build_tri_mesh_into(in, out.mesh);
+    return out;
+}
+
+std::size_t build_tri_mesh_into(const IndexedMesh& in, TriMesh& m) {
+    std::size_t detached = 0;
     m.reserve(in.positions_m.size(), in.triangles.size() * 3 / 2, in.triangles.size());
     const bool has_materials = in.materials.size() == in.positions_m.size();
     for (std::size_t i = 0; i < in.positions_m.size(); ++i) {
@@ -70,7 +75,7 @@ BuiltMesh build_tri_mesh(const IndexedMesh& in) {
         const VertexHandle c(static_cast<int>(t[2]));
         const bool distinct = a != b && b != c && a != c;
         if (distinct && m.add_face(a, b, c).is_valid()) continue;
-        ++out.detached_triangles;
+        ++detached;
         VertexHandle copies[3];
         for (int k = 0; k < 3; ++k) {
             const VertexHandle src(static_cast<int>(t[static_cast<std::size_t>(k)]));
@@ -83,7 +88,7 @@ BuiltMesh build_tri_mesh(const IndexedMesh& in) {
         m.add_face(copies[0], copies[1], copies[2]);
     }
     m.update_normals();
-    return out;
+    return detached;
 }
 
 IndexedMesh to_indexed(const TriMesh& mesh) {

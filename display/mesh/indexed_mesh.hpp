@@ -52,6 +52,10 @@ struct BuiltMesh {
 /// normals from the winding. Vertex materials come from `materials` (kCortical when absent).
 /// @pre every index in `in.triangles` is < in.positions_m.size()
 BuiltMesh build_tri_mesh(const IndexedMesh& in);
+/// The same, into `out` where it lives (no copy of the mesh: OpenMesh meshes have no move
+/// constructor, so moving a TriMesh copies it). Returns the detached triangles.
+/// @pre `out` is empty (make_mesh())
+std::size_t build_tri_mesh_into(const IndexedMesh& in, TriMesh& out);
 
 /// The indexed form of a TriMesh (deleted elements skipped, indices compacted in order).
 IndexedMesh to_indexed(const TriMesh& mesh);

@@ -15,6 +15,12 @@ MeshError io_error(const std::filesystem::path& path, std::string detail) {
     return mesh_error(MeshErrc::kIo, path.string(), 0, 0, std::move(detail));
 }
 
+MeshError unknown_format(const std::filesystem::path& path) {
+    return mesh_error(
+        MeshErrc::kUnknownFormat, path.string(), 0, 0,
+        "extension '" + path.extension().string() + "' is not one of .stl .obj .ply .off");
+}
+
 Result<std::vector<std::byte>, MeshError> read_file(const std::filesystem::path& path) {
     // Regular files only, never blocking on a FIFO, never more than the cap (a link to /dev/zero
     // is a character device: refused before a byte is read).
@@ -88,19 +94,36 @@ Result<LoadedMesh, MeshError> parse_mesh(std::span<const std::byte> bytes, Forma
 Result<LoadedMesh, MeshError> load_mesh_file(const std::filesystem::path& path, Units units) {
     const auto format = format_from_path(path);
     if (!format) {
-        return Err{mesh_error(
-            MeshErrc::kUnknownFormat, path.string(), 0, 0,
-            "extension '" + path.extension().string() + "' is not one of .stl .obj .ply .off")};
+        return Err{unknown_format(path)};
     }
     auto bytes = read_file(path);
     if (!bytes) return Err{std::move(bytes).error()};
     return parse_mesh(*bytes, *format, units, path.string());
 }
 
+Result<std::unique_ptr<TriMesh>, MeshError> load_mesh_owned(const std::filesystem::path& path,
+                                                            Units units) {
+    const auto format = format_from_path(path);
+    if (!format) {
+        return Err{unknown_format(path)};
+    }
+    IndexedMesh indexed;
+    {
+        auto bytes = read_file(path);
+        if (!bytes) return Err{std::move(bytes).error()};
+        auto parsed = parse_indexed(*bytes, *format, units, path.string());
+        if (!parsed) return Err{std::move(parsed).error()};
+        indexed = std::move(*parsed);
+    }  // the file's bytes are freed here
+    auto mesh = std::make_unique<TriMesh>();
+    build_tri_mesh_into(indexed, *mesh);
+    return mesh;
+}
+
 Result<TriMesh, MeshError> load_mesh(const std::filesystem::path& path, Units units) {
-    auto loaded = load_mesh_file(path, units);
+    auto loaded = load_mesh_owned(path, units);
     if (!loaded) return Err{std::move(loaded).error()};
-    return std::move(loaded->mesh);
+    return std::move(**loaded);  // the one copy
 }
 
 std::string serialize_mesh(const TriMesh& mesh, Format format, Units units, Encoding encoding) {
@@ -123,9 +146,7 @@ std::string serialize_mesh(const TriMesh& mesh, Format format, Units units, Enco
 Status<MeshError> save_mesh(const TriMesh& mesh, const std::filesystem::path& path, Units units) {
     const auto format = format_from_path(path);
     if (!format) {
-        return Err{mesh_error(
-            MeshErrc::kUnknownFormat, path.string(), 0, 0,
-            "extension '" + path.extension().string() + "' is not one of .stl .obj .ply .off")};
+        return Err{unknown_format(path)};
     }
     // Temp file in the target folder, then rename: a failed write never damages an old file.
     auto written = files::write_file_atomically(path, serialize_mesh(mesh, *format, units));

@@ -16,6 +16,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -58,8 +59,16 @@ Result<LoadedMesh, MeshError> parse_mesh(std::span<const std::byte> bytes, Forma
 /// 2 GiB is read (a FIFO, device or link to one is a kIo error naming it, never a hang).
 Result<LoadedMesh, MeshError> load_mesh_file(const std::filesystem::path& path, Units units);
 
-/// Reads a file and returns only the half-edge mesh (normals computed).
+/// Reads a file and returns only the half-edge mesh (normals computed). One copy of the mesh
+/// on the way out (OpenMesh meshes have no move constructor: moving a TriMesh copies it);
+/// large meshes: load_mesh_owned().
 Result<TriMesh, MeshError> load_mesh(const std::filesystem::path& path, Units units);
+
+/// The same on the heap, built where it stays: no copy of the mesh at all, and the file's bytes
+/// are freed before the half-edge mesh is built (`kerf cut` of a 1M-triangle file peaked at
+/// four meshes' worth of memory through load_mesh and CutSession's copies).
+Result<std::unique_ptr<TriMesh>, MeshError> load_mesh_owned(const std::filesystem::path& path,
+                                                            Units units);
 
 /// Encodes a mesh (metres inside) in `units`. Binary PLY/STL default to little endian; a
 /// big-endian STL does not exist, so STL with kBinaryBigEndian gives little endian.

@@ -35,6 +35,25 @@ TEST(CutSession, TheSameSceneBuiltTwiceHasTheSameHash) {
     EXPECT_EQ(mesh_hash(test::tube()), mesh_hash(test::tube()));
 }
 
+// The session cuts the mesh it is given where it lives and hands the same mesh back: a 1M-triangle
+// scene is 136 MiB, and moving a TriMesh copies it (OpenMesh meshes have no move constructor).
+TEST(CutSession, CutsTheMeshWhereItLivesAndHandsTheSameOneBack) {
+    auto scene = std::make_unique<mesh::TriMesh>(test::tube());
+    const mesh::TriMesh* where = scene.get();
+    CutSession s(std::move(scene));
+    EXPECT_EQ(&s.mesh(), where);
+    ASSERT_EQ(s.begin(test::begin_across(1)).outcome, EventOutcome::kApplied);
+    s.end({1, CutEndKind::kCompleted});
+    const std::uint64_t cut = mesh_hash(s.mesh());
+    const std::size_t faces = s.mesh().n_faces();
+    const auto back = std::move(s).release_owned();
+    ASSERT_EQ(back.get(), where);
+    EXPECT_EQ(back->n_faces(), faces);
+    EXPECT_EQ(mesh_hash(*back), cut);  // the session's own properties are gone, the mesh is not
+    OpenMesh::FPropHandleT<std::uint32_t> body;
+    EXPECT_FALSE(back->get_property_handle(body, "kerf:body"));
+}
+
 TEST(CutSession, BeginSlicesWithoutMovingAnythingAndCompletedSeversANewBody) {
     CutSession s(test::tube());
     const std::uint64_t start = s.hash();

@@ -79,6 +79,40 @@ TEST(MeshIo, PlyCarriesVertexMaterialsThroughARoundTrip) {
     EXPECT_EQ(cancellous, 16u * 5u);
 }
 
+// load_mesh_owned builds the mesh where it stays (no copy: OpenMesh meshes have no move
+// constructor); it reads the same mesh as load_mesh and refuses what load_mesh refuses.
+TEST(MeshIo, LoadMeshOwnedReadsWhatLoadMeshReads) {
+    const auto dir =
+        std::filesystem::temp_directory_path() /
+        ("kerf-owned-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+    std::filesystem::create_directories(dir);
+    const auto file = dir / "tube.ply";
+    const TriMesh tube = make_hollow_tube(0.04, 0.006, 0.003, 16, 4);
+    ASSERT_TRUE(save_mesh(tube, file, Units::kMillimetres));
+    auto value = load_mesh(file, Units::kMillimetres);
+    auto owned = load_mesh_owned(file, Units::kMillimetres);
+    ASSERT_TRUE(value) << value.error().message();
+    ASSERT_TRUE(owned) << owned.error().message();
+    ASSERT_NE(owned->get(), nullptr);
+    const TriMesh& o = **owned;
+    ASSERT_EQ(o.n_vertices(), value->n_vertices());
+    ASSERT_EQ(o.n_faces(), value->n_faces());
+    for (const VertexHandle v : o.vertices()) {
+        EXPECT_EQ(o.point(v), value->point(v));
+        EXPECT_EQ(o.normal(v), value->normal(v));
+        EXPECT_EQ(o.data(v).material(), value->data(v).material());
+    }
+    auto missing = load_mesh_owned(dir / "absent.stl", Units::kMillimetres);
+    ASSERT_FALSE(missing);
+    EXPECT_NE(missing.error().message().find("absent.stl"), std::string::npos);
+    auto unknown = load_mesh_owned(dir / "tube.xyz", Units::kMillimetres);
+    ASSERT_FALSE(unknown);
+    EXPECT_EQ(unknown.error().message(),
+              load_mesh(dir / "tube.xyz", Units::kMillimetres).error().message());
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
+}
+
 TEST(MeshIo, UnitsScaleEveryCoordinateToMetres) {
     const std::string obj = "v 0 0 0\nv 10 0 0\nv 0 20 0\nf 1 2 3\n";
     for (const auto& [units, metres] :

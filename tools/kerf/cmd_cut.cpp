@@ -202,13 +202,14 @@ void run_cut(const CutOptions& o) {
     }
     const double unit = mesh::metres_per_unit(*units);
     const CutJob job = job_from(o, unit);
-    auto loaded = mesh::load_mesh(o.input, *units);
+    auto loaded = mesh::load_mesh_owned(o.input, *units);  // no copy of a large mesh
     if (!loaded) fail(kExitFailure, "cannot load mesh", o.input, loaded.error().message());
-    if (loaded->n_vertices() > 0) {  // a metres file read as mm is a 0.2 mm "bone": say so
-        mesh::Point lo = loaded->point(*loaded->vertices_begin()), hi = lo;
-        for (const auto v : loaded->vertices()) {
-            lo.minimize(loaded->point(v));
-            hi.maximize(loaded->point(v));
+    const mesh::TriMesh& input = **loaded;
+    if (input.n_vertices() > 0) {  // a metres file read as mm is a 0.2 mm "bone": say so
+        mesh::Point lo = input.point(*input.vertices_begin()), hi = lo;
+        for (const auto v : input.vertices()) {
+            lo.minimize(input.point(v));
+            hi.maximize(input.point(v));
         }
         const mesh::Point size = hi - lo;
         const std::string w =
@@ -227,7 +228,7 @@ void run_cut(const CutOptions& o) {
     const auto format = *mesh::format_from_path(o.output);
     for (std::size_t k = 0; k < report->pieces.size(); ++k) {
         const auto path = piece_path(o.output, k + 1);
-        const auto piece = extract_piece(*loaded, report->pieces[k]);
+        const auto piece = extract_piece(**loaded, report->pieces[k]);
         set.add(path, mesh::serialize_mesh(piece, format, *units));
         files.push_back(path.string());
     }

@@ -190,7 +190,8 @@ Status<CutJobError> run_directly(mesh::TriMesh& mesh, const CutJob& job, CutRepo
 
 /// Seeded uniplanar and separated cuts: the blade events a CutSession applies (begin, then a
 /// completed end; the kerf opens fully in separated mode), so the CLI cuts as the display does.
-Status<CutJobError> run_in_session(mesh::TriMesh& mesh, const CutJob& job, CutReport& report) {
+Status<CutJobError> run_in_session(std::unique_ptr<mesh::TriMesh>& mesh, const CutJob& job,
+                                   CutReport& report) {
     cut::CutSession session(std::move(mesh));
     Status<CutJobError> status;
     for (std::size_t i = 0; i < job.planes.size(); ++i) {
@@ -209,23 +210,24 @@ Status<CutJobError> run_in_session(mesh::TriMesh& mesh, const CutJob& job, CutRe
         (void)session.end({begin.cut_id, cut::CutEndKind::kCompleted});
         report.steps.push_back({i, cut::CutResult{cut::CutStatus::kOk, r.slice}});
     }
-    mesh = std::move(session).release();
+    mesh = std::move(session).release_owned();
     return status;
 }
 
 }  // namespace
 
-Result<CutReport, CutJobError> run_cut_job(mesh::TriMesh& mesh, const CutJob& job) {
+Result<CutReport, CutJobError> run_cut_job(std::unique_ptr<mesh::TriMesh>& mesh,
+                                           const CutJob& job) {
     if (auto ok = check_cut_job(job); !ok) return Err{ok.error()};
     CutReport report;
     const bool in_session = job.mode != CutMode::kBiplanar && !job.seeds_m.empty();
-    auto done = in_session ? run_in_session(mesh, job, report) : run_directly(mesh, job, report);
+    auto done = in_session ? run_in_session(mesh, job, report) : run_directly(*mesh, job, report);
     if (!done) return Err{done.error()};
-    report.pieces = cut::group_cavities(cut::find_components(mesh));
+    report.pieces = cut::group_cavities(cut::find_components(*mesh));
     std::stable_sort(
         report.pieces.begin(), report.pieces.end(),
         [](const cut::Body& a, const cut::Body& b) { return a.volume_m3 > b.volume_m3; });
-    report.mesh_hash = cut::mesh_hash(mesh);
+    report.mesh_hash = cut::mesh_hash(*mesh);
     return report;
 }
 

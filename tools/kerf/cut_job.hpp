@@ -5,10 +5,11 @@
 //   job.planes.push_back({apex, n1});
 //   job.planes.push_back({apex, n2});
 //   job.seeds_m.push_back(surface_point);                  // one seed for every plane
-//   auto report = run_cut_job(mesh, job);                  // cuts in order, then finds pieces
+//   auto report = run_cut_job(mesh, job);  // unique_ptr<TriMesh>: cuts in order, finds pieces
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -77,8 +78,10 @@ std::string refusal_text(cut::CutStatus status);
 /// Checks the job's shape (seed count, kerf for the mode, planes valid) without cutting.
 Status<CutJobError> check_cut_job(const CutJob& job);
 
-/// Cuts `mesh` in place plane by plane, then finds the pieces.
-Result<CutReport, CutJobError> run_cut_job(mesh::TriMesh& mesh, const CutJob& job);
+/// Cuts `mesh` in place plane by plane, then finds the pieces. Held by pointer so that the
+/// CutSession of seeded cuts takes it and hands it back without a copy (mesh_io.hpp).
+/// @pre mesh != nullptr
+Result<CutReport, CutJobError> run_cut_job(std::unique_ptr<mesh::TriMesh>& mesh, const CutJob& job);
 
 /// A standalone mesh of `piece`'s faces (attributes copied, vertices renumbered in order).
 mesh::TriMesh extract_piece(const mesh::TriMesh& mesh, const cut::Body& piece);
