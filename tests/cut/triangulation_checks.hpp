@@ -160,8 +160,8 @@ Loops random_region(Rng& rng, int max_points_per_loop, bool integer = true) {
     // Every draw is its own statement: the order of a call's arguments is unspecified, and the
     // same seed must give the same region in every build (gcc -O2 and the sanitizer builds).
     const auto loop = [&](Point2 c, double r0, double r1) {
+        const bool clockwise = coin(rng);  // before the count: the order gcc gave the old call
         const int n = count(rng);
-        const bool clockwise = coin(rng);
         return star_loop(rng, c, r0, r1, n, clockwise, integer);
     };
     Loops loops;
