@@ -46,7 +46,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const CollisionMeshView view{a.positions, a.indices, a.materials, {}};
     auto built = CollisionBody::build(view, {.chunk_triangles = 4, .leaf_triangles = 2});
     if (!built) {
-        if (built.error().error == MeshError::kNone || *to_string(built.error().error) == '\0') {
+        if (built.error().error == MeshError::kNone || to_string(built.error().error).empty()) {
             __builtin_trap();
         }
         return 0;
