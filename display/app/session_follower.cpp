@@ -48,6 +48,7 @@ struct SessionFollower::Impl {
     bool rebuild_session();
     std::uint64_t apply_batch(bool& reset);
     void hand_over(std::uint64_t newest_event_ns);
+    void publish_if_owed();
     void publish();
     void publish_status();
 };
@@ -86,7 +87,7 @@ bool SessionFollower::Impl::try_attach() {
     local.session_id = id;
     spdlog::info("kerf-display: attached to {} (slot {}, session {:016x})", options.segment_name,
                  consumer->slot(), id);
-    if (publish_pending && !session->cut_open()) publish();
+    publish_if_owed();
     return true;
 }
 
@@ -118,8 +119,14 @@ void SessionFollower::Impl::hand_over(std::uint64_t newest_event_ns) {
     const bool geometry =
         changes.everything || changes.bodies || !changes.vertices.empty() || !changes.faces.empty();
     publish_pending = publish_pending || (geometry && options.publish_collision);
+}
+
+void SessionFollower::Impl::publish_if_owed() {
     // Not while a cut is open: kerf-rt's saw owns the blade's own kerf until CutEnd; a partly
     // opened kerf swapped into its world mid-cut made it end the cut early and begin another.
+    // Checked after every step, not only after edits: a batch that only closed the cut (a
+    // withdrawn CutEnd changes no geometry) still owes kerf-rt the mesh held back meanwhile
+    // (lockstep and replay wait for it; a live kerf-rt would run on in the pre-cut world).
     if (publish_pending && consumer && !session->cut_open()) publish();
 }
 
@@ -182,15 +189,13 @@ void SessionFollower::Impl::run() {
         const std::uint64_t newest_ns = apply_batch(reset);
         if (session->has_changes()) {
             hand_over(newest_ns);
+            publish_if_owed();  // inside the batch's time, as the edit it follows
             local.last_batch_ns =
                 std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count();
             if (newest_ns != 0 && local.edit_ms.size() < 256)
                 local.edit_ms.push_back(double(local.last_batch_ns) * 1e-6);
-        } else if (publish_pending && !session->cut_open()) {
-            // A batch that only closed the cut (a withdrawn CutEnd changes no geometry) still
-            // owes kerf-rt the mesh held back while the cut was open: lockstep and replay wait
-            // for it, and a live kerf-rt would run on in the pre-cut world until the next edit.
-            publish();
+        } else {
+            publish_if_owed();
         }
         const bool busy = newest_ns != 0 || reset;
         if (!busy) {
