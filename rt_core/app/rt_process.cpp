@@ -164,7 +164,7 @@ int run_rt_process(const RtOptions& o) {
     auto mesh = scene_mesh(*cfg);
     if (!mesh) return fail(mesh.error());
 
-    // The device: the real one (or the emulator), replayed input, or either wrapped in a recorder.
+    // The device: the real one (or the emulator), or replayed input; the loop records itself.
     firmware_host::OpenOverrides overrides{o.firmware_path, o.socket_path, {}};
     Recording recording;
     std::atomic<std::uint64_t> world_release{0};
@@ -183,7 +183,6 @@ int run_rt_process(const RtOptions& o) {
         device = std::move(*opened);
     }
     std::unique_ptr<InputRecorder> recorder;
-    std::unique_ptr<RecordingDevice> recording_device;
     if (!o.record_path.empty()) {
         auto started = InputRecorder::start(o.record_path, std::uint64_t(rts.period_ns));
         if (!started) return fail(started.error());
@@ -229,14 +228,11 @@ int run_rt_process(const RtOptions& o) {
         world_sync->stop_waiting_when(stop);
         loop_device = world_sync.get();
     }
-    if (recorder) {
-        recording_device = std::make_unique<RecordingDevice>(*loop_device, *recorder);
-        loop_device = recording_device.get();
-    }
     auto loop =
         std::make_unique<HapticLoop>(*loop_device, *producer, log, settings, physics, safety);
-    if (recording_device) recording_device->attach(*loop);
-    if (replay_device) loop->replay_timing_from(replay_device.get());  // recorded stalls
+    // Every tick, lost device and re-opened ones included, recorded from inside the loop.
+    if (recorder) loop->record_to(recorder.get());
+    if (replay_device) loop->replay_from(replay_device.get());  // recorded stalls and re-opens
     // A lost device is opened again by this thread (normal priority), as at start.
     DeviceReconnector reconnector(
         loop->device_link(), loop->device_handoff(),
@@ -269,7 +265,7 @@ int run_rt_process(const RtOptions& o) {
     std::printf("kerf-rt: %s: %s\n", heap.what.c_str(), heap.result.c_str());
     mesh->reset();
     builder.start();
-    reconnector.start();
+    if (!replay) reconnector.start();  // a replay re-enacts the recorded re-opens itself
     const auto profile_path = cfg->config_dir / "force" / (cfg->main.profiles.force + ".toml");
     ProfileReloader reloader(loop->profile_handoff(), profile_path, cfg->force, *device_profile,
                              period_s, physics);
@@ -309,7 +305,7 @@ int run_rt_process(const RtOptions& o) {
     reconnector.stop();
     reloader.stop();
     builder.stop();
-    // The loop's device, or the one a recorder / lockstep sync wraps.
+    // The loop's device, or the one a lockstep sync wraps.
     auto* hid = dynamic_cast<firmware_host::KerfHidDevice*>(&loop->device());
     if (!hid && &loop->device() == loop_device)
         hid = dynamic_cast<firmware_host::KerfHidDevice*>(device.get());

@@ -95,14 +95,19 @@ void HapticLoop::command_zero() noexcept {
 
 void HapticLoop::tick(const TickTiming& measured) noexcept {
     swap_at_tick_boundary();
+    if (replay_) {  // a device re-opened at this tick in the recorded run
+        const std::uint64_t due = replay_->device_generation_due();
+        if (due > device_link_.installed_generation()) restart_device(due);
+    }
     tick_timing_ = {measured.missed_deadlines, overran_last_};
     read_device();
     TickTiming timing = measured;
-    if (timing_replay_) {
-        tick_timing_ = timing_replay_->recorded_timing();
+    if (replay_) {
+        tick_timing_ = replay_->recorded_timing();
         timing.missed_deadlines = tick_timing_.missed_deadlines;
         overran_last_ = tick_timing_.overran_last;
     }
+    if (recorder_) record_tick();
     compute_kinematics();
     move_held_body();
     collide_and_force();
@@ -130,12 +135,27 @@ void HapticLoop::swap_at_tick_boundary() noexcept {
     if (DeviceSlot* next = device_handoff_.try_take()) install_device(next);
 }
 
+void HapticLoop::record_tick() noexcept {
+    TickSeen seen;
+    seen.tick = tick_;
+    seen.world_generation = world_generation();
+    seen.device_generation = device_link_.installed_generation();
+    seen.status = read_status_;
+    seen.sample = &sample_;
+    seen.timing = tick_timing_;
+    recorder_->record(seen);
+}
+
 void HapticLoop::install_device(DeviceSlot* slot) noexcept {
     device_handoff_.retire(device_slot_);  // closed and freed by the reconnector's thread
     device_slot_ = slot;
     device_ = slot->device.get();
+    restart_device(slot->generation);
+}
+
+void HapticLoop::restart_device(std::uint64_t generation) noexcept {
     device_lost_ = false;
-    device_link_.report_installed(slot->generation);
+    device_link_.report_installed(generation);
     // A new device starts from nothing: no sample, zero force, engaged again by the safety layer
     // only once homed and quiet, ramping in; the proxy restarts outside the bone.
     sample_ = firmware_host::DeviceSample{};
@@ -148,7 +168,7 @@ void HapticLoop::install_device(DeviceSlot* slot) noexcept {
     command_ = firmware_host::DeviceCommand{};
     device_->try_write(command_);  // lockstep emulators answer host packets
     ++stats_.devices_reopened;
-    log_.try_push(LogCode::kDeviceReopened, double(slot->generation), double(tick_));
+    log_.try_push(LogCode::kDeviceReopened, double(generation), double(tick_));
 }
 
 void HapticLoop::install_world(WorldSnapshot* world) noexcept {
@@ -185,8 +205,9 @@ void HapticLoop::install_profile(ProfileUpdate* update) noexcept {
 
 void HapticLoop::read_device() noexcept {
     // A lost device is not read again (its transport is dead); the reconnector brings a new one.
-    read_status_ = device_lost_ ? DeviceStatus::kDisconnected
-                                : device_->try_read(sample_, settings_.read_timeout_us);
+    // A replay reads every tick: its recording says what each tick without a device saw.
+    read_status_ = device_lost_ && !replay_ ? DeviceStatus::kDisconnected
+                                            : device_->try_read(sample_, settings_.read_timeout_us);
     if (read_status_ != DeviceStatus::kOk) ++stats_.device_not_ok;
     stats_.device_no_data += read_status_ == DeviceStatus::kNoData ? 1 : 0;
     stats_.device_malformed += read_status_ == DeviceStatus::kMalformed ? 1 : 0;

@@ -71,12 +71,35 @@ struct RecordedTiming {
     bool overran_last = false;           ///< the recorded loop's previous tick overran its period
 };
 
-/// Where a replayed loop takes its timing from (ReplayDevice): asked once per tick, after the
-/// device read, for the tick just read. Real-time safe.
-class TimingReplay {
+/// What a replayed loop takes from its recording besides the device reads (ReplayDevice): each
+/// tick's timing faults and the device re-opens. Real-time safe.
+class TickReplay {
 public:
-    virtual ~TimingReplay() = default;
+    virtual ~TickReplay() = default;
+    /// Asked once per tick, after the device read: the timing faults of the tick just read.
     virtual RecordedTiming recorded_timing() const noexcept = 0;
+    /// Asked at the start of each tick, before the read: the generation of the device the
+    /// recorded loop used at this tick (0: the one opened at start; n: its n-th re-open).
+    virtual std::uint64_t device_generation_due() const noexcept = 0;
+};
+
+/// What the loop saw at one tick, as a recording keeps it (input_recording.hpp).
+struct TickSeen {
+    std::uint64_t tick = 0;
+    std::uint64_t world_generation = 0;   ///< collision world in use (0: the scene)
+    std::uint64_t device_generation = 0;  ///< DeviceLink generation of the device in use
+    firmware_host::DeviceStatus status = firmware_host::DeviceStatus::kNoData;  ///< of the read;
+    ///< kDisconnected on every tick without a device (lost, not yet re-opened: no read)
+    const firmware_host::DeviceSample* sample = nullptr;  ///< the loop's sample after the read
+    RecordedTiming timing;                                ///< the tick's timing faults
+};
+
+/// Takes what the loop saw each tick (InputRecorder: a wait-free ring to a writer thread).
+/// Called on the real-time thread: no allocation, no lock, no blocking.
+class TickRecorder {
+public:
+    virtual ~TickRecorder() = default;
+    virtual void record(const TickSeen& seen) noexcept = 0;
 };
 
 /// Counters since start (read after the loop stopped, or approximately from another thread).
@@ -129,9 +152,16 @@ public:
     void command_zero() noexcept;
     /// Before the loop runs (kerf-rt --replay): each tick takes its missed deadlines and the
     /// previous tick's overrun from `source` instead of the runner's clock, so a recording made in
-    /// real time, stalls included, replays in lockstep to the same safe-state entries.
-    void replay_timing_from(const TimingReplay* source) noexcept { timing_replay_ = source; }
-    /// This tick's timing faults as the loop counts them (RecordingDevice records them).
+    /// real time, stalls included, replays in lockstep to the same safe-state entries; a device
+    /// lost in the recording is still read (the recording says what each tick without a device
+    /// saw), and the recorded re-opens are re-enacted at their ticks (the same reset as a new
+    /// device: zero force, re-engage, proxy outside the bone) on the same replayed device.
+    void replay_from(const TickReplay* source) noexcept { replay_ = source; }
+    /// Before the loop runs: every tick, what the loop saw is handed to `recorder` (nullptr:
+    /// none). Recorded from inside the loop, so ticks without a device and a re-opened device
+    /// are recorded as well.
+    void record_to(TickRecorder* recorder) noexcept { recorder_ = recorder; }
+    /// This tick's timing faults as the loop counts them (or as replayed).
     RecordedTiming tick_timing() const noexcept { return tick_timing_; }
     /// From the loop thread while a tick is held up on purpose (a replay waiting for its recorded
     /// collision world): refreshes the heartbeat so consumers still see a live producer. noexcept.
@@ -182,6 +212,8 @@ private:
     void install_world(WorldSnapshot* world) noexcept;
     void install_profile(ProfileUpdate* update) noexcept;
     void install_device(DeviceSlot* slot) noexcept;
+    void restart_device(std::uint64_t generation) noexcept;
+    void record_tick() noexcept;
     void track_timing(const TickTiming& timing) noexcept;
     void track_device_state() noexcept;
     void publish_cut_events() noexcept;
@@ -228,8 +260,9 @@ private:
     bool safe_state_ = false;
     FaultLatch checks_;
     bool overran_last_ = false;
-    RecordedTiming tick_timing_;                   ///< this tick's, set before the device read
-    const TimingReplay* timing_replay_ = nullptr;  ///< replay: recorded timing instead
+    RecordedTiming tick_timing_;          ///< this tick's, set before the device read
+    const TickReplay* replay_ = nullptr;  ///< replay: recorded timing and re-opens instead
+    TickRecorder* recorder_ = nullptr;    ///< record: what the loop saw, every tick
     ipc::DeviceState device_state_ = ipc::DeviceState::kConnecting;
     std::uint32_t period_ns_max_ = 0, compute_ns_max_ = 0;
     LoopStats stats_;

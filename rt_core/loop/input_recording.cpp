@@ -97,11 +97,12 @@ Result<std::uint64_t, std::string> InputRecorder::stop() {
     return header_.records;
 }
 
-DeviceStatus RecordingDevice::try_read(DeviceSample& out, std::uint32_t timeout_us) noexcept {
-    const DeviceStatus status = inner_.try_read(out, timeout_us);
+void InputRecorder::record(const TickSeen& seen) noexcept {
+    const DeviceSample& out = *seen.sample;
     RecordedInput r{};
-    r.tick = tick_++;
-    r.world_generation = loop_ ? loop_->world_generation() : 0;
+    r.tick = seen.tick;
+    r.world_generation = seen.world_generation;
+    r.device_generation = std::uint32_t(std::min<std::uint64_t>(seen.device_generation, ~0u));
     r.sample_count = out.count;
     r.device_sequence = out.device_sequence;
     r.buttons = out.buttons;
@@ -111,16 +112,13 @@ DeviceStatus RecordingDevice::try_read(DeviceSample& out, std::uint32_t timeout_
     }
     for (int i = 0; i < 4; ++i) r.orientation_wxyz[i] = out.orientation_wxyz[i];
     r.command_lag = out.command_lag;
-    r.status = std::uint8_t(status);
+    r.status = std::uint8_t(seen.status);
     r.flags = flag_bits(out.flags);
     r.has_orientation = out.has_orientation ? 1 : 0;
-    if (loop_) {
-        const RecordedTiming t = loop_->tick_timing();
-        r.overran_last = t.overran_last ? 1 : 0;
-        r.missed_deadlines = std::uint32_t(std::min<std::uint64_t>(t.missed_deadlines, kMaxMissed));
-    }
-    recorder_.try_push(r);
-    return status;
+    r.overran_last = seen.timing.overran_last ? 1 : 0;
+    r.missed_deadlines =
+        std::uint32_t(std::min<std::uint64_t>(seen.timing.missed_deadlines, kMaxMissed));
+    try_push(r);
 }
 
 Result<Recording, std::string> load_recording(const std::string& path) {
@@ -141,10 +139,9 @@ Result<Recording, std::string> load_recording(const std::string& path) {
     };
     if (!head_ok || std::memcmp(h.magic, kRecordingMagic, sizeof h.magic) != 0)
         return fail("not a Kerf input recording (bad magic)");
-    if ((h.version != 1 && h.version != kRecordingVersion) ||
-        h.record_size != sizeof(RecordedInput))
+    if (h.version < 1 || h.version > kRecordingVersion || h.record_size != sizeof(RecordedInput))
         return fail("version " + std::to_string(h.version) + " / record size " +
-                    std::to_string(h.record_size) + " (expected " +
+                    std::to_string(h.record_size) + " (expected " + "1 to " +
                     std::to_string(kRecordingVersion) + " / " +
                     std::to_string(sizeof(RecordedInput)) + ")");
     if (h.dropped) return fail(std::to_string(h.dropped) + " ticks were dropped when recording");
@@ -154,13 +151,14 @@ Result<Recording, std::string> load_recording(const std::string& path) {
         (size - sizeof h) % sizeof(RecordedInput) != 0)
         return fail("header says " + std::to_string(h.records) + " records, the file holds " +
                     std::to_string((size - sizeof h) / sizeof(RecordedInput)));
+    out.version = h.version;
     out.period_ns = h.period_ns;
     out.inputs.resize(h.records);
     if (h.records &&
         std::fread(out.inputs.data(), sizeof(RecordedInput), h.records, f) != h.records)
         return fail("short read");
     std::fclose(f);
-    std::uint64_t generation = 0;
+    std::uint64_t generation = 0, device_generation = 0;
     for (std::uint64_t i = 0; i < h.records; ++i) {
         const RecordedInput& r = out.inputs[i];
         const std::string at = "record " + std::to_string(i) + ": ";
@@ -168,9 +166,17 @@ Result<Recording, std::string> load_recording(const std::string& path) {
             return Err{"recording " + path + ": " + at + "tick " + std::to_string(r.tick)};
         if (r.status > std::uint8_t(DeviceStatus::kError))
             return Err{"recording " + path + ": " + at + "bad status " + std::to_string(r.status)};
-        if (h.version == 1 && (r.overran_last || r.missed_deadlines || r.reserved))
+        if (h.version == 1 && (r.overran_last || r.missed_deadlines))
             return Err{"recording " + path + ": " + at + "version 1 with timing fields set"};
-        if (r.overran_last > 1 || r.missed_deadlines > kMaxMissed || r.reserved)
+        if (h.version < 3 && r.device_generation)
+            return Err{"recording " + path + ": " + at + "version " + std::to_string(h.version) +
+                       " with a device generation"};
+        if (r.device_generation < device_generation || r.device_generation > device_generation + 1)
+            return Err{"recording " + path + ": " + at + "device generation " +
+                       std::to_string(r.device_generation) + " after " +
+                       std::to_string(device_generation) + " (one re-open a tick at most)"};
+        device_generation = r.device_generation;
+        if (r.overran_last > 1 || r.missed_deadlines > kMaxMissed)
             return Err{"recording " + path + ": " + at + "bad timing (overran " +
                        std::to_string(r.overran_last) + ", missed deadlines " +
                        std::to_string(r.missed_deadlines) + ")"};
@@ -186,6 +192,12 @@ Result<Recording, std::string> load_recording(const std::string& path) {
 
 ReplayDevice::ReplayDevice(const Recording& recording, ReplayWorldGate gate) noexcept
     : recording_(recording), gate_(gate) {}
+
+std::uint64_t ReplayDevice::device_generation_due() const noexcept {
+    const std::vector<RecordedInput>& in = recording_.inputs;
+    if (in.empty()) return 0;
+    return in[next_ < in.size() ? next_ : in.size() - 1].device_generation;
+}
 
 RecordedTiming ReplayDevice::recorded_timing() const noexcept {
     if (next_ == 0 || next_ > recording_.inputs.size()) return {};
@@ -215,10 +227,9 @@ DeviceStatus ReplayDevice::try_read(DeviceSample& out, std::uint32_t) noexcept {
         }
     }
     const auto status = DeviceStatus(r.status);
-    if (status != DeviceStatus::kOk) {
-        ++counters_.timeouts;
-        return status;
-    }
+    if (status != DeviceStatus::kOk) ++counters_.timeouts;
+    // Version 3 records the loop's sample after every read; earlier versions only kOk samples.
+    if (status != DeviceStatus::kOk && recording_.version < 3) return status;
     out.count = r.sample_count;
     out.device_sequence = r.device_sequence;
     out.buttons = r.buttons;
@@ -230,7 +241,7 @@ DeviceStatus ReplayDevice::try_read(DeviceSample& out, std::uint32_t) noexcept {
     out.command_lag = r.command_lag;
     out.flags = flags_from(r.flags);
     out.has_orientation = r.has_orientation != 0;
-    ++counters_.samples;
+    if (status == DeviceStatus::kOk) ++counters_.samples;
     return status;
 }
 

@@ -1,23 +1,32 @@
-// Record and replay of the device input stream — what kerf-rt's loop read from the device each
-// tick — so a session can be re-run bit for bit (`kerf run --record`, `kerf demo`, `kerf replay`).
+// Record and replay of what kerf-rt's loop read each tick — so a session can be re-run bit for
+// bit (`kerf run --record`, `kerf demo`, `kerf replay`).
 //
-//   record:  RecordingDevice wraps the real Device. On the real-time thread its try_read pushes
-//            one fixed-size RecordedInput per tick into an in-process SPSC ring (wait-free, no
-//            allocation; a full ring drops and counts); InputRecorder's thread drains the ring to
-//            FILE.tmp every few milliseconds and renames it to FILE at stop() (a recording
-//            that dropped ticks is not kept: it could not be replayed).
+//   record:  the loop hands what it saw each tick (HapticLoop::record_to: the read's status and
+//            the sample after it, the collision world and the device generation in use, the
+//            tick's timing faults) to InputRecorder on the real-time thread, which pushes one
+//            fixed-size RecordedInput into an in-process SPSC ring (wait-free, no allocation; a
+//            full ring drops and counts); InputRecorder's thread drains the ring to FILE.tmp every
+//            few milliseconds and renames it to FILE at stop() (a recording that dropped ticks is
+//            not kept, and one whose header counts drops is refused: it could not be replayed).
+//            Recorded from inside the loop, every tick is there: the ticks without a device
+//            (unplugged, not yet re-opened: status kDisconnected) and those of every re-opened
+//            device (format 3; format 2 recorded through a wrapper of the device opened at start,
+//            so it stopped at an unplug).
 //   replay:  ReplayDevice hands the loop the recorded reads tick by tick (status and sample), so
-//            kerf-rt --replay FILE --lockstep runs the same ticks on the same input. The
-//            collision world the recorded loop used at each tick is part of the record: the
-//            replay device holds the loop (bounded) until the world builder has offered that
-//            generation, and the builder offers none before it is due (WorldBuilder's gate), so
-//            worlds swap at the recorded ticks. The timing faults the recorded loop saw (missed
-//            deadlines, an overrun) are part of the record too: the replayed loop takes them
-//            instead of its own clock's (HapticLoop::replay_timing_from), so a session recorded
-//            in real time — stalls, safe-state entries and all — replays to the same events.
+//            kerf-rt --replay FILE runs the same ticks on the same input. The collision world the
+//            recorded loop used at each tick is part of the record: the replay device holds the
+//            loop (bounded) until the world builder has offered that generation, and the builder
+//            offers none before it is due (WorldBuilder's gate), so worlds swap at the recorded
+//            ticks. The timing faults the recorded loop saw (missed deadlines, an overrun) and the
+//            device re-opens are part of the record too: the replayed loop takes them instead of
+//            its own clock's and reconnector's (HapticLoop::replay_from), so a session recorded in
+//            real time — stalls, safe-state entries, an unplugged and re-opened device and all —
+//            replays to the same events.
 //
 // File (little-endian x86-64/aarch64, units in the field names): RecordingHeader, then
-// RecordedInput records, one per tick from tick 0. A file with dropped records is refused.
+// RecordedInput records, one per tick from tick 0. Versions read: 1 (no timing), 2 (timing; ends
+// where a device was lost), 3 (every tick, device generations, the sample after every read).
+// A file with dropped records is refused. The format is described in rt_core/README.md.
 #pragma once
 
 #include <atomic>
@@ -35,28 +44,32 @@
 namespace kerf::rt {
 
 inline constexpr char kRecordingMagic[8] = {'K', 'E', 'R', 'F', 'R', 'E', 'C', '1'};
-/// 2: records carry the tick's timing faults (version 1 files, written before, replay as if the
-/// recorded loop never missed a deadline: right for lockstep recordings, which never do).
-inline constexpr std::uint32_t kRecordingVersion = 2;
+/// 3: recorded from inside the loop, every tick (device generations; the sample after every
+/// read). 2: records carry the tick's timing faults. Version 1 files replay as if the recorded
+/// loop never missed a deadline (right for lockstep recordings, which never do). 1 and 2 are read.
+inline constexpr std::uint32_t kRecordingVersion = 3;
 
-/// What the loop read from the device in one tick, and the collision world it used.
+/// What the loop read from the device in one tick, and the collision world it used. Version 3:
+/// the sample is the loop's after the read, whatever its status (a replay restores it); 1 and 2:
+/// the sample of a kOk read only.
 struct RecordedInput {
-    std::uint64_t tick;              ///< 0-based tick of the recorded run
-    std::uint64_t world_generation;  ///< collision world in use this tick (0: the scene)
-    std::uint64_t sample_count;      ///< DeviceSample::count
-    std::uint32_t device_sequence;   ///< DeviceSample::device_sequence
-    std::uint32_t buttons;           ///< DeviceSample::buttons
-    double position_m[3];            ///< device frame, m
-    double velocity_m_per_s[3];      ///< device frame, m/s
-    double orientation_wxyz[4];      ///< device frame, unit quaternion
-    std::uint32_t command_lag;       ///< DeviceSample::command_lag
-    std::uint8_t status;             ///< firmware_host::DeviceStatus of the read
-    std::uint8_t flags;              ///< DeviceFlags bits: homed 1, amps 2, estop 4, watchdog 8,
-                                     ///< encoder 16, over-temperature 32
-    std::uint8_t has_orientation;    ///< 0 or 1
-    std::uint8_t overran_last;       ///< 0 or 1: the loop's previous tick overran its period
-    std::uint32_t missed_deadlines;  ///< deadlines this tick's wake-up skipped (stalls)
-    std::uint32_t reserved;          ///< 0
+    std::uint64_t tick;               ///< 0-based tick of the recorded run
+    std::uint64_t world_generation;   ///< collision world in use this tick (0: the scene)
+    std::uint64_t sample_count;       ///< DeviceSample::count
+    std::uint32_t device_sequence;    ///< DeviceSample::device_sequence
+    std::uint32_t buttons;            ///< DeviceSample::buttons
+    double position_m[3];             ///< device frame, m
+    double velocity_m_per_s[3];       ///< device frame, m/s
+    double orientation_wxyz[4];       ///< device frame, unit quaternion
+    std::uint32_t command_lag;        ///< DeviceSample::command_lag
+    std::uint8_t status;              ///< firmware_host::DeviceStatus of the read
+    std::uint8_t flags;               ///< DeviceFlags bits: homed 1, amps 2, estop 4, watchdog 8,
+                                      ///< encoder 16, over-temperature 32
+    std::uint8_t has_orientation;     ///< 0 or 1
+    std::uint8_t overran_last;        ///< 0 or 1: the loop's previous tick overran its period
+    std::uint32_t missed_deadlines;   ///< deadlines this tick's wake-up skipped (stalls)
+    std::uint32_t device_generation;  ///< version 3: device in use (0 opened at start, n: the
+                                      ///< n-th re-open; +1 at most per tick); 1 and 2: 0
 };
 static_assert(sizeof(RecordedInput) == 128);
 
@@ -72,19 +85,22 @@ struct RecordingHeader {
 };
 static_assert(sizeof(RecordingHeader) == 64);
 
-/// Drains the ring of a RecordingDevice into a file (a thread of its own).
-class InputRecorder {
+/// Records what the loop saw each tick (HapticLoop::record_to) through a ring drained into a
+/// file by a thread of its own.
+class InputRecorder final : public TickRecorder {
 public:
     static constexpr std::uint32_t kCapacity = 1u << 15;  ///< ticks the ring holds (32 s at 1 kHz)
     /// Creates FILE.tmp (fails naming it) and starts the drain thread.
     static Result<std::unique_ptr<InputRecorder>, std::string> start(const std::string& path,
                                                                      std::uint64_t period_ns);
-    ~InputRecorder();  ///< stop() if not yet stopped
+    ~InputRecorder() override;  ///< stop() if not yet stopped
     InputRecorder(const InputRecorder&) = delete;
     InputRecorder& operator=(const InputRecorder&) = delete;
 
     /// RT: queues one tick's input; false (and counted) when the ring is full. noexcept.
     bool try_push(const RecordedInput& input) noexcept { return producer_.try_push(input); }
+    /// RT: what the loop saw this tick, as a RecordedInput (try_push). noexcept.
+    void record(const TickSeen& seen) noexcept override;
     /// Drains what is left, writes the header and renames FILE.tmp to FILE. Idempotent.
     Result<std::uint64_t, std::string> stop();
     std::uint64_t dropped() const noexcept { return producer_.dropped(); }
@@ -108,34 +124,9 @@ private:
     bool stopped_ = false;
 };
 
-/// A Device that records every read of the device it wraps.
-class RecordingDevice final : public firmware_host::Device {
-public:
-    /// @pre `inner` and `recorder` outlive this device
-    RecordingDevice(firmware_host::Device& inner, InputRecorder& recorder) noexcept
-        : inner_(inner), recorder_(recorder) {}
-    /// The loop whose collision world generation each record names (set before it runs).
-    void attach(const HapticLoop& loop) noexcept { loop_ = &loop; }
-
-    firmware_host::DeviceStatus try_read(firmware_host::DeviceSample& out,
-                                         std::uint32_t timeout_us) noexcept override;
-    firmware_host::DeviceStatus try_write(
-        const firmware_host::DeviceCommand& command) noexcept override {
-        return inner_.try_write(command);
-    }
-    const firmware_host::DeviceCounters& counters() const noexcept override {
-        return inner_.counters();
-    }
-
-private:
-    firmware_host::Device& inner_;
-    InputRecorder& recorder_;
-    const HapticLoop* loop_ = nullptr;
-    std::uint64_t tick_ = 0;
-};
-
 /// A whole recording, read and validated (untrusted file: size, header, statuses, finiteness).
 struct Recording {
+    std::uint32_t version = kRecordingVersion;  ///< of the file
     std::uint64_t period_ns = 0;
     std::vector<RecordedInput> inputs;
 };
@@ -153,9 +144,10 @@ struct ReplayWorldGate {
     void* keep_alive_context = nullptr;
 };
 
-/// A Device replaying a recording: try_read returns tick N's recorded status and sample, and
-/// recorded_timing() that tick's timing faults (give it to HapticLoop::replay_timing_from).
-class ReplayDevice final : public firmware_host::Device, public TimingReplay {
+/// A Device replaying a recording: try_read returns tick N's recorded status and sample,
+/// recorded_timing() that tick's timing faults and device_generation_due() the device generation
+/// of the tick to be read next (give it to HapticLoop::replay_from).
+class ReplayDevice final : public firmware_host::Device, public TickReplay {
 public:
     /// @pre `recording` outlives the device
     ReplayDevice(const Recording& recording, ReplayWorldGate gate) noexcept;
@@ -172,6 +164,8 @@ public:
 
     /// The timing faults of the tick try_read last replayed (none before the first).
     RecordedTiming recorded_timing() const noexcept override;
+    /// The device generation of the tick try_read replays next (past the end: the last one).
+    std::uint64_t device_generation_due() const noexcept override;
 
     /// Ticks replayed so far.
     std::uint64_t ticks() const noexcept { return next_; }

@@ -102,14 +102,14 @@ TEST_F(KerfReplay, ReplayOfARecordedDemoReproducesEventsForcesAndHash) {
     ASSERT_FALSE(b.is_discarded()) << bad.out << bad.err;
     EXPECT_EQ(b["trace_equal"], false) << bad.out;
 
-    // An input stream that stops before the session's last tick (a device lost mid-session: the
-    // ticks after it are not recorded yet) is refused up front, saying why.
+    // An input stream that stops before the session's last tick (format 2 stopped where a device
+    // was lost; a cut-short file) is refused up front, saying why.
     const fs::path cut_short = root_ / "cut-short";
     fs::copy(out / "recording", cut_short, fs::copy_options::recursive);
     fs::resize_file(cut_short / "input.rec", fs::file_size(cut_short / "input.rec") - 128 * 1000);
     const auto refused = run_program(root_, "kerf", {"replay", cut_short.string(), "--no-display"});
     EXPECT_EQ(refused.exit_code, 1) << refused.out << refused.err;
-    EXPECT_NE(refused.err.find("ticks recorded: the device was lost there"), std::string::npos)
+    EXPECT_NE(refused.err.find("ticks recorded: the input stream stops there"), std::string::npos)
         << refused.err;
 }
 

@@ -4,9 +4,12 @@
 // into a real session segment and journal — with the allocation counter armed on the loop's
 // thread. The builder and journal threads run meanwhile (they may allocate: they are not RT).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <filesystem>
 #include <vector>
 
+#include "rt_core/loop/input_recording.hpp"
 #include "tests/allocation_counter.hpp"
 #include "tests/rt/rt_rig.hpp"
 
@@ -42,7 +45,8 @@ TEST(RtLoopAllocations, TenThousandTicksOfTheRealConfigurationAllocateNothing) {
 }
 
 // A device lost and re-opened: the loop notices the loss, ticks without a device and installs
-// the new one the DeviceReconnector opened on its own thread, all without allocating. The
+// the new one the DeviceReconnector opened on its own thread, all without allocating, while
+// every tick is recorded (kerf-rt --record: the recorder's ring, drained by its own thread). The
 // counter is disarmed only while the test thread talks to the emulator (its commands allocate).
 TEST(RtLoopAllocations, LosingAndReinstallingTheDeviceAllocatesNothing) {
     if (!test::have_shared_meshes()) GTEST_SKIP() << "no " << test::calcaneus_path();
@@ -51,6 +55,12 @@ TEST(RtLoopAllocations, LosingAndReinstallingTheDeviceAllocatesNothing) {
         "move,0.0,-0.02,0.0,0.4\nhold,60\n";
     test::Rig rig({script, {}, 20'000, true});
     ASSERT_TRUE(rig.ok()) << rig.error();
+    const std::string file = (std::filesystem::temp_directory_path() /
+                              ("kerf-alloc-rec-" + std::to_string(getpid()) + ".rec"))
+                                 .string();
+    auto recorder = InputRecorder::start(file, 1'000'000);
+    ASSERT_TRUE(recorder) << recorder.error();
+    rig.loop().record_to(recorder->get());
     std::uint64_t allocations = 0;
     const auto ticks_counted = [&](int n, auto until) {
         kerf::test::arm_allocation_counter();
@@ -70,6 +80,10 @@ TEST(RtLoopAllocations, LosingAndReinstallingTheDeviceAllocatesNothing) {
     EXPECT_EQ(allocations, 0u);
     EXPECT_EQ(rig.loop().stats().devices_lost, 1u);
     EXPECT_GE(rig.loop().stats().device_lost_ticks, 50u);
+    auto recorded = (*recorder)->stop();
+    ASSERT_TRUE(recorded) << recorded.error();
+    EXPECT_EQ(*recorded, rig.loop().stats().ticks) << "every tick recorded, lost ones included";
+    std::filesystem::remove(file);
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
 // fuzz_recording — random bytes as a kerf-rt input recording (kerf replay reads recordings made on
 // other machines): the loader must refuse what is malformed, naming it, and whatever it accepts
-// must replay without a crash, every sample finite and every status and timing in range. With
-// the first byte odd the header is made valid (magic, version, sizes, record count), so the
-// fuzzer spends its time on the records.
+// must replay without a crash, every sample finite and every status, timing and device generation
+// in range. With the first byte odd the header is made valid (magic, a version from 1 to the
+// current, sizes, record count), so the fuzzer spends its time on the records.
 #include <sys/mman.h>
 #include <unistd.h>
 
@@ -34,7 +34,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                      (bytes.size() / sizeof(RecordedInput)) * sizeof(RecordedInput));
         RecordingHeader h{};
         std::memcpy(h.magic, kRecordingMagic, sizeof h.magic);
-        h.version = (data[0] & 2) ? 1 : kRecordingVersion;
+        h.version = 1 + std::uint32_t(data[0] >> 1) % kRecordingVersion;  // every version read
         h.record_size = sizeof(RecordedInput);
         h.period_ns = 1'000'000;
         h.records = (bytes.size() - sizeof h) / sizeof(RecordedInput);
@@ -64,6 +64,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         check(std::uint8_t(status) <= std::uint8_t(kerf::firmware_host::DeviceStatus::kError));
         const RecordedTiming t = replay.recorded_timing();
         check(t.missed_deadlines <= 1'000'000);
+        check(replay.device_generation_due() <= i + 1);  // one re-open a tick at most
         if (status != kerf::firmware_host::DeviceStatus::kOk) continue;
         for (int k = 0; k < 3; ++k)
             check(std::isfinite(sample.position_m[k]) && std::isfinite(sample.velocity_m_per_s[k]));

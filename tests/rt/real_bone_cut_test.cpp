@@ -8,8 +8,12 @@
 // refused, two bodies — the slice beyond the plane and the rest, both closed — and the live hash
 // equal to the replay hash.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -18,6 +22,7 @@
 #include "display/app/session_events_ipc.hpp"
 #include "rt_core/ipc/consumer.hpp"
 #include "rt_core/ipc/journal_reader.hpp"
+#include "rt_core/loop/input_recording.hpp"
 #include "tests/cut/mesh_checks.hpp"
 #include "tests/rt/rt_process_support.hpp"
 #include "tests/rt/rt_rig.hpp"
@@ -134,6 +139,163 @@ TEST(RtRealBoneCut, KerfRtEventsSawASliceOffTheCalcaneusAndTheReplayMatches) {
     EXPECT_EQ(seen_replay.progresses, seen_live.progresses);
     EXPECT_EQ(seen_replay.completed, 1);
     EXPECT_EQ(replay.hash(), live.hash()) << "the display's mesh differs from the replay's";
+}
+
+/// What a session produced: the per-tick commanded force, the journal, the display's hash.
+struct Session {
+    std::vector<firmware_host::Vec3> force;
+    std::string journal;
+    std::uint64_t hash = 0;
+    LoopStats stats;
+    Seen seen;
+    std::uint64_t reopened_at = 0;  ///< live: the tick the re-opened device was installed
+};
+
+/// The journals' records equal one by one (sequence, type, payload; not the time stamps).
+::testing::AssertionResult same_events(const std::string& a, const std::string& b) {
+    auto ra = ipc::JournalReader::open(a, 0);
+    auto rb = ipc::JournalReader::open(b, 0);
+    if (!ra || !rb) return ::testing::AssertionFailure() << "a journal did not open";
+    if (ra->record_count() != rb->record_count())
+        return ::testing::AssertionFailure()
+               << ra->record_count() << " events recorded, " << rb->record_count() << " replayed";
+    for (std::uint64_t s = 0; s < ra->record_count(); ++s) {
+        ipc::EventRecord x{}, y{};
+        if (ra->try_read(s, x) != ipc::JournalRead::kOk ||
+            rb->try_read(s, y) != ipc::JournalRead::kOk || x.header.type != y.header.type ||
+            std::memcmp(reinterpret_cast<const char*>(&x) + sizeof x.header,
+                        reinterpret_cast<const char*>(&y) + sizeof y.header,
+                        sizeof x - sizeof x.header) != 0)
+            return ::testing::AssertionFailure() << "event " << s << " differs";
+    }
+    return ::testing::AssertionSuccess() << ra->record_count() << " events equal";
+}
+
+/// Ticks `rig` `ticks` times (or, when `live`, until the device was unplugged on the way to the
+/// bone, re-opened, and the cut after it completed), applying the events to a CutSession of the
+/// scene as the display does.
+Session run_session(test::Rig& rig, const config::Config& config, bool live, std::uint64_t ticks) {
+    Session out;
+    auto scene = display::build_scene_mesh(config);
+    EXPECT_TRUE(scene) << scene.error();
+    auto consumer = ipc::ConsumerBuilder()
+                        .segment_name(rig.producer().segment_name())
+                        .role(ipc::ConsumerRole::kDisplay)
+                        .from_sequence(0)
+                        .stale_after_ns(60'000'000'000)
+                        .attach();
+    EXPECT_TRUE(consumer) << consumer.error().message();
+    if (!scene || !consumer) return out;
+    cut::CutSession session(std::move(*scene));
+    int phase = 0;  // live: 0 approaching, 1 unplugged, 2 replugged, 3 re-opened, 4 cut, 5 done
+    std::uint64_t after = 0;
+    for (std::uint64_t t = 0; live ? (phase < 5 && t < 30'000) : t < ticks; ++t) {
+        rig.tick();
+        out.force.push_back(rig.loop().last_force_n());
+        ipc::EventRecord r;
+        while (consumer->try_next(r) == ipc::Poll::kEvent) apply(session, r, out.seen);
+        if (!live) continue;
+        const LoopStats& s = rig.loop().stats();
+        if (phase == 0 && t == 400) {  // on the way to the bone: unplugged
+            EXPECT_TRUE(rig.sim().command("fault unplug on"));
+            phase = 1;
+        } else if (phase == 1 && s.device_lost_ticks >= 300) {
+            EXPECT_TRUE(rig.sim().command("fault unplug off"));
+            phase = 2;
+        } else if (phase == 2 && s.devices_reopened == 1) {
+            phase = 3;
+            out.reopened_at = t;
+        } else if (phase == 3 && out.seen.completed + out.seen.other_ends > 0) {
+            phase = 4;
+        } else if (phase == 4 && ++after > 200) {
+            phase = 5;
+        }
+    }
+    EXPECT_TRUE(!live || phase == 5) << "stopped in phase " << phase << ": " << out.seen.why;
+    // The journal is flushed by stop(); the display's mesh hash once every event is applied.
+    rig.producer().stop();
+    ipc::EventRecord r;
+    while (consumer->try_next(r) == ipc::Poll::kEvent) apply(session, r, out.seen);
+    out.journal = rig.producer().journal_path();
+    out.hash = session.hash();
+    out.stats = rig.loop().stats();
+    return out;
+}
+
+// Record and replay of a session whose device was unplugged and re-opened (recording format 3,
+// recorded from inside the loop). The live run is the slice off the calcaneus (real kerf-hapsim
+// in lockstep, the Kerf HID device code, the DeviceReconnector re-opening it on its own thread);
+// on the way to the bone the emulator's unplug fault closes the connection, 300 ticks run without
+// a device, the replug lets the reconnector open it again, and the hand goes on: the whole cut is
+// made with the re-opened device. Every tick is recorded; the replay (ReplayDevice, the same
+// loop, world and limits, no emulator) must give the same events, the same force at every tick
+// and the same mesh hash. Control: the same recording with its re-open erased (every tick on
+// device generation 0, all format 2 could say) diverges: no device, no cut.
+TEST(RtRealBoneCut, ARecordedUnplugAndReopenReplaysToTheSameEventsForcesAndHash) {
+    if (!test::have_shared_meshes()) GTEST_SKIP() << "no " << test::calcaneus_path();
+    test::TempConfig cfg("calcaneus");
+    auto config = config::load_config(cfg.kerf_toml());
+    ASSERT_TRUE(config) << config.error().message();
+    const std::string file = (std::filesystem::temp_directory_path() /
+                              ("kerf-reopen-" + std::to_string(getpid()) + ".rec"))
+                                 .string();
+    Session live;
+    {
+        auto recorder = InputRecorder::start(file, 1'000'000);
+        ASSERT_TRUE(recorder) << recorder.error();
+        test::Rig rig({kSliceScript, {}, 100'000, true}, cfg.kerf_toml());
+        ASSERT_TRUE(rig.ok()) << rig.error();
+        rig.loop().record_to(recorder->get());
+        live = run_session(rig, *config, true, 0);
+        auto stopped = (*recorder)->stop();
+        ASSERT_TRUE(stopped) << stopped.error();
+        ASSERT_EQ(*stopped, live.force.size()) << "a tick is missing from the recording";
+    }
+    EXPECT_EQ(live.stats.devices_lost, 1u);
+    EXPECT_EQ(live.stats.devices_reopened, 1u);
+    EXPECT_GE(live.stats.device_lost_ticks, 300u);
+    EXPECT_EQ(live.seen.begins, 1);
+    EXPECT_EQ(live.seen.completed, 1) << live.seen.why;
+    EXPECT_EQ(live.seen.refused, 0) << live.seen.why;
+    std::uint64_t pushed_after_reopen = 0;  // the re-opened device's ticks are really there
+    for (std::size_t t = live.reopened_at; t < live.force.size(); ++t)
+        pushed_after_reopen +=
+            std::sqrt(live.force[t][0] * live.force[t][0] + live.force[t][1] * live.force[t][1] +
+                      live.force[t][2] * live.force[t][2]) > 0.05
+                ? 1
+                : 0;
+    EXPECT_GT(pushed_after_reopen, 100u) << "no force from the re-opened device";
+
+    auto recording = load_recording(file);
+    ASSERT_TRUE(recording) << recording.error();
+    ASSERT_EQ(recording->version, kRecordingVersion);
+    {
+        test::RigOptions o;
+        o.replay = &*recording;
+        test::Rig replay(o, cfg.kerf_toml());
+        ASSERT_TRUE(replay.ok()) << replay.error();
+        const Session again = run_session(replay, *config, false, recording->inputs.size());
+        EXPECT_EQ(again.stats.devices_lost, 1u);
+        EXPECT_EQ(again.stats.devices_reopened, 1u);
+        EXPECT_EQ(again.stats.device_lost_ticks, live.stats.device_lost_ticks);
+        EXPECT_TRUE(same_events(live.journal, again.journal));
+        EXPECT_TRUE(again.force == live.force) << "the per-tick forces differ";
+        EXPECT_EQ(again.hash, live.hash) << "the replay's mesh differs";
+    }
+    {  // control: without the recorded re-open the device stays lost and the replay diverges
+        Recording erased = *recording;
+        for (RecordedInput& r : erased.inputs) r.device_generation = 0;
+        test::RigOptions o;
+        o.replay = &erased;
+        test::Rig replay(o, cfg.kerf_toml());
+        ASSERT_TRUE(replay.ok()) << replay.error();
+        const Session wrong = run_session(replay, *config, false, erased.inputs.size());
+        EXPECT_EQ(wrong.stats.devices_reopened, 0u);
+        EXPECT_EQ(wrong.seen.begins, 0);
+        EXPECT_FALSE(wrong.force == live.force);
+        EXPECT_NE(wrong.hash, live.hash);
+    }
+    std::filesystem::remove(file);
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // A session recorded in real time replays to the same forces and safe-state entries: the loop's
 // timing faults (missed deadlines from hypervisor stalls, overruns) are recorded with each tick's
-// device input and re-enacted by the replay (HapticLoop::replay_timing_from). The loop runs on a
+// device input and re-enacted by the replay (HapticLoop::replay_from). The loop runs on a
 // real shared-memory session against a real collision world (a 40 mm cube, built by the
 // WorldBuilder as kerf-rt does); the hand is a deterministic device pressing into it, backing
 // out and pressing again, with stalls injected at fixed ticks. Without the recorded timing the
@@ -105,8 +105,8 @@ struct Trace {
 /// Runs kTicks ticks of a loop on `device` (a real session segment, the cube as its world), the
 /// runner's timing from `stall_of`; `replay` gives the loop recorded timing instead.
 Trace run(firmware_host::Device& device,
-          const std::function<std::uint64_t(std::uint64_t)>& stall_of, const TimingReplay* replay,
-          RecordingDevice* recording, int run_id) {
+          const std::function<std::uint64_t(std::uint64_t)>& stall_of, const TickReplay* replay,
+          InputRecorder* recorder, int run_id) {
     Trace out;
     auto producer = ipc::ProducerBuilder()
                         .segment_name("kerf.timing-test-" + std::to_string(getpid()) + "-" +
@@ -125,8 +125,8 @@ Trace run(firmware_host::Device& device,
     limits.ramp_in_s = 0.02;
     limits.engage_quiet_ticks = 10;
     HapticLoop loop(device, *producer, log, settings, physics::PhysicsParams{}, limits);
-    if (recording) recording->attach(loop);
-    loop.replay_timing_from(replay);
+    loop.record_to(recorder);
+    loop.replay_from(replay);
     WorldBuilder builder(loop.world_handoff(), producer->layout());
     const auto built = builder.build(*world);
     EXPECT_TRUE(built) << built.error();
@@ -158,8 +158,7 @@ TEST(RecordedTiming, StallsRecordedInRealTimeReplayToTheSameSafeStatesAndForces)
         auto recorder = InputRecorder::start(file.string(), 1'000'000);
         ASSERT_TRUE(recorder) << recorder.error();
         PressingHand hand;
-        RecordingDevice device(hand, **recorder);
-        recorded = run(device, stall_at, nullptr, &device, 0);
+        recorded = run(hand, stall_at, nullptr, recorder->get(), 0);
         auto stopped = (*recorder)->stop();
         ASSERT_TRUE(stopped) << stopped.error();
         ASSERT_EQ(*stopped, kTicks);
@@ -203,9 +202,14 @@ TEST(RecordedTiming, RecordsOutOfRangeTimingAreRefused) {
         auto recorder = InputRecorder::start(file.string(), 1'000'000);
         ASSERT_TRUE(recorder) << recorder.error();
         PressingHand hand;
-        RecordingDevice device(hand, **recorder);
         DeviceSample s;
-        for (int i = 0; i < 10; ++i) (void)device.try_read(s, 0);
+        for (std::uint64_t i = 0; i < 10; ++i) {
+            TickSeen seen;
+            seen.tick = i;
+            seen.status = hand.try_read(s, 0);
+            seen.sample = &s;
+            (*recorder)->record(seen);
+        }
         ASSERT_TRUE((*recorder)->stop());
     }
     {  // tick 4 claims it overran twice

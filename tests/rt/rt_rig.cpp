@@ -79,6 +79,19 @@ Rig::Rig(const RigOptions& options, const std::string& kerf_toml) : options_(opt
         if (error_.empty()) error_ = "could not load " + calcaneus_path();
         return;
     }
+    const std::string segment = "kerf.rt-test-" + std::to_string(getpid()) + "-" +
+                                std::to_string(reinterpret_cast<std::uintptr_t>(this));
+    if (options.replay) {
+        auto producer = ipc::ProducerBuilder().segment_name(segment).create();
+        if (!producer) {
+            error_ = producer.error().message();
+            return;
+        }
+        producer_.emplace(std::move(*producer));
+        replay_device_ = std::make_unique<ReplayDevice>(*options.replay, ReplayWorldGate{});
+        if (make_loop(*replay_device_)) loop_->replay_from(replay_device_.get());
+        return;
+    }
     std::vector<std::string> args = {"--protocol", "kerf"};
     if (!options.script.empty()) {
         args.push_back("--script");
@@ -90,10 +103,7 @@ Rig::Rig(const RigOptions& options, const std::string& kerf_toml) : options_(opt
         error_ = "kerf-hapsim did not start: " + sim_->output();
         return;
     }
-    auto producer = ipc::ProducerBuilder()
-                        .segment_name("kerf.rt-test-" + std::to_string(getpid()) + "-" +
-                                      std::to_string(reinterpret_cast<std::uintptr_t>(this)))
-                        .create();
+    auto producer = ipc::ProducerBuilder().segment_name(segment).create();
     if (!producer) {
         error_ = producer.error().message();
         return;
@@ -140,6 +150,20 @@ bool Rig::open_device() {
         return false;
     }
     device_ = std::move(*dev);
+    if (!make_loop(*device_)) return false;
+    reconnector_ = std::make_unique<DeviceReconnector>(
+        loop_->device_link(), loop_->device_handoff(),
+        [path =
+             sim_->socket_path()]() -> Result<std::unique_ptr<firmware_host::Device>, std::string> {
+            auto d = open_hid(path);
+            if (!d) return Err{d.error()};
+            return std::unique_ptr<firmware_host::Device>(std::move(*d));
+        });
+    reconnector_->start();
+    return true;
+}
+
+bool Rig::make_loop(firmware_host::Device& device) {
     LoopSettings settings;
     settings.read_timeout_us = options_.read_timeout_us;
     settings.lockstep = options_.lockstep;
@@ -150,7 +174,7 @@ bool Rig::open_device() {
     limits.continuous_force_n = 4.0;
     limits.ramp_in_s = 0.02;
     limits.engage_quiet_ticks = 10;
-    loop_ = std::make_unique<HapticLoop>(*device_, *producer_, log_, settings,
+    loop_ = std::make_unique<HapticLoop>(device, *producer_, log_, settings,
                                          physics::PhysicsParams{}, limits);
     builder_ = std::make_unique<WorldBuilder>(loop_->world_handoff(), producer_->layout());
     auto built = builder_->build(*bone_);
@@ -159,22 +183,15 @@ bool Rig::open_device() {
         return false;
     }
     if (options_.start_builder) builder_->start();
-    reconnector_ = std::make_unique<DeviceReconnector>(
-        loop_->device_link(), loop_->device_handoff(),
-        [path =
-             sim_->socket_path()]() -> Result<std::unique_ptr<firmware_host::Device>, std::string> {
-            auto d = open_hid(path);
-            if (!d) return Err{d.error()};
-            return std::unique_ptr<firmware_host::Device>(std::move(*d));
-        });
-    reconnector_->start();
     loop_->prime();
     return true;
 }
 
 void Rig::tick() {
-    // As the runner: without a device (lost, being re-opened) the clock paces lockstep ticks.
-    if (loop_->waiting_for_device()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    // As the runner: without a device (lost, being re-opened) the clock paces lockstep ticks. A
+    // replay waits for nothing (its recording says when the device came back).
+    if (loop_->waiting_for_device() && !options_.replay)
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
     TickTiming t;
     t.start_ns = monotonic_ns();
     loop_->tick(t);

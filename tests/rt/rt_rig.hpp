@@ -13,6 +13,7 @@
 #include "rt_core/ipc/producer.hpp"
 #include "rt_core/loop/device_reconnector.hpp"
 #include "rt_core/loop/haptic_loop.hpp"
+#include "rt_core/loop/input_recording.hpp"
 #include "rt_core/loop/loop_runner.hpp"
 #include "rt_core/loop/rt_log.hpp"
 #include "rt_core/loop/world_builder.hpp"
@@ -43,6 +44,9 @@ struct RigOptions {
     bool start_builder = true;  ///< poll the mailbox on a thread
     bool lockstep = true;       ///< false: kerf-hapsim runs --realtime, the loop is paced
     double motion_scale = 1.0;  ///< LoopSettings::motion_scale (NaN: a broken configuration)
+    /// Replay this recording (ReplayDevice, HapticLoop::replay_from) instead of running
+    /// kerf-hapsim: no emulator, no reconnector; the same loop settings, world and limits.
+    const Recording* replay = nullptr;
 };
 
 class Rig {
@@ -61,7 +65,7 @@ public:
     bool tick_until_force(int max_ticks);
     double force_norm() const;
 
-    firmware_host::test::HapsimProcess& sim() { return *sim_; }
+    firmware_host::test::HapsimProcess& sim() { return *sim_; }  ///< not in a replay
     HapticLoop& loop() { return *loop_; }
     ipc::Producer& producer() { return *producer_; }
     WorldBuilder& builder() { return *builder_; }
@@ -70,10 +74,12 @@ public:
 
 private:
     bool open_device();
+    bool make_loop(firmware_host::Device& device);
     RigOptions options_;
     std::string error_;
     std::unique_ptr<firmware_host::test::HapsimProcess> sim_;
     std::unique_ptr<firmware_host::KerfHidDevice> device_;
+    std::unique_ptr<ReplayDevice> replay_device_;
     std::optional<ipc::Producer> producer_;
     RtLog log_;
     std::unique_ptr<ipc::CollisionMesh> bone_;

@@ -40,8 +40,10 @@ fs::path inside(const fs::path& file, const fs::path& dir) {
 
 /// Why a recording can hold fewer records than its session's ticks.
 constexpr const char* kUnrecordedReopen =
-    "the device was lost there (unplugged?); kerf-rt does not yet record the ticks without a "
-    "device nor a re-opened device, so the session cannot be replayed past that tick";
+    "the input stream stops there. Format 3 recordings (kerf-rt records from inside its loop) "
+    "hold every tick, a lost and re-opened device included; a format 2 recording stops where "
+    "the device was lost (unplugged?), and a cut-short file lost its end: either way the "
+    "session cannot be replayed past that tick";
 
 }  // namespace
 

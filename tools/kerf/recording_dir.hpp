@@ -38,8 +38,8 @@ Result<bool, std::string> save_recording(const std::filesystem::path& dir,
 /// Records in a device input file (rt_core/loop/input_recording.hpp), from its size.
 std::uint64_t input_records(const std::filesystem::path& input);
 
-/// Empty when `input` holds all of a session's `ticks`; else why it does not (a device lost and
-/// re-opened mid-session: its ticks are not recorded yet), for a warning when it is saved.
+/// Empty when `input` holds all of a session's `ticks`; else why it does not (a format 2
+/// recording stopped where a device was lost; a cut-short file), for a warning when it is saved.
 std::string recording_gap(const std::filesystem::path& input, std::uint64_t ticks);
 
 /// recording.json of `dir`, checked for the files and keys replay needs, and refused when its

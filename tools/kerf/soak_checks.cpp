@@ -72,6 +72,14 @@ std::uint32_t bad_input_reasons() noexcept {
            kReasonDeviceFault | kReasonDisconnected;
 }
 
+bool force_reaches_hand(const TickSample& s) noexcept {
+    using namespace firmware_host;
+    const std::uint32_t zeroing = bad_input_reasons() | kReasonNotHomed | kReasonWaitingToEngage;
+    const std::uint32_t loop_zero =
+        ipc::kLoopFlagSafeState | ipc::kLoopFlagDeviceFault | ipc::kLoopFlagCheckFailed;
+    return (s.safety_reasons & zeroing) == 0 && (s.loop_flags & loop_zero) == 0;
+}
+
 std::vector<FaultVerdict> check_device_faults(const std::vector<TickSample>& ticks,
                                               const std::vector<FaultWindow>& windows,
                                               double recovery_limit_s) {

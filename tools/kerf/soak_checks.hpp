@@ -40,6 +40,12 @@ struct FaultVerdict {
 /// SafetyReason bits that mean the device's input cannot be trusted (firmware_host/safety).
 std::uint32_t bad_input_reasons() noexcept;
 
+/// Whether a tick's commanded force could reach the hand: no zero-force safety reason (the
+/// bad-input ones, not homed, waiting to engage), no timing safe state, no device fault and no
+/// failed loop check. A tick where it could not is one where the tool may sink into bone with
+/// no force at all, by design (e-stop, unplug, stale samples, a safe state, before engaging).
+bool force_reaches_hand(const TickSample& s) noexcept;
+
 /// Checks each window against `ticks` (sorted by time). A fault whose recovery is not seen
 /// within `recovery_limit_s` of its clearing fails.
 std::vector<FaultVerdict> check_device_faults(const std::vector<TickSample>& ticks,

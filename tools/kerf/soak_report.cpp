@@ -26,6 +26,9 @@ struct Totals {
     double peak_force_n = 0, force_limit_n = 0, rt_growth_max_pct = 0, display_peak_mb = 0;
     double rt_rss_growth_max_pct = 0, rt_shmem_growth_max_pct = 0, rt_file_growth_max_pct = 0;
     double wake_max_us = 0;
+    /// Peak tool penetration (mm) while the commanded force could reach the hand, and while it
+    /// could not (e-stop, unplug, stale samples, safe state, not engaged: force_reaches_hand).
+    double penetration_live_mm = 0, penetration_no_force_mm = 0;
     std::map<double, std::uint64_t> wake;  ///< merged histogram
 };
 
@@ -66,6 +69,12 @@ Totals totals(const SoakRun& run) {
         t.display_peak_mb = std::max(t.display_peak_mb, r.display_peak_mb);
         t.wake_max_us = std::max(t.wake_max_us, r.wake_max_us);
         for (const auto& [edge, n] : r.wake_histogram) t.wake[edge] += n;
+        for (const PlotBin& b : r.plot_ticks) {
+            t.penetration_live_mm =
+                std::max(t.penetration_live_mm, double(b.penetration_live_m) * 1e3);
+            t.penetration_no_force_mm =
+                std::max(t.penetration_no_force_mm, double(b.penetration_no_force_m) * 1e3);
+        }
     }
     return t;
 }
@@ -180,6 +189,8 @@ std::string report_json(const SoakRun& run) {
                               {"device_faults_while_force", t.device_pushing},
                               {"force_peak_n", t.peak_force_n},
                               {"force_limit_n", t.force_limit_n},
+                              {"penetration_peak_with_force_mm", t.penetration_live_mm},
+                              {"penetration_peak_without_force_mm", t.penetration_no_force_mm},
                               {"kerf_rt_memory_growth_max_pct", t.rt_growth_max_pct},
                               {"kerf_rt_memory_measure", "RssAnon"},
                               {"kerf_rt_rss_growth_max_pct", t.rt_rss_growth_max_pct},
@@ -212,14 +223,6 @@ std::vector<double> round_offsets(const SoakRun& run) {
     return out;
 }
 
-double peak_penetration_mm(const SoakRun& run) {
-    double peak = 0;
-    for (const RoundResult& r : run.rounds)
-        for (const TickSample& s : r.plot_ticks)
-            peak = std::max(peak, double(s.penetration_m) * 1e3);
-    return peak;
-}
-
 struct PlotFiles {
     std::string latency, force, faults, memory, script;
 };
@@ -235,7 +238,10 @@ PlotFiles plot_files(const SoakRun& run) {
     }
     const std::vector<double> offsets = round_offsets(run);
     p.force =
-        "# time (s since the run started), peak |force| (N) and penetration (mm) per 100 ms\n";
+        "# time (s since the run started), per 100 ms: peak |force| (N), peak penetration (mm) "
+        "of ticks whose force reached the hand, peak penetration (mm) of ticks whose force could "
+        "not (safety reason or loop flag zeroing it: e-stop, unplug, stale, safe state, not "
+        "engaged), and every safety-reason, loop-flag and contact-flag bit seen (hex)\n";
     p.faults = "# fault on (s), off (s), kind (1 device, 2 display kill/stop, 3 scribble), name\n";
     p.memory =
         "# time (s), kerf-rt VmRSS (MB), kerf-display VmRSS (MB), kerf-rt RssAnon, RssShmem, "
@@ -243,10 +249,11 @@ PlotFiles plot_files(const SoakRun& run) {
     for (std::size_t i = 0; i < run.rounds.size(); ++i) {
         const RoundResult& r = run.rounds[i];
         const std::uint64_t t0 = r.plot_ticks.empty() ? 0 : r.plot_ticks.front().time_ns;
-        for (const TickSample& s : r.plot_ticks) {
-            std::snprintf(line, sizeof line, "%.2f %.4f %.4f\n",
-                          offsets[i] + double(s.time_ns - t0) * 1e-9, s.force_n,
-                          s.penetration_m * 1e3);
+        for (const PlotBin& b : r.plot_ticks) {
+            std::snprintf(line, sizeof line, "%.2f %.4f %.4f %.4f 0x%x 0x%x 0x%x\n",
+                          offsets[i] + double(b.time_ns - t0) * 1e-9, b.force_n,
+                          b.penetration_live_m * 1e3, b.penetration_no_force_m * 1e3,
+                          b.safety_reasons, b.loop_flags, b.contact_flags);
             p.force += line;
         }
         p.force += "\n";  // a break in the line between rounds
@@ -288,14 +295,17 @@ PlotFiles plot_files(const SoakRun& run) {
         "'force.dat' using 1:2 with lines lc rgb 'black' title '|F|', " +
         std::to_string(t.force_limit_n) +
         " with lines dt 2 lc rgb 'red' title 'limit'\n"
-        "set title 'tool penetration (peak per 100 ms)'\nset ylabel 'penetration (mm)'\n"
+        "set title 'tool penetration (peak per 100 ms): brown while the force reached the hand, "
+        "grey while it could not (e-stop, unplug, stale samples, safe state, not engaged)'\n"
+        "set ylabel 'penetration (mm)'\n"
         "set yrange [0:" +
-        std::to_string(peak_penetration_mm(run) * 1.1 + 0.1) +
+        std::to_string(std::max(t.penetration_live_mm, t.penetration_no_force_mm) * 1.1 + 0.1) +
         "]\n"
         "plot 'faults.dat' using "
         "(($1+$2)/2):(0):(($2-$1)/2):(1e3):(($3==1)?0xd62728:(($3==2)?0x1f77b4:0x2ca02c)) "
         "with boxxyerror fs transparent solid 0.3 noborder lc rgb variable notitle, "
-        "'force.dat' using 1:3 with lines lc rgb '#8c564b' title 'penetration'\n"
+        "'force.dat' using 1:4 with lines lc rgb '#b0b0b0' title 'penetration, no force', "
+        "'force.dat' using 1:3 with lines lc rgb '#8c564b' title 'penetration, force on'\n"
         "unset multiplot\nset terminal pngcairo size 1200,500 font 'sans,10'\n"
         "set output 'memory.png'\nset title 'resident memory (sampled once a second)'\n"
         "set ylabel 'MB'\nset yrange [0:*]\n"
@@ -364,8 +374,11 @@ std::string soak_summary(const SoakRun& run, const fs::path& out) {
                   (unsigned long long)t.rejected, (unsigned long long)t.display_restarts,
                   t.hashes_equal, run.rounds.size());
     s += line;
-    std::snprintf(line, sizeof line, "  force:     peak %.2f N (limit %.2f N)\n", t.peak_force_n,
-                  t.force_limit_n);
+    std::snprintf(line, sizeof line,
+                  "  force:     peak %.2f N (limit %.2f N); tool penetration peak %.1f mm while "
+                  "force reached the hand, %.1f mm while it could not\n",
+                  t.peak_force_n, t.force_limit_n, t.penetration_live_mm,
+                  t.penetration_no_force_mm);
     s += line;
     std::snprintf(line, sizeof line,
                   "  memory:    kerf-rt growth after warm-up, most in a round: RssAnon %.2f %% "

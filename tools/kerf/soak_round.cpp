@@ -226,23 +226,25 @@ std::vector<SeenEvent> read_journal(const fs::path& path) {
 }
 
 /// Max force and penetration per 100 ms, OR of the flags: what the plots draw.
-std::vector<TickSample> decimate(const std::vector<TickSample>& ticks, std::uint64_t t0_ns) {
-    std::vector<TickSample> out;
+std::vector<PlotBin> decimate(const std::vector<TickSample>& ticks, std::uint64_t t0_ns) {
+    std::vector<PlotBin> out;
+    std::uint64_t last_bin = 0;
     for (const TickSample& s : ticks) {
         if (s.time_ns < t0_ns) continue;
         const std::uint64_t bin = (s.time_ns - t0_ns) / 100'000'000;
-        if (out.empty() || out.back().tick != bin) {
-            TickSample b = s;
-            b.tick = bin;
-            b.time_ns = t0_ns + bin * 100'000'000;
-            out.push_back(b);
-            continue;
+        if (out.empty() || last_bin != bin) {
+            out.emplace_back();
+            out.back().time_ns = t0_ns + bin * 100'000'000;
+            last_bin = bin;
         }
-        TickSample& b = out.back();
+        PlotBin& b = out.back();
         b.force_n = std::max(b.force_n, s.force_n);
-        b.penetration_m = std::max(b.penetration_m, s.penetration_m);
+        float& penetration =
+            force_reaches_hand(s) ? b.penetration_live_m : b.penetration_no_force_m;
+        penetration = std::max(penetration, s.penetration_m);
         b.safety_reasons |= s.safety_reasons;
         b.loop_flags |= s.loop_flags;
+        b.contact_flags |= s.contact_flags;
     }
     return out;
 }

@@ -19,6 +19,17 @@
 
 namespace kerf::cli {
 
+/// 100 ms of telemetry for the plots: peaks, and the flags seen in it.
+struct PlotBin {
+    std::uint64_t time_ns = 0;         ///< CLOCK_MONOTONIC of the bin's start
+    float force_n = 0;                 ///< peak |commanded force|, N
+    float penetration_live_m = 0;      ///< peak penetration of ticks whose force reached the hand
+    float penetration_no_force_m = 0;  ///< ... of ticks whose force could not (force_reaches_hand)
+    std::uint32_t safety_reasons = 0;  ///< every SafetyReason bit seen in the bin
+    std::uint32_t loop_flags = 0;      ///< every kLoopFlag* bit seen
+    std::uint32_t contact_flags = 0;   ///< every kContact* bit seen
+};
+
 /// What a round runs on and for how long.
 struct RoundSpec {
     int index = 0;
@@ -71,7 +82,7 @@ struct RoundResult {
     MemoryVerdict rt_rss_memory, rt_shmem_memory, rt_file_memory;
     double display_peak_mb = 0;
     std::uint64_t telemetry_samples = 0, telemetry_gaps = 0;
-    std::vector<TickSample> plot_ticks;  ///< decimated (max per 100 ms) for the plots
+    std::vector<PlotBin> plot_ticks;  ///< decimated (peaks per 100 ms) for the plots
     std::vector<MemoryPoint> memory;
     // kerf-rt's own summary.
     double ticks = 0, overruns = 0, late_wakes = 0, safe_state_entries = 0;
