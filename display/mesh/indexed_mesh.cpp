@@ -1,7 +1,9 @@
 #include "display/mesh/indexed_mesh.hpp"
 
 #include <OpenMesh/Core/System/omstream.hh>
+#include <algorithm>
 #include <bit>
+#include <utility>
 
 namespace kerf::mesh {
 namespace {
@@ -27,19 +29,59 @@ private:
 
 }  // namespace
 
-std::size_t VertexWelder::KeyHash::operator()(const Key& k) const noexcept {
+namespace {
+
+struct WeldKey {
+    std::uint64_t x, y, z;
+    bool operator==(const WeldKey&) const = default;
+};
+
+WeldKey weld_key(const Point& p) noexcept {
+    return {coordinate_bits(p[0]), coordinate_bits(p[1]), coordinate_bits(p[2])};
+}
+
+std::uint64_t weld_hash(const WeldKey& k) noexcept {
     std::uint64_t h = k.x * 0x9E3779B97F4A7C15ull;
     h ^= (k.y + 0x7F4A7C159E3779B9ull + (h << 6) + (h >> 2)) * 0xBF58476D1CE4E5B9ull;
     h ^= (k.z + 0x94D049BB133111EBull + (h << 6) + (h >> 2)) * 0x9E3779B97F4A7C15ull;
-    return static_cast<std::size_t>(h ^ (h >> 31));
+    return h ^ (h >> 31);
+}
+
+}  // namespace
+
+void VertexWelder::reserve(std::size_t vertices) {
+    if (2 * vertices > slots_.size() && used_ == 0) slots_.assign(std::bit_ceil(2 * vertices), {});
+}
+
+void VertexWelder::rehash(std::size_t slot_count, const IndexedMesh& out) {
+    std::vector<Slot> old = std::exchange(slots_, std::vector<Slot>(slot_count));
+    const std::size_t mask = slot_count - 1;
+    for (const Slot& s : old) {
+        if (s.index_plus_one == 0) continue;
+        std::size_t i = weld_hash(weld_key(out.positions_m[s.index_plus_one - 1])) & mask;
+        while (slots_[i].index_plus_one != 0) i = (i + 1) & mask;
+        slots_[i] = s;
+    }
 }
 
 std::uint32_t VertexWelder::weld(const Point& p, IndexedMesh& out) {
-    const Key key{coordinate_bits(p[0]), coordinate_bits(p[1]), coordinate_bits(p[2])};
-    const auto next = static_cast<std::uint32_t>(out.positions_m.size());
-    const auto [it, inserted] = index_.try_emplace(key, next);
-    if (inserted) out.positions_m.push_back(p);
-    return it->second;
+    if (2 * (used_ + 1) > slots_.size()) rehash(std::max<std::size_t>(64, 2 * slots_.size()), out);
+    const WeldKey key = weld_key(p);
+    const std::uint64_t h = weld_hash(key);
+    const auto tag = static_cast<std::uint32_t>(h >> 32);
+    const std::size_t mask = slots_.size() - 1;
+    for (std::size_t i = h & mask;; i = (i + 1) & mask) {
+        Slot& s = slots_[i];
+        if (s.index_plus_one == 0) {
+            const auto index = static_cast<std::uint32_t>(out.positions_m.size());
+            out.positions_m.push_back(p);
+            s = {index + 1, tag};
+            ++used_;
+            return index;
+        }
+        if (s.tag == tag && weld_key(out.positions_m[s.index_plus_one - 1]) == key)
+            return s.index_plus_one - 1;
+    }
 }
 
 namespace {

@@ -5,7 +5,6 @@
 
 #include <array>
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 #include "display/mesh/tri_mesh.hpp"
@@ -23,20 +22,25 @@ struct IndexedMesh {
 
 /// Welds vertices whose coordinates are bit-identical (no tolerance; -0 counts as +0), giving
 /// indices in first-seen order, so the result is deterministic and independent of hashing.
+/// A flat open-addressing table of 8-byte slots that point into `out.positions_m` (a node-based
+/// map cost a fifth of loading a 1M-triangle STL, and a node per vertex).
 class VertexWelder {
 public:
-    /// Index of the vertex at `p` (metres), adding it to `out` when new.
+    /// Room for `vertices` distinct vertices before the table regrows (a hint; a closed mesh
+    /// has about half as many vertices as triangles).
+    void reserve(std::size_t vertices);
+    /// Index of the vertex at `p` (metres), adding it to `out` when new. Every call on one
+    /// welder must pass the same `out`.
     std::uint32_t weld(const Point& p, IndexedMesh& out);
 
 private:
-    struct Key {
-        std::uint64_t x, y, z;
-        bool operator==(const Key&) const = default;
+    struct Slot {
+        std::uint32_t index_plus_one = 0;  ///< 0: empty
+        std::uint32_t tag = 0;             ///< the hash's high half, compared before the point
     };
-    struct KeyHash {
-        std::size_t operator()(const Key& k) const noexcept;
-    };
-    std::unordered_map<Key, std::uint32_t, KeyHash> index_;
+    void rehash(std::size_t slot_count, const IndexedMesh& out);
+    std::vector<Slot> slots_;
+    std::size_t used_ = 0;
 };
 
 /// A TriMesh built from an IndexedMesh, and what could not be represented as given.

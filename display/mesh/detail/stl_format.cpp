@@ -42,6 +42,8 @@ Result<IndexedMesh, MeshError> parse_binary(std::span<const std::byte> bytes,
     IndexedMesh out;
     out.triangles.reserve(count);
     VertexWelder welder;
+    welder.reserve(count / 2 + 2);  // a closed mesh: V = F/2 + 2 - 2*genus per shell
+    out.positions_m.reserve(count / 2 + 2);
     for (std::uint32_t f = 0; f < count; ++f) {
         const std::size_t base = kHeaderBytes + std::size_t{f} * kFacetBytes;
         Triangle t{};
