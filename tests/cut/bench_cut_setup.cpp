@@ -13,7 +13,8 @@
 // With --kerf, `kerf cut FILE --plane ... --seed ... -o OUT` (a localised cut across the first
 // metatarsal, both pieces written) runs as a process, alternating with --peer PROG when given
 // (called as `PROG IN.stl px py pz nx ny nz OUT_PREFIX`, e.g. a VTK clip program): wall time
-// and peak resident memory (wait4), and their ratio.
+// CPU time (user + system) and peak resident memory (wait4), and their ratios. CPU time is the
+// figure to compare on a loaded machine: wall time there includes waiting for a core.
 #include <malloc.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -78,8 +79,17 @@ Spread spread(std::vector<double> v) {
     _exit(0);
 }
 
-/// Runs argv as a process; wall seconds and peak resident bytes, or false if it failed.
-bool run_process(const std::vector<std::string>& argv, double& wall_s, double& peak_bytes) {
+/// What one process run cost.
+struct ProcessCost {
+    double wall_s = 0;
+    double cpu_s = 0;  ///< user + system: what the run itself used, whatever else loads the machine
+    double peak_bytes = 0;
+};
+
+double seconds(const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * t.tv_usec; }
+
+/// Runs argv as a process; its cost, or false if it failed.
+bool run_process(const std::vector<std::string>& argv, ProcessCost& cost) {
     const double t0 = now_s();
     const pid_t pid = fork();
     if (pid == 0) {
@@ -93,8 +103,9 @@ bool run_process(const std::vector<std::string>& argv, double& wall_s, double& p
     int status = 0;
     rusage usage{};
     if (wait4(pid, &status, 0, &usage) != pid) return false;
-    wall_s = now_s() - t0;
-    peak_bytes = static_cast<double>(usage.ru_maxrss) * 1024.0;
+    cost.wall_s = now_s() - t0;
+    cost.cpu_s = seconds(usage.ru_utime) + seconds(usage.ru_stime);
+    cost.peak_bytes = static_cast<double>(usage.ru_maxrss) * 1024.0;
     return WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
@@ -167,7 +178,8 @@ int main(int argc, char** argv) {
     const std::size_t n_faces = m.n_faces();
     foot->mesh = kerf::mesh::make_mesh();  // the children start from the file, not this copy
 
-    std::vector<double> mesh_b, ctx_b, load_s, build_s, kerf_s, kerf_peak, peer_s, peer_peak;
+    std::vector<double> mesh_b, ctx_b, load_s, build_s;
+    std::vector<double> kerf_s, kerf_cpu, kerf_peak, peer_s, peer_cpu, peer_peak;
     for (int r = 0; r < reps; ++r) {
         int fds[2];
         if (pipe(fds) != 0) return std::perror("pipe"), 1;
@@ -187,14 +199,15 @@ int main(int argc, char** argv) {
         if (!got) return std::fprintf(stderr, "bench_cut_setup: child failed\n"), 1;
         mesh_b.push_back(out[0]), ctx_b.push_back(out[1]);
         load_s.push_back(out[2]), build_s.push_back(out[3]);
-        double wall = 0, peak = 0;
+        ProcessCost cost;
         if (!kerf_exe.empty()) {
             if (!run_process(
                     {kerf_exe, "cut", file.string(), "--plane", fmt3(at_mm) + "," + fmt3(axis),
                      "--seed", fmt3(seed_mm), "-o", (dir / "kerf_piece.stl").string()},
-                    wall, peak))
+                    cost))
                 return std::fprintf(stderr, "bench_cut_setup: kerf cut failed\n"), 1;
-            kerf_s.push_back(wall), kerf_peak.push_back(peak);
+            kerf_s.push_back(cost.wall_s), kerf_cpu.push_back(cost.cpu_s);
+            kerf_peak.push_back(cost.peak_bytes);
         }
         if (!peer_exe.empty()) {
             char plane[256];
@@ -208,9 +221,10 @@ int main(int argc, char** argv) {
                 p = *e ? e + 1 : e;
             }
             args.push_back((dir / "peer_piece").string());
-            if (!run_process(args, wall, peak))
+            if (!run_process(args, cost))
                 return std::fprintf(stderr, "bench_cut_setup: %s failed\n", peer_exe.c_str()), 1;
-            peer_s.push_back(wall), peer_peak.push_back(peak);
+            peer_s.push_back(cost.wall_s), peer_cpu.push_back(cost.cpu_s);
+            peer_peak.push_back(cost.peak_bytes);
         }
     }
     std::filesystem::remove_all(dir);
@@ -226,13 +240,16 @@ int main(int argc, char** argv) {
     print_ratio("context build / mesh load (<= 0.3)", build_s, load_s);
     if (!kerf_s.empty()) {
         print_spread("kerf cut (process) wall", kerf_s, 1e3, "ms");
+        print_spread("kerf cut (process) cpu, user+sys", kerf_cpu, 1e3, "ms");
         print_spread("kerf cut peak resident", kerf_peak, 1.0 / (1 << 20), "MiB");
     }
     if (!peer_s.empty()) {
         print_spread("peer (process) wall", peer_s, 1e3, "ms");
+        print_spread("peer (process) cpu, user+sys", peer_cpu, 1e3, "ms");
         print_spread("peer peak resident", peer_peak, 1.0 / (1 << 20), "MiB");
         if (!kerf_s.empty()) {
             print_ratio("kerf cut / peer wall (<= 1)", kerf_s, peer_s);
+            print_ratio("kerf cut / peer cpu", kerf_cpu, peer_cpu);
             print_ratio("kerf cut / peer peak resident", kerf_peak, peer_peak);
         }
     }
