@@ -127,7 +127,10 @@ Result<TriMesh, MeshError> load_mesh(const std::filesystem::path& path, Units un
 }
 
 std::string serialize_mesh(const TriMesh& mesh, Format format, Units units, Encoding encoding) {
-    const IndexedMesh m = to_indexed(mesh);
+    return serialize_mesh(to_indexed(mesh), format, units, encoding);
+}
+
+std::string serialize_mesh(const IndexedMesh& m, Format format, Units units, Encoding encoding) {
     const double scale = metres_per_unit(units);
     const bool binary = encoding != Encoding::kAscii;
     switch (format) {

@@ -75,6 +75,9 @@ Result<std::unique_ptr<TriMesh>, MeshError> load_mesh_owned(const std::filesyste
 /// PLY carries each vertex's material as a `uchar material` property (read back by Kerf).
 std::string serialize_mesh(const TriMesh& mesh, Format format, Units units,
                            Encoding encoding = Encoding::kBinaryLittleEndian);
+/// The same for a plain indexed mesh (no half-edge mesh needed to write a file).
+std::string serialize_mesh(const IndexedMesh& mesh, Format format, Units units,
+                           Encoding encoding = Encoding::kBinaryLittleEndian);
 
 /// Writes a file atomically (temp file in its folder + rename); the format comes from the
 /// extension; STL and PLY are written binary.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 #include "display/cut/cut_context.hpp"
 #include "display/cut/cut_session.hpp"
@@ -231,26 +232,28 @@ Result<CutReport, CutJobError> run_cut_job(std::unique_ptr<mesh::TriMesh>& mesh,
     return report;
 }
 
-mesh::TriMesh extract_piece(const mesh::TriMesh& m, const cut::Body& piece) {
-    mesh::TriMesh out = mesh::make_mesh();
-    std::vector<int> renumber(m.n_vertices(), -1);
+mesh::IndexedMesh extract_piece(const mesh::TriMesh& m, const cut::Body& piece) {
+    mesh::IndexedMesh out;
+    // Only the entries of this piece's vertices are written and read: no need to clear the rest.
+    const auto renumber = std::make_unique_for_overwrite<std::uint32_t[]>(m.n_vertices());
+    out.positions_m.reserve(piece.vertices.size());
+    out.materials.reserve(piece.vertices.size());
     for (const auto v : piece.vertices) {
-        const auto w = out.add_vertex(m.point(v));
-        out.set_normal(w, m.normal(v));
-        out.set_texcoord2D(w, m.texcoord2D(v));
-        out.set_color(w, m.color(v));
-        out.data(w).set_material(m.data(v).material());
-        renumber[static_cast<std::size_t>(v.idx())] = w.idx();
+        renumber[static_cast<std::size_t>(v.idx())] =
+            static_cast<std::uint32_t>(out.positions_m.size());
+        out.positions_m.push_back(m.point(v));
+        out.materials.push_back(m.data(v).material());
     }
-    std::vector<mesh::VertexHandle> corners;
+    out.triangles.reserve(piece.faces.size());
     for (const auto f : piece.faces) {
-        corners.clear();
+        mesh::Triangle t{};
+        std::size_t k = 0;
         for (const auto v : m.fv_range(f)) {
-            corners.emplace_back(renumber[static_cast<std::size_t>(v.idx())]);
+            if (k < 3) t[k] = renumber[static_cast<std::size_t>(v.idx())];
+            ++k;
         }
-        out.add_face(corners);
+        if (k == 3) out.triangles.push_back(t);
     }
-    out.update_face_normals();
     return out;
 }
 

@@ -20,6 +20,7 @@
 #include "display/cut/components.hpp"
 #include "display/cut/cut_result.hpp"
 #include "display/cut/plane.hpp"
+#include "display/mesh/indexed_mesh.hpp"
 #include "display/mesh/tri_mesh.hpp"
 
 namespace kerf::cli {
@@ -83,7 +84,9 @@ Status<CutJobError> check_cut_job(const CutJob& job);
 /// @pre mesh != nullptr
 Result<CutReport, CutJobError> run_cut_job(std::unique_ptr<mesh::TriMesh>& mesh, const CutJob& job);
 
-/// A standalone mesh of `piece`'s faces (attributes copied, vertices renumbered in order).
-mesh::TriMesh extract_piece(const mesh::TriMesh& mesh, const cut::Body& piece);
+/// `piece` as a standalone indexed mesh, ready to write: its vertices in the body's order with
+/// their materials, its triangles in the body's order renumbered. Every triangle is kept (no
+/// half-edge structure is built, so none can be refused).
+mesh::IndexedMesh extract_piece(const mesh::TriMesh& mesh, const cut::Body& piece);
 
 }  // namespace kerf::cli
