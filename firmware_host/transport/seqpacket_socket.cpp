@@ -1,5 +1,6 @@
 #include "firmware_host/transport/seqpacket_socket.hpp"
 
+#include <fcntl.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
@@ -55,9 +56,22 @@ Result<SeqpacketSocket, TransportError> SeqpacketSocket::connect(const std::stri
         return Err{transport_error(TransportErrc::kBadPath, path, "connect to emulator socket",
                                    "path empty or too long")};
     }
-    const int fd = ::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0);
+    // Non-blocking: a listener that accepts nobody (the emulator's unplug fault) lets a blocking
+    // connect() wait forever once its backlog is full, and kerf-rt's reconnector could then never
+    // be stopped. A Unix socket connects at once or says EAGAIN (backlog full): not connected.
+    const int fd = ::socket(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
     if (fd < 0) return os_error("create socket", path, errno);
     if (::connect(fd, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0) {
+        const int err = errno;
+        ::close(fd);
+        if (err == EAGAIN)
+            return Err{transport_error(TransportErrc::kNotConnected, path,
+                                       "connect to emulator socket",
+                                       "it accepts no connection (backlog full)")};
+        return os_error("connect to emulator socket", path, err);
+    }
+    const int flags = ::fcntl(fd, F_GETFL);
+    if (flags < 0 || ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK) != 0) {
         const int err = errno;
         ::close(fd);
         return os_error("connect to emulator socket", path, err);

@@ -18,7 +18,8 @@ namespace kerf::firmware_host {
 
 class SeqpacketSocket {
 public:
-    /// Connects to a listening socket at `path` (open-time, may allocate).
+    /// Connects to a listening socket at `path` (open-time, may allocate); never waits for a
+    /// listener that accepts nobody (kNotConnected when its backlog is full).
     static Result<SeqpacketSocket, TransportError> connect(const std::string& path);
     /// Adopts a connected descriptor (accept(), socketpair()).
     explicit SeqpacketSocket(int fd) noexcept : fd_(fd) {}

@@ -261,8 +261,11 @@ void run_kiosk(const RunOptions& o) {
             !saved)
             fail(saved.error());
         say("recorded into " + o.record_dir + " (kerf replay " + o.record_dir + ")");
-        if (const std::string gap = recording_gap(input, meta["ticks"].get<std::uint64_t>());
-            !gap.empty())
+        if (!fs::exists(input))
+            say("warning: the recording is incomplete, kerf-rt left no input stream (it did not "
+                "exit on its own: killed?), so it cannot be replayed");
+        else if (const std::string gap = recording_gap(input, meta["ticks"].get<std::uint64_t>());
+                 !gap.empty())
             say("warning: the recording is incomplete, " + gap);
     }
     prune();
