@@ -14,8 +14,8 @@ std::uint64_t now_ns() {
                              .count());
 }
 
-/// The body's slice of the mailbox arrays as kerf_physics takes it (materials copied: the
-/// physics enum has the same values as ipc::TriangleMaterial, but a different type).
+}  // namespace
+
 physics::CollisionMeshView body_view(const ipc::CollisionMesh& mesh, std::uint32_t b,
                                      std::vector<physics::Material>& materials) {
     const ipc::MeshBodyEntry& e = mesh.bodies[b];
@@ -29,8 +29,6 @@ physics::CollisionMeshView body_view(const ipc::CollisionMesh& mesh, std::uint32
     view.world_from_body = physics::RigidTransform::from_column_major(e.world_from_body);
     return view;
 }
-
-}  // namespace
 
 WorldBuilder::WorldBuilder(Handoff<WorldSnapshot>& handoff, const ipc::SegmentLayout& segment)
     : handoff_(handoff), reader_(segment), scratch_(std::make_unique<ipc::CollisionMesh>()) {}

@@ -16,6 +16,7 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "config/base/result.hpp"
 #include "rt_core/ipc/layout.hpp"
@@ -40,6 +41,12 @@ struct WorldBuilderStats {
     std::uint64_t rejected = 0;       ///< mailbox generations refused (reader or build)
     std::uint64_t last_build_ns = 0;  ///< wall time of the last build, ns
 };
+
+/// Body `b`'s slice of the mailbox arrays as kerf_physics takes it, what build() hands to
+/// CollisionBody::build/update (materials copied into `materials`: the physics enum has the same
+/// values as ipc::TriangleMaterial, but a different type). @pre `mesh` validated, b < body_count
+physics::CollisionMeshView body_view(const ipc::CollisionMesh& mesh, std::uint32_t b,
+                                     std::vector<physics::Material>& materials);
 
 class WorldBuilder {
 public:

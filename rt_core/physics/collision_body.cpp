@@ -413,6 +413,26 @@ void traverse(const std::vector<Node>& nodes, const Vec3& origin, const Key& key
     }
 }
 
+/// Visits every leaf of `nodes` whose box and ancestors' boxes pass `enter(node)`, in no order.
+template <class Enter, class Leaf>
+void visit_leaves(const std::vector<Node>& nodes, const Enter& enter, const Leaf& leaf) noexcept {
+    std::uint32_t stack[kStackSize];
+    int top = 0;
+    if (nodes.empty() || !enter(nodes[0])) return;
+    stack[top++] = 0;
+    while (top > 0) {
+        const Node& node = nodes[stack[--top]];
+        if (node.count > 0) {
+            leaf(node);
+            continue;
+        }
+        if (top + 2 > kStackSize) return;  // cannot happen for trees this library builds
+        for (std::uint32_t c = node.first; c < node.first + 2; ++c) {
+            if (enter(nodes[c])) stack[top++] = c;
+        }
+    }
+}
+
 /// Visits the chunks whose boxes pass `enter`, nearest first by `key`.
 template <class Key, class Enter, class Visit>
 void for_each_chunk(const CollisionBody::Impl& impl, const Vec3& origin, const Key& key,
@@ -487,6 +507,30 @@ SegmentHit CollisionBody::first_hit(const Vec3& from, const Vec3& to,
     hit.normal = tri_normal(*best);
     hit.material = impl_->materials[best->id];
     return hit;
+}
+
+std::size_t CollisionBody::crossings(const Vec3& from, const Vec3& to,
+                                     std::span<SegmentCrossing> out) const noexcept {
+    std::size_t found = 0;
+    const Vec3 d = to - from;
+    const Vec3 inv{1.0 / d.x, 1.0 / d.y, 1.0 / d.z};
+    const auto enter = [&](const Node& n) { return segment_hits_box(from, inv, 1.0, n.lo, n.hi); };
+    visit_leaves(impl_->top, enter, [&](const Node& top_leaf) {
+        for (std::uint32_t c = top_leaf.first; c < top_leaf.first + top_leaf.count; ++c) {
+            const Chunk& chunk = *impl_->chunks[impl_->top_ids[c]];
+            visit_leaves(chunk.nodes, enter, [&](const Node& leaf) {
+                for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
+                    const Tri& t = chunk.tris[i];
+                    const TriangleCrossing x =
+                        segment_crossing(from, d, load(t.v), load(t.v + 3), load(t.v + 6));
+                    if (x.sign == 0) continue;
+                    if (found < out.size()) out[found] = {x.t, 0, t.id, x.sign};
+                    ++found;
+                }
+            });
+        }
+    });
+    return found;
 }
 
 std::size_t CollisionBody::triangles_near(const Vec3& center, double radius,

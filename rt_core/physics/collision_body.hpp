@@ -8,7 +8,7 @@
 // hand the raw pointer to CollisionWorld::set_body() at a tick boundary, and free the previous body
 // off the RT thread once the loop has stopped using it.
 // Per tick (any thread, concurrently; noexcept, allocation-free, bounded by the tree depth):
-//   closest_point(), first_hit(), triangles_near().
+//   closest_point(), first_hit(), crossings(), triangles_near().
 //
 // Structure (why, measured in tests/physics/bench_collision.cpp; rt_core/README.md has figures):
 // the triangles are split by a spatial median split into chunks of about `chunk_triangles`; each
@@ -77,6 +77,14 @@ struct SegmentHit {
     Material material = Material::kCortical;
 };
 
+/// One crossing of a segment with the surface (every one, not only the first: crossings()).
+struct SegmentCrossing {
+    double t = 1;                          ///< at from + t (to - from), t in [0, 1)
+    std::uint32_t body = 0;                ///< world slot (world queries only)
+    std::uint32_t triangle = kNoTriangle;  ///< the triangle crossed
+    int sign = 0;                          ///< +1 leaving (along the outward normal), -1 entering
+};
+
 /// What an update() did.
 struct UpdateStats {
     std::uint32_t chunks_total = 0;       ///< chunks in the new body
@@ -116,6 +124,12 @@ public:
                              MaterialMask materials = kAllMaterials) const noexcept;
     /// First crossing of the segment from -> to with the surface (smallest t), counting `sides`.
     SegmentHit first_hit(const Vec3& from, const Vec3& to, HitSides sides) const noexcept;
+    /// Every crossing of the segment from -> to with the surface, both sides, in no order, in one
+    /// traversal: writes up to out.size() and returns how many exist (may exceed out.size()).
+    /// Watertight for counting (segment_crossing): through a shared edge or vertex the segment
+    /// crosses one triangle, so on closed meshes the signs sum to the winding-number difference.
+    std::size_t crossings(const Vec3& from, const Vec3& to,
+                          std::span<SegmentCrossing> out) const noexcept;
     /// Triangles with a point within `radius` of `center` (the proxy's neighbourhood): writes up
     /// to out.size() indices and returns how many exist (may exceed out.size()).
     std::size_t triangles_near(const Vec3& center, double radius,

@@ -118,36 +118,37 @@ CollisionWorld::WayOut CollisionWorld::way_out(const Vec3& from, const Vec3& tow
     Vec3 d = normalized(towards - from);
     if (norm2(d) == 0) d = Vec3{0, 1, 0};
     const Vec3 end = from + d * length_m;
-    struct Crossing {
-        double s;  ///< distance from `from`, m
-        int sign;  ///< +1 leaving a shell, -1 entering one
-        Vec3 normal;
-    };
-    Crossing crossings[kMaxWayOutCrossings];
-    int count = 0;
-    double s = 0;
-    constexpr double kStep = 1e-9;  // m past each crossing, so the next cast starts beyond it
-    while (true) {
-        const Vec3 start = from + d * s;
-        const SegmentHit hit = first_hit(start, end, HitSides::kBoth);
-        if (!hit.found) break;
-        if (count == kMaxWayOutCrossings) return out;  // unknown: too many crossings
-        const double at = s + hit.t * (length_m - s);
-        crossings[count++] = {at, dot(d, hit.normal) > 0 ? 1 : -1, hit.normal};
-        s = at + kStep;
-        if (s >= length_m) break;
+    SegmentCrossing crossings[kMaxWayOutCrossings];
+    std::size_t count = 0;
+    for (std::uint32_t i = 0; i < slot_end_; ++i) {
+        const Slot& s = slots_[i];
+        if (!s.body) continue;
+        const Vec3 a = s.pose.apply_inverse(from), b = s.pose.apply_inverse(end);
+        const Vec3 ab = b - a;
+        const float lo[3] = {float(s.lo.x), float(s.lo.y), float(s.lo.z)};
+        const float hi[3] = {float(s.hi.x), float(s.hi.y), float(s.hi.z)};
+        if (!segment_hits_box(a, Vec3{1.0 / ab.x, 1.0 / ab.y, 1.0 / ab.z}, 1.0, lo, hi)) continue;
+        const std::span<SegmentCrossing> room(crossings + count, kMaxWayOutCrossings - count);
+        const std::size_t n = s.body->crossings(a, b, room);
+        if (n > room.size()) return out;  // unknown: too many crossings
+        for (std::size_t k = count; k < count + n; ++k) crossings[k].body = i;
+        count += n;
     }
+    std::sort(crossings, crossings + count,
+              [](const SegmentCrossing& x, const SegmentCrossing& y) { return x.t < y.t; });
     int depth = 0;
-    for (int i = 0; i < count; ++i) depth += crossings[i].sign;
+    for (std::size_t k = 0; k < count; ++k) depth += crossings[k].sign;
     out.known = true;
     out.depth = std::max(depth, 0);
     out.exit = from;
     int inside = depth;
-    for (int i = 0; i < count && inside > 0; ++i) {
-        inside -= crossings[i].sign;
+    for (std::size_t k = 0; k < count && inside > 0; ++k) {
+        inside -= crossings[k].sign;
         if (inside <= 0) {
-            out.exit = from + d * crossings[i].s;
-            out.normal = crossings[i].normal;
+            const SegmentCrossing& c = crossings[k];
+            const TriangleCorners t = slots_[c.body].body->corners(c.triangle);
+            out.exit = from + d * (c.t * length_m);
+            out.normal = slots_[c.body].pose.rotate(normalized(cross(t.b - t.a, t.c - t.a)));
         }
     }
     return out;

@@ -47,13 +47,16 @@ public:
         Vec3 exit;           ///< the first point on the ray inside no shell (the start if 0)
         Vec3 normal;         ///< outward normal of the surface crossed there (depth > 0)
     };
-    /// Walks the ray from `from` towards `towards` (up to `length_m`), counting every surface
+    /// Follows the ray from `from` towards `towards` (up to `length_m`), counting every surface
     /// crossing (leaving a shell +1, entering -1): the start lies inside that many shells, which
-    /// is exact for closed outward meshes even where shells interpenetrate (joints), unlike the
-    /// nearest-surface test of inside(). Returns where the ray is first in no shell. At most
-    /// kMaxWayOutCrossings segment casts: bounded, noexcept, no allocation.
+    /// is exact for closed outward meshes even where shells interpenetrate (joints) or share a
+    /// plane, unlike the nearest-surface test of inside(). Returns where the ray is first in no
+    /// shell. One traversal per body collects every crossing (CollisionBody::crossings, watertight
+    /// through shared edges and vertices) into a fixed array of kMaxWayOutCrossings. Bounded,
+    /// noexcept, no allocation.
     WayOut way_out(const Vec3& from, const Vec3& towards, double length_m) const noexcept;
-    static constexpr int kMaxWayOutCrossings = 24;
+    /// Triangle crossings way_out() collects at most; more: the result is unknown.
+    static constexpr int kMaxWayOutCrossings = 96;
 
 private:
     struct Slot {

@@ -5,16 +5,32 @@
 // closest-point query per tick on the same walk (the least any collision step does).
 // BM_ReseatTick times the other per-tick path: a tick with no force reaching the hand re-seats the
 // proxy first (ForceModel::reset_outside: one closest-point query within the loop's 50 mm reach
-// and CollisionWorld::way_out's ray walk, up to 24 casts), then steps; counters as above, and the
-// same for the re-seat alone (reseat_p50_us, reseat_p99_us). Also on the 24-shell forefoot
-// (shells interpenetrating at the joints: the ray crosses several), with its own reference.
+// and CollisionWorld::way_out: one traversal per body collecting every crossing along the ray),
+// then steps; counters as above, the same for the re-seat alone (reseat_p50_us, reseat_p99_us),
+// and for the re-seat as it was before (casts_p50_us, casts_p99_us: the same closest point, then
+// one segment cast per crossing, up to 24, each a whole traversal: ReseatByCasts below). Also on
+// the 24-shell forefoot (shells interpenetrating at the joints: the ray crosses several), with its
+// own reference.
 // Why the tick grows with the mesh (BM_TickWarmCold): each tick is timed three ways on the same
 // walk's first 6,000 ticks — as it comes (even ticks: first), repeated on a copy of the model with
 // the same input (the same work with its data in cache: warm), and after evicting the per-core
 // caches by writing 8 MiB (odd ticks: cold; L1 + L2 here are 96 KiB + 4 MiB in all, the shared L3
 // of 260 MiB is not evicted: what the real loop sees after a millisecond of other processes on its
 // core). Warm growth is the extra work of a deeper tree; the rest is memory.
+// The tick after many cuts (BM_TickAfterCuts/N): the calcaneus as scanned, cut N times (10, 30)
+// the way a session cuts it — each a localised withdrawn saw cut (a 0.8 mm kerf 10 mm long and
+// 4 mm deep across the walk, from the surface inwards) applied by the display's own code
+// (CutSession through apply_record), exported as kerf-display publishes it after every CutEnd
+// (export_collision), and each published mesh turned into the collision structure as kerf-rt's
+// WorldBuilder does (body_view, CollisionBody::update from the previous body: the cut's new
+// triangles in new chunks overlapping the old ones, touched chunks refitted). The walk is
+// BM_Tick's and crosses every kerf; the reference in the same run is the same walk on the uncut
+// bone (BM_TickAfterCuts/0). Counters as BM_Tick, plus chunks (count) and triangles.
 //   build/bin/bench_physics --benchmark_repetitions=5 --benchmark_counters_tabular=true
+#include "display/app/collision_export.hpp"
+#include "display/app/session_events_ipc.hpp"
+#include "display/mesh/mesh_io.hpp"
+#include "rt_core/loop/world_builder.hpp"
 #include "rt_core/physics/force_model.hpp"
 #include "tests/physics/bench_support.hpp"
 
@@ -126,18 +142,34 @@ void BM_TickWarmCold(benchmark::State& state) {
     state.counters["cold_p99_us"] = cold.percentile(0.99) / 1e3;
 }
 
+/// The re-seat's ray walk before one-traversal way_out (kept to measure against in the same run):
+/// one first_hit cast per crossing, from just past the previous one. Returns the depth.
+int way_out_by_casts(const CollisionWorld& world, const Vec3& from, const Vec3& towards) {
+    Vec3 d = normalized(towards - from);
+    if (norm2(d) == 0) d = Vec3{0, 1, 0};
+    constexpr double kLength = 1.0, kStep = 1e-9;
+    const Vec3 end = from + d * kLength;
+    int depth = 0, count = 0;
+    for (double s = 0; s < kLength;) {
+        const SegmentHit hit = world.first_hit(from + d * s, end, HitSides::kBoth);
+        if (!hit.found) break;
+        if (++count > 24) return -1;
+        depth += dot(d, hit.normal) > 0 ? 1 : -1;
+        s = s + hit.t * (kLength - s) + kStep;
+    }
+    return depth;
+}
+
 // A tick with no force reaching the hand: reset_outside, then the step (the loop's order).
 void BM_ReseatTick(benchmark::State& state) {
     Fixture& f = fixture(int(state.range(0)));
     if (!f.body) return state.SkipWithError("no shared meshes");
     constexpr double kReach = 0.05;  // HapticLoop::kReengageReach
-    Timings t, reseat;
-    t.ns.reserve(f.walk.size());
-    reseat.ns.reserve(f.walk.size());
+    Timings t, reseat, casts;
+    for (Timings* x : {&t, &reseat, &casts}) x->ns.reserve(f.walk.size());
     int inside = 0;  // ticks the re-seat moved the proxy out of the bone
     for (auto _ : state) {
-        t.ns.clear();
-        reseat.ns.clear();
+        for (Timings* x : {&t, &reseat, &casts}) x->ns.clear();
         ForceModel model;
         for (std::size_t i = 0; i < f.walk.size(); ++i) {
             ToolInput in;
@@ -152,11 +184,21 @@ void BM_ReseatTick(benchmark::State& state) {
             reseat.ns.push_back(seated - start);
             inside += seated_at == in.pose.position_m ? 0 : 1;
             benchmark::DoNotOptimize(out);
+            // The same re-seat by casts (the closest point, then the walk), timed after the step.
+            const double cast_start = now_ns();
+            const SurfaceHit near =
+                f.world.closest_point(in.pose.position_m, kReach, kBoneSurfaces);
+            const Vec3 towards = near.found ? near.point : in.pose.position_m + Vec3{0, 1, 0};
+            const int depth = way_out_by_casts(f.world, in.pose.position_m, towards);
+            casts.ns.push_back(now_ns() - cast_start);
+            benchmark::DoNotOptimize(depth);
         }
     }
     report(state, t, f);
     state.counters["reseat_p50_us"] = reseat.percentile(0.50) / 1e3;
     state.counters["reseat_p99_us"] = reseat.percentile(0.99) / 1e3;
+    state.counters["casts_p50_us"] = casts.percentile(0.50) / 1e3;
+    state.counters["casts_p99_us"] = casts.percentile(0.99) / 1e3;
     state.counters["moved_share"] = double(inside) / double(f.walk.size() * state.iterations());
 }
 
@@ -177,6 +219,131 @@ void BM_ClosestPointReference(benchmark::State& state) {
     report(state, t, f);
 }
 
+// ---- the tick after many cuts ------------------------------------------------------------------
+
+/// The calcaneus after 0, 10 and 30 localised cuts, one world each, and the walk.
+struct CutFixture {
+    std::map<int, std::vector<std::shared_ptr<const CollisionBody>>> bodies;  // by cut count
+    std::map<int, CollisionWorld> worlds;
+    std::vector<Vec3> walk;
+};
+
+cut::Vec3 to_cut(const Vec3& p) { return cut::Vec3(p.x, p.y, p.z); }
+
+/// Publishes the session as kerf-display does and updates `bodies` as kerf-rt's WorldBuilder does.
+void publish(const cut::CutSession& session, ipc::CollisionMesh& mesh,
+             std::vector<std::shared_ptr<const CollisionBody>>& bodies) {
+    if (auto ok = display::export_collision(session, mesh); !ok) std::abort();
+    std::vector<Material> materials;
+    std::vector<std::shared_ptr<const CollisionBody>> next;
+    for (std::uint32_t b = 0; b < mesh.body_count; ++b) {
+        const CollisionMeshView view = rt::body_view(mesh, b, materials);
+        auto body = b < bodies.size() ? CollisionBody::update(*bodies[b], view)
+                                      : CollisionBody::build(view);
+        if (!body) std::abort();
+        next.push_back(std::move(*body));
+    }
+    bodies = std::move(next);
+}
+
+CutFixture* cut_fixture() {
+    static std::unique_ptr<CutFixture> f;
+    static bool tried = false;
+    if (tried) return f.get();
+    tried = true;
+    const auto file = std::filesystem::path(KERF_SHARED_MESHES) / "jma_norm01_calcaneus_right.stl";
+    auto scene = mesh::load_mesh_owned(file, mesh::Units::kMillimetres);
+    if (!scene) return nullptr;
+    f = std::make_unique<CutFixture>();
+    cut::CutSession session(std::move(*scene));
+    auto mesh = std::make_unique<ipc::CollisionMesh>();
+    std::vector<std::shared_ptr<const CollisionBody>> bodies;
+    publish(session, *mesh, bodies);
+    f->walk = surface_walk(*bodies[0], quick_mode() ? 500 : 20000, -0.002, 0.0005);
+    const std::vector<int> counts =
+        quick_mode() ? std::vector<int>{0, 1} : std::vector<int>{0, 10, 30};
+    const int cuts = counts.back();
+    for (int k = 0; k <= cuts; ++k) {
+        if (std::find(counts.begin(), counts.end(), k) != counts.end()) {
+            f->bodies[k] = bodies;
+            CollisionWorld& world = f->worlds[k];
+            for (std::uint32_t b = 0; b < bodies.size(); ++b) world.set_body(b, bodies[b].get());
+        }
+        if (k == cuts) break;
+        // Cut k across the walk at its point i: the blade's plane holds the surface normal and
+        // is across the walk's direction; the blade (u) lies along the surface, v outwards.
+        const std::size_t i = (2 * std::size_t(k) + 1) * (f->walk.size() - 1) / (2 * cuts);
+        const SurfaceHit at = bodies[0]->closest_point(f->walk[i], 0.05);
+        const Vec3 n = at.normal;
+        Vec3 along = f->walk[std::min(i + 1, f->walk.size() - 1)] - f->walk[i > 0 ? i - 1 : 0];
+        along = normalized(along - n * dot(along, n));
+        cut::CutBegin begin;
+        begin.cut_id = std::uint32_t(k + 1);
+        begin.blade = {to_cut(at.point), to_cut(along), to_cut(cross(n, along))};
+        begin.seed_m = to_cut(at.point);
+        begin.kerf_width_m = 0.0008;
+        display::apply_record(session, display::make_record(begin));
+        cut::CutProgress progress{begin.cut_id, begin.blade, {-0.005, 0.005, 0, 0.002}};
+        for (int step = 1; step <= 20; ++step) {  // every 0.2 mm, as kerf-rt sends them
+            progress.swept.v_min_m = -0.0002 * step;
+            display::apply_record(session, display::make_record(progress, begin));
+        }
+        const cut::CutEnd end{begin.cut_id, cut::CutEndKind::kWithdrawn};
+        display::apply_record(session, display::make_record(end, begin));
+        session.idle();
+        publish(session, *mesh, bodies);
+    }
+    return f.get();
+}
+
+void BM_TickAfterCuts(benchmark::State& state) {
+    CutFixture* f = cut_fixture();
+    if (!f) return state.SkipWithError("no shared meshes");
+    const int cuts = int(state.range(0));
+    const CollisionWorld& world = f->worlds.at(cuts);
+    Timings t;
+    t.ns.reserve(f->walk.size());
+    int touching = 0;
+    for (auto _ : state) {
+        t.ns.clear();
+        ForceModel model;
+        Vec3 lo, hi;
+        f->bodies.at(cuts)[0]->bounds(lo, hi);
+        model.reset(hi + (hi - lo));  // far outside
+        for (std::size_t i = 0; i < f->walk.size(); ++i) {
+            ToolInput in;
+            in.pose.position_m = f->walk[i];
+            in.velocity_m_s = i > 0 ? (f->walk[i] - f->walk[i - 1]) * 1000.0 : Vec3{};
+            const double start = now_ns();
+            const PhysicsOutput out = model.step(world, in, 1e-3);
+            t.ns.push_back(now_ns() - start);
+            touching += out.contact.in_contact ? 1 : 0;
+            benchmark::DoNotOptimize(out);
+        }
+    }
+    state.counters["p50_us"] = t.percentile(0.50) / 1e3;
+    state.counters["p99_us"] = t.percentile(0.99) / 1e3;
+    state.counters["max_us"] = t.percentile(1.0) / 1e3;
+    double triangles = 0, chunks = 0;
+    for (const auto& b : f->bodies.at(cuts)) {
+        triangles += double(b->triangle_count());
+        chunks += double(b->chunk_count());
+    }
+    state.counters["triangles"] = triangles;
+    state.counters["chunks"] = chunks;
+    Timings cp;
+    for (const Vec3& p : f->walk) {
+        const double start = now_ns();
+        const SurfaceHit hit = world.closest_point(p, 0.01);
+        cp.ns.push_back(now_ns() - start);
+        benchmark::DoNotOptimize(hit);
+    }
+    state.counters["cp_p50_us"] = cp.percentile(0.50) / 1e3;
+    state.counters["cp_p99_us"] = cp.percentile(0.99) / 1e3;
+    state.counters["contact_share"] =
+        double(touching) / double(f->walk.size() * state.iterations());
+}
+
 void register_all() {
     const std::vector<int> levels =
         quick_mode() ? std::vector<int>{0} : std::vector<int>{0, 1, 2, 3, kForefoot};
@@ -194,6 +361,12 @@ void register_all() {
                 ->Iterations(1)
                 ->Unit(benchmark::kMillisecond);
         }
+    }
+    for (int cuts : quick_mode() ? std::vector<int>{0, 1} : std::vector<int>{0, 10, 30}) {
+        with_min_max(benchmark::RegisterBenchmark("BM_TickAfterCuts/calcaneus", BM_TickAfterCuts))
+            ->Arg(cuts)
+            ->Iterations(1)
+            ->Unit(benchmark::kMillisecond);
     }
 }
 

@@ -2,7 +2,10 @@
 // update after a cut rebuilds only touched chunks, and queries allocate nothing.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
+#include <utility>
+#include <vector>
 
 #include "rt_core/physics/collision_world.hpp"
 #include "tests/allocation_counter.hpp"
@@ -69,6 +72,64 @@ TEST(CollisionBody, SegmentsThroughSharedEdgesAndVerticesAreStopped) {
                 const SegmentHit hit =
                     body->first_hit(target * 2.0, target * 0.0, HitSides::kFront);
                 ASSERT_TRUE(hit.found) << "triangle " << i / 3;
+            }
+        }
+    }
+}
+
+// Crossings are counted watertight: along any segment their signs sum to the winding number at
+// its start minus that at its end, also where it passes exactly through shared edges and
+// vertices; each crossing agrees with a brute-force pass over every triangle.
+TEST(CollisionBody, CrossingsCountEverySurfaceOnceAlongASegment) {
+    const TestMesh outer = test::make_sphere({0.01, 0, 0}, 0.02, 3);
+    const TestMesh inner = test::make_sphere({0.01, 0, 0}, 0.01, 2);
+    TestMesh both = outer;  // two nested shells: a segment crosses up to four surfaces
+    const auto base = std::uint32_t(both.positions.size() / 3);
+    both.positions.insert(both.positions.end(), inner.positions.begin(), inner.positions.end());
+    for (std::uint32_t i : inner.indices) both.indices.push_back(base + i);
+    both.materials.insert(both.materials.end(), inner.materials.begin(), inner.materials.end());
+    const auto body = build(both, {.chunk_triangles = 64, .leaf_triangles = 4});
+    ASSERT_TRUE(body);
+    const auto check = [&](const Vec3& from, const Vec3& to, int i) {
+        std::vector<std::pair<double, int>> expected;
+        for (std::size_t k = 0; k < both.indices.size(); k += 3) {
+            const TriangleCrossing x = segment_crossing(
+                from, to - from, both.vertex(both.indices[k]), both.vertex(both.indices[k + 1]),
+                both.vertex(both.indices[k + 2]));
+            if (x.sign != 0) expected.push_back({x.t, x.sign});
+        }
+        SegmentCrossing out[16];
+        const std::size_t n = body->crossings(from, to, out);
+        ASSERT_EQ(n, expected.size()) << i;
+        ASSERT_LE(n, std::size(out));
+        std::vector<std::pair<double, int>> got;
+        int sum = 0;
+        for (std::size_t k = 0; k < n; ++k) {
+            got.push_back({out[k].t, out[k].sign});
+            sum += out[k].sign;
+        }
+        std::sort(expected.begin(), expected.end());
+        std::sort(got.begin(), got.end());
+        EXPECT_EQ(got, expected) << i;
+        const double w = test::winding_number(both, from) - test::winding_number(both, to);
+        EXPECT_EQ(sum, int(std::lround(w))) << i;
+        // A short buffer: the count is still every crossing.
+        EXPECT_EQ(body->crossings(from, to, std::span<SegmentCrossing>(out, 1)), n) << i;
+    };
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> coord(-0.04, 0.05);
+    for (int i = 0; i < 300; ++i) {
+        check({coord(rng), coord(rng), coord(rng)}, {coord(rng), coord(rng), coord(rng)}, i);
+    }
+    // Exactly through the vertices and edge midpoints of every 7th triangle of both shells, from
+    // the centre outwards (corners and midpoints of the float mesh, as the structure stores them).
+    for (std::size_t k = 0; k < both.indices.size(); k += 3 * 7) {
+        for (int e = 0; e < 3; ++e) {
+            const Vec3 a = both.vertex(both.indices[k + e]);
+            const Vec3 b = both.vertex(both.indices[k + (e + 1) % 3]);
+            for (const Vec3& target : {a, (a + b) * 0.5}) {
+                const Vec3 centre{0.01, 0, 0};
+                check(centre, centre + (target - centre) * 3.0, int(k));
             }
         }
     }
@@ -208,6 +269,35 @@ TEST(CollisionWorld, QueriesTransformEveryBodyIntoTheWorld) {
     EXPECT_FALSE(world.closest_point({0, 0.1, 0}, 1).found);
 }
 
+// Box A holds the tool; the ray leaves A through the middle of a face (the diagonal edge its two
+// triangles share: one crossing) and then grazes an edge of box B (entering one face and leaving
+// the other at the same point: no crossing). The start is in one shell, and leaves it on A's face.
+// (The cast-by-cast walk this replaced counted the graze as one crossing: depth 0 or 2.)
+TEST(CollisionWorld, WayOutCountsASharedEdgeOnceAndAGrazedEdgeNotAtAll) {
+    constexpr double h = 1.0 / 128;  // exact in float, as the structure stores corners
+    TestMesh mesh = test::make_box({-h, -h, -h}, {h, h, h});
+    const TestMesh b = test::make_box({2 * h, -h, -h}, {4 * h, h, h});
+    const auto base = std::uint32_t(mesh.positions.size() / 3);
+    mesh.positions.insert(mesh.positions.end(), b.positions.begin(), b.positions.end());
+    for (std::uint32_t i : b.indices) mesh.indices.push_back(base + i);
+    mesh.materials.insert(mesh.materials.end(), b.materials.begin(), b.materials.end());
+    const auto body = build(mesh);
+    CollisionWorld world;
+    world.set_body(0, body.get());
+    const Vec3 tool{0.5 * h, -0.5 * h, 0};  // on the line through B's edge at (2h, h, 0)
+    const CollisionWorld::WayOut out = world.way_out(tool, {2 * h, h, 0}, 1.0);
+    ASSERT_TRUE(out.known);
+    EXPECT_EQ(out.depth, 1);
+    EXPECT_NEAR(out.exit.x, h, 1e-12);
+    EXPECT_NEAR(out.exit.y, 0, 1e-12);
+    EXPECT_NEAR(out.normal.x, 1, 1e-12);
+    // Outside both, the same ray through the graze: depth 0, the exit is the start.
+    const CollisionWorld::WayOut outside = world.way_out({1.5 * h, 0.5 * h, 0}, {2 * h, h, 0}, 1.0);
+    ASSERT_TRUE(outside.known);
+    EXPECT_EQ(outside.depth, 0);
+    EXPECT_EQ(outside.exit, (Vec3{1.5 * h, 0.5 * h, 0}));
+}
+
 TEST(CollisionWorld, PerTickQueriesAllocateNothing) {
     const auto body = build(test::make_sphere({}, 0.01, 4));
     CollisionWorld world;
@@ -220,6 +310,7 @@ TEST(CollisionWorld, PerTickQueriesAllocateNothing) {
         sum += world.closest_point(p, 0.01).distance;
         sum += world.first_hit(p, p * 0.5, HitSides::kFront).t;
         sum += double(body->triangles_near(p, 0.003, out));
+        sum += world.way_out(p * 0.5, p, 1.0).exit.x;
     }
     EXPECT_EQ(kerf::test::disarm_allocation_counter(), 0u);
     EXPECT_GT(sum, 0);

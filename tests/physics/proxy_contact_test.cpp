@@ -253,6 +253,34 @@ TEST(ProxyContact, ReSeatingAToolInsideInterpenetratingShellsPutsTheProxyOutside
     EXPECT_GT(inside, 60);
 }
 
+// The same on the scanned 24-shell forefoot (shells that touch and interpenetrate at the joints):
+// tools within 3 mm of random surface vertices, the ray towards the nearest surface as the re-seat
+// casts it. The depth way_out counts is the winding number, and the re-seated proxy is in no shell.
+TEST(ProxyContact, ReSeatingAToolInTheMultiShellForefootPutsTheProxyOutsideEveryShell) {
+    const std::filesystem::path file =
+        std::filesystem::path(KERF_SHARED_MESHES) / "bp3d_right_forefoot_24shells.stl";
+    if (!std::filesystem::exists(file)) GTEST_SKIP() << "no shared meshes at " << file;
+    const Scene scene(test::read_binary_stl(file.string(), 0.001));
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> offset(-0.003, 0.003);
+    int inside = 0;
+    for (int i = 0; i < 40 * kScale; ++i) {
+        const Vec3 v = scene.mesh.vertex(std::uint32_t(rng() % (scene.mesh.positions.size() / 3)));
+        const Vec3 tool = v + Vec3{offset(rng), offset(rng), offset(rng)};
+        const SurfaceHit near = scene.world.closest_point(tool, 0.05, kBoneSurfaces);
+        ASSERT_TRUE(near.found);
+        const CollisionWorld::WayOut out = scene.world.way_out(tool, near.point, 1.0);
+        ASSERT_TRUE(out.known) << i;
+        const double w = test::winding_number(scene.mesh, tool);
+        EXPECT_EQ(out.depth, int(std::lround(w))) << i;
+        ForceModel model;
+        model.reset_outside(scene.world, tool, 0.05);
+        EXPECT_LT(test::winding_number(scene.mesh, model.contact().proxy()), 0.5) << i;
+        inside += w > 0.5 ? 1 : 0;
+    }
+    EXPECT_GT(inside, 8 * kScale);
+}
+
 TEST(ProxyContact, APieceDraggedIntoTheHeldProxyCarriesItAlong) {
     // The proxy rests on top of a block; the block is moved up by 3 mm in one tick (a severed
     // piece dragged): the proxy is carried to the new top instead of ending inside.
