@@ -463,7 +463,7 @@ TEST(KerfShmCommand, LsStatsAndTailShowALiveSession) {
     test::ScratchDir dir;
     const auto name = test::unique_segment_name("cli");
     Peer producer(dir.path, {"producer", "--name", name, "--journal-dir", dir.path, "--events",
-                             "100", "--per-tick", "10", "--hold-ms", "5000"});
+                             "100", "--per-tick", "10", "--hold-ms", "30000"});
     ASSERT_TRUE(wait_for_segment(name));
     int code = -1;
     std::string out = run_kerf("shm tail " + name + " --from 0 --count 5", code);
@@ -473,9 +473,23 @@ TEST(KerfShmCommand, LsStatsAndTailShowALiveSession) {
     out = run_kerf("shm ls", code);
     EXPECT_EQ(code, 0) << out;
     EXPECT_NE(out.find(name), std::string::npos) << out;
-    out = run_kerf("shm stats " + name + " --json", code);
-    EXPECT_EQ(code, 0) << out;
-    EXPECT_NE(out.find("\"health\": \"alive\""), std::string::npos) << out;
+    // "alive" means a heartbeat within the last 40 ms. On a loaded machine the producer (which
+    // beats every millisecond) can be descheduled for longer than that, so a reading of "stale"
+    // is retried, for as long as the producer holds the session; every reading must show it.
+    const std::uint64_t give_up = monotonic_ns() + 20'000'000'000ull;
+    bool alive = false;
+    int readings = 0;
+    while (!alive && monotonic_ns() < give_up) {
+        out = run_kerf("shm stats " + name + " --json", code);
+        ++readings;
+        ASSERT_EQ(code, 0) << out;
+        const auto stats = nlohmann::json::parse(out);
+        EXPECT_EQ(stats["name"], name);
+        EXPECT_EQ(stats["events"], 100);
+        ASSERT_TRUE(stats["health"] == "alive" || stats["health"] == "stale") << out;
+        alive = stats["health"] == "alive";
+    }
+    EXPECT_TRUE(alive) << readings << " readings over 20 s all found the producer stale:\n" << out;
     producer.kill_now(SIGTERM);
     EXPECT_EQ(producer.wait(), 0);
 }
