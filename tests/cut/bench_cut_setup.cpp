@@ -9,7 +9,8 @@
 // temporary folder; the child loads it (load_mesh, timed), returns freed memory to the system
 // (malloc_trim), reads its resident size, builds a CutContext (timed) and reads it again. So:
 //   context memory / mesh memory   (target <= 0.5)
-//   context build / mesh load      (target <= 0.3)
+//   context build / mesh load      (target <= 0.3; also as CPU time, the figure to trust on a
+//                                   loaded machine)
 // With --kerf, `kerf cut FILE --plane ... --seed ... -o OUT` (a localised cut across the first
 // metatarsal, both pieces written) runs as a process, alternating with --peer PROG when given
 // (called as `PROG IN.stl px py pz nx ny nz OUT_PREFIX`, e.g. a VTK clip program): wall time
@@ -18,6 +19,7 @@
 #include <malloc.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -40,6 +42,14 @@ double now_s() {
         .count();
 }
 
+/// CPU time this process has used (user + system), seconds: on a loaded machine the figure to
+/// compare, since wall time also counts waiting for a core.
+double cpu_s() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
 /// Resident set size of this process, bytes (/proc/self/statm).
 double resident_bytes() {
     std::ifstream f("/proc/self/statm");
@@ -60,21 +70,22 @@ Spread spread(std::vector<double> v) {
 }
 
 /// One fresh process (`bench_cut_setup --measure FILE FD`, exec'd, so no page of the parent is
-/// counted): load, context; writes {mesh bytes, context bytes, load s, build s} to `fd`.
+/// counted): load, context; writes {mesh bytes, context bytes, load s, build s, load cpu s,
+// build cpu s} to `fd`.
 [[noreturn]] void measure_in_child(const std::filesystem::path& file, int fd) {
     const double rss0 = resident_bytes();
-    const double t0 = now_s();
+    const double t0 = now_s(), c0 = cpu_s();
     auto mesh = kerf::mesh::load_mesh(file, kerf::mesh::Units::kMillimetres);
-    const double t1 = now_s();
+    const double t1 = now_s(), c1 = cpu_s();
     if (!mesh) _exit(2);
     malloc_trim(0);
     const double rss1 = resident_bytes();
-    const double t2 = now_s();
+    const double t2 = now_s(), c2 = cpu_s();
     kerf::cut::CutContext ctx(*mesh);
-    const double t3 = now_s();
+    const double t3 = now_s(), c3 = cpu_s();
     malloc_trim(0);
     const double rss2 = resident_bytes();
-    const double out[4] = {rss1 - rss0, rss2 - rss1, t1 - t0, t3 - t2};
+    const double out[6] = {rss1 - rss0, rss2 - rss1, t1 - t0, t3 - t2, c1 - c0, c3 - c2};
     if (write(fd, out, sizeof out) != static_cast<ssize_t>(sizeof out)) _exit(3);
     _exit(0);
 }
@@ -178,7 +189,7 @@ int main(int argc, char** argv) {
     const std::size_t n_faces = m.n_faces();
     foot->mesh = kerf::mesh::make_mesh();  // the children start from the file, not this copy
 
-    std::vector<double> mesh_b, ctx_b, load_s, build_s;
+    std::vector<double> mesh_b, ctx_b, load_s, build_s, load_cpu, build_cpu;
     std::vector<double> kerf_s, kerf_cpu, kerf_peak, peer_s, peer_cpu, peer_peak;
     for (int r = 0; r < reps; ++r) {
         int fds[2];
@@ -191,7 +202,7 @@ int main(int argc, char** argv) {
             _exit(127);
         }
         close(fds[1]);
-        double out[4];
+        double out[6];
         const bool got = read(fds[0], out, sizeof out) == static_cast<ssize_t>(sizeof out);
         close(fds[0]);
         int status = 0;
@@ -199,6 +210,7 @@ int main(int argc, char** argv) {
         if (!got) return std::fprintf(stderr, "bench_cut_setup: child failed\n"), 1;
         mesh_b.push_back(out[0]), ctx_b.push_back(out[1]);
         load_s.push_back(out[2]), build_s.push_back(out[3]);
+        load_cpu.push_back(out[4]), build_cpu.push_back(out[5]);
         ProcessCost cost;
         if (!kerf_exe.empty()) {
             if (!run_process(
@@ -235,9 +247,12 @@ int main(int argc, char** argv) {
     print_spread("context resident (added by CutContext)", ctx_b, 1.0 / (1 << 20), "MiB");
     print_spread("mesh load (load_mesh)", load_s, 1e3, "ms");
     print_spread("context build", build_s, 1e3, "ms");
+    print_spread("mesh load cpu", load_cpu, 1e3, "ms");
+    print_spread("context build cpu", build_cpu, 1e3, "ms");
     std::printf("Ratios (same run):\n");
     print_ratio("context memory / mesh memory (<= 0.5)", ctx_b, mesh_b);
     print_ratio("context build / mesh load (<= 0.3)", build_s, load_s);
+    print_ratio("context build / mesh load, cpu (<= 0.3)", build_cpu, load_cpu);
     if (!kerf_s.empty()) {
         print_spread("kerf cut (process) wall", kerf_s, 1e3, "ms");
         print_spread("kerf cut (process) cpu, user+sys", kerf_cpu, 1e3, "ms");
