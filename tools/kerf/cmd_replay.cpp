@@ -65,6 +65,8 @@ void run_replay(const ReplayOptions& o) {
     std::string text = slurp(toml);
     text = set_key(text, "session_name", "\"" + session + "\"");
     text = set_key(text, "dir", "\"" + (work / "journal").string() + "\"");
+    if (fs::is_directory(dir / "shared"))  // the recorded scene's shared meshes
+        text = set_key(text, "shared", "\"" + (dir / "shared").string() + "\"");
     if (!write_file(toml, text)) fail("cannot write " + toml.string());
     auto cfg = config::load_config(toml);
     if (!cfg) fail(cfg.error().message());

@@ -254,7 +254,8 @@ void run_kiosk(const RunOptions& o) {
             {"source", "kerf run"},
             {"device", device},
             {"lockstep", false},
-            {"ticks", std::uint64_t(std::max(0.0, number_after(rt_text, "ticks ")))},
+            {"ticks",
+             std::uint64_t(std::max(0.0, number_after(rt_text, "kerf-rt summary: ticks ")))},
             {"events", replayed->events},
             {"hash", hash_hex(replayed->hash)}};
         if (auto saved = save_recording(o.record_dir, work / "config", input, journal, trace, meta);

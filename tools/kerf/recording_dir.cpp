@@ -81,6 +81,25 @@ Result<std::vector<fs::path>, std::string> session_config_files(const fs::path& 
     return files;
 }
 
+Result<std::vector<std::pair<fs::path, fs::path>>, std::string> shared_scene_files(
+    const fs::path& config_dir) {
+    auto cfg = config::load_config(config_dir / "kerf.toml");
+    if (!cfg) return Err{cfg.error().message()};
+    const config::PathVars vars = config::path_vars(*cfg);
+    std::vector<std::pair<fs::path, fs::path>> out;
+    for (const config::SceneBody& body : cfg->scene.bodies) {
+        if (body.mesh.kind != config::MeshSourceKind::kFile) continue;
+        auto path = config::expand_path(body.mesh.path, vars);
+        if (!path) return Err{path.error().message()};
+        if (!inside(*path, cfg->config_dir).empty()) continue;  // kept with the config
+        if (fs::path rel = inside(*path, vars.shared_dir); !rel.empty())
+            out.emplace_back(*path, rel);
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
 Result<bool, std::string> save_recording(const fs::path& dir, const fs::path& config_dir,
                                          const fs::path& input, const fs::path& journal,
                                          const fs::path& trace, const nlohmann::json& meta) {
@@ -99,6 +118,18 @@ Result<bool, std::string> save_recording(const fs::path& dir, const fs::path& co
         fs::create_directories((dir / "config" / rel).parent_path(), ec);
         if (ec) return Err{"recording folder " + (dir / "config").string() + ": " + ec.message()};
         if (auto copied = copy_file_atomic(config_dir / rel, dir / "config" / rel); !copied)
+            return Err{copied.error()};
+    }
+    // Scene meshes from the shared folder (${shared}/meshes/...) go into DIR/shared/ at the same
+    // relative path, so the recording replays on a machine without that folder (kerf replay
+    // points ${shared} there).
+    fs::remove_all(dir / "shared", ec);
+    auto shared = shared_scene_files(config_dir);
+    if (!shared) return Err{"configuration " + config_dir.string() + ": " + shared.error()};
+    for (const auto& [from, rel] : *shared) {
+        fs::create_directories((dir / "shared" / rel).parent_path(), ec);
+        if (ec) return Err{"recording folder " + (dir / "shared").string() + ": " + ec.message()};
+        if (auto copied = copy_file_atomic(from, dir / "shared" / rel); !copied)
             return Err{copied.error()};
     }
     for (const auto& [from, name] :

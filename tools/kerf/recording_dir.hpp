@@ -5,6 +5,8 @@
 //   DIR/config/          the kerf.toml the session ran with and the files it names (the
 //                        device, force and scene profiles, kerf-rt's --device profile, scene
 //                        meshes inside the config folder)
+//   DIR/shared/          the scene meshes from the shared folder (${shared}), at the same
+//                        relative path (kerf replay sets ${shared} to this folder)
 //   DIR/input.rec        the device input stream (rt_core/loop/input_recording.hpp)
 //   DIR/session.journal  the event journal kerf-rt wrote
 //   DIR/force-trace.csv  kerf-rt's per-tick tool position and commanded force (when kept)
@@ -14,6 +16,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "config/base/result.hpp"
@@ -25,6 +28,11 @@ namespace kerf::cli {
 /// `--device` (`device`; empty: none), and the scene's mesh files that lie inside the folder.
 Result<std::vector<std::filesystem::path>, std::string> session_config_files(
     const std::filesystem::path& config_dir, const std::string& device);
+
+/// The scene meshes a session's kerf.toml names in the shared folder (`${shared}`), outside the
+/// config folder: (file, path relative to the shared folder), sorted.
+Result<std::vector<std::pair<std::filesystem::path, std::filesystem::path>>, std::string>
+shared_scene_files(const std::filesystem::path& config_dir);
 
 /// Copies a session's files into `dir` (created) and writes recording.json from `meta`; every
 /// file is written beside its target and renamed. Returns what failed.
