@@ -171,6 +171,11 @@ std::string_view to_string(KinematicModel model) noexcept {
     return model == KinematicModel::kFalconDelta ? "falcon_delta" : "cartesian";
 }
 
+std::string_view device_profile_stem(std::string_view device) noexcept {
+    if (device == "simulated" || device == "falcon") return device;
+    return "kerf_hid_reference";  // hid, hid:<serial>
+}
+
 Result<DeviceProfile, ConfigError> parse_device_profile(std::string_view text,
                                                         std::string_view source_name) {
     return detail::parse_document<DeviceProfile>(text, source_name, read_device_profile);

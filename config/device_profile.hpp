@@ -122,6 +122,11 @@ Result<DeviceProfile, ConfigError> parse_device_profile(std::string_view text,
 /// Reads and parses a device profile file.
 Result<DeviceProfile, ConfigError> load_device_profile(const std::filesystem::path& path);
 
+/// The profile file stem (in `devices/`) a `--device` choice names: "simulated" and "falcon" are
+/// their own profiles; "hid" and "hid:<serial>" use "kerf_hid_reference". kerf-rt opens it and
+/// `kerf run --record` copies it, so both go through this one mapping.
+std::string_view device_profile_stem(std::string_view device) noexcept;
+
 /// A device profile and the name kerf.toml refers to it by (its file stem).
 struct NamedDeviceProfile {
     std::string profile_name;  ///< e.g. "falcon" for devices/falcon.toml

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "display/cut/context_state.hpp"
+#include "display/cut/slice_by_plane.hpp"
 
 namespace kerf::cut::detail {
 namespace {

@@ -15,7 +15,7 @@
 
 #include "display/cut/cut_result.hpp"
 #include "display/cut/plane.hpp"
-#include "display/cut/slice_by_plane.hpp"
+#include "display/cut/seed.hpp"
 #include "display/cut/triangulate.hpp"
 #include "display/mesh/validate.hpp"
 

@@ -49,19 +49,13 @@
 #include "display/cut/cut_context.hpp"
 #include "display/cut/cut_result.hpp"
 #include "display/cut/plane.hpp"
+#include "display/cut/seed.hpp"
 
 namespace kerf::cut {
 
 /// How far from the plane a vertex may be snapped onto it instead of leaving a sliver, in
 /// tolerances (CutContext::tolerance_m()).
 inline constexpr double kSnapTolerances = 16.0;
-
-/// Where the blade first touched: a point on the surface and, optionally, its triangle.
-struct Seed {
-    Vec3 point_m;                ///< contact point, m (within seed tolerance of the surface)
-    mesh::FaceHandle face_hint;  ///< the triangle containing it, if known (else invalid)
-    double tolerance_m = -1.0;   ///< max seed-to-surface distance; < 0: 1e-3 * mesh scale
-};
 
 /// Full-plane slice: cuts every loop where the plane crosses the mesh. O(n) (classifies all
 /// vertices), then O(cross-section) edits.

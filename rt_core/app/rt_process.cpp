@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "config/data_dir.hpp"
+#include "config/device_profile.hpp"
 #include "config/load_config.hpp"
 #include "display/mesh/scene_arrays.hpp"
 #include "firmware_host/open/open_device.hpp"
@@ -42,9 +43,7 @@ Result<config::DeviceProfile, std::string> pick_device(const config::Config& cfg
                                                        const RtOptions& o, bool replay) {
     config::DeviceProfile profile = cfg.device;
     if (!o.device.empty()) {
-        const std::string stem = o.device == "simulated" ? "simulated"
-                                 : o.device == "falcon"  ? "falcon"
-                                                         : "kerf_hid_reference";
+        const std::string stem(config::device_profile_stem(o.device));
         auto loaded = config::load_device_profile(cfg.config_dir / "devices" / (stem + ".toml"));
         if (!loaded) return Err{loaded.error().message()};
         profile = std::move(*loaded);

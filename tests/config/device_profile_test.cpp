@@ -199,6 +199,25 @@ TEST(DeviceProfileList, LoadsEveryShippedProfileSortedByName) {
     EXPECT_EQ((*list)[2].profile_name, "simulated");
 }
 
+TEST(DeviceProfileList, EveryDeviceChoiceNamesAShippedProfileOfItsKind) {
+    // kerf-rt --device and kerf run --record's copy both go through device_profile_stem().
+    const struct {
+        const char* device;
+        const char* stem;
+        DeviceKind kind;
+    } cases[] = {{"simulated", "simulated", DeviceKind::kSimulated},
+                 {"falcon", "falcon", DeviceKind::kFalcon},
+                 {"hid", "kerf_hid_reference", DeviceKind::kKerfHid},
+                 {"hid:A1B2", "kerf_hid_reference", DeviceKind::kKerfHid}};
+    for (const auto& c : cases) {
+        EXPECT_EQ(device_profile_stem(c.device), c.stem) << c.device;
+        const auto file = test::kConfigDir / "devices" / (std::string(c.stem) + ".toml");
+        auto p = load_device_profile(file);
+        ASSERT_TRUE(p) << p.error().message();
+        EXPECT_EQ(p->kind, c.kind) << c.device;
+    }
+}
+
 TEST(DeviceProfileList, MissingFolderIsAnIoError) {
     auto e = test::error_of(load_device_profiles("/nonexistent/devices"));
     EXPECT_EQ(e.code, ConfigErrc::kIo);

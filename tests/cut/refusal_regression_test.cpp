@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 #include "display/cut/slice_by_plane.hpp"
 #include "display/cut/subtract_slab.hpp"
@@ -135,7 +136,19 @@ TEST_P(OnceRefused, NowCutsBySnappingWithEveryInvariant) {
     testing::expect_cross_section_consistent(m, cs, ctx.tolerance_m(), r.stats.vertices_snapped);
 }
 
-INSTANTIATE_TEST_SUITE_P(CleanSharedMeshes, OnceRefused, ::testing::ValuesIn(kRefused));
+// Named by mesh, cut kind and the status it once got (unique), e.g.
+// jma_norm01_calcaneus_right_full_cap_triangulation_failed.
+std::string refused_name(const ::testing::TestParamInfo<Refused>& info) {
+    const Refused& c = info.param;
+    const std::string stem(c.mesh, std::string_view(c.mesh).find('.'));
+    const char* kind = c.kind == Kind::kFull        ? "full"
+                       : c.kind == Kind::kLocalised ? "localised"
+                                                    : "slab";
+    return stem + "_" + kind + "_" + c.was;
+}
+
+INSTANTIATE_TEST_SUITE_P(CleanSharedMeshes, OnceRefused, ::testing::ValuesIn(kRefused),
+                         refused_name);
 
 }  // namespace
 }  // namespace kerf::cut

@@ -51,7 +51,11 @@ INSTANTIATE_TEST_SUITE_P(SharedMeshes, RealMeshSweep,
                                            "jma_norm01_talus_right.stl",
                                            "tcsm_ksbl_L01_talus_left.stl",
                                            "tcsm_ksbl_L01_tibia_distal_left.stl",
-                                           "tcsm_ksbl_L01_fibula_distal_left.stl"));
+                                           "tcsm_ksbl_L01_fibula_distal_left.stl"),
+                         [](const ::testing::TestParamInfo<const char*>& param_info) {
+                             const std::string name = param_info.param;
+                             return name.substr(0, name.find('.'));  // the mesh file's stem
+                         });
 
 TEST(RealMeshes, ACutThroughTheMissingTriangleOfTheOpenFootIsRefusedUnchanged) {
     const auto path = shared("opensim_gait2392_foot_OPEN_metres.stl");

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "config/device_profile.hpp"
 #include "config/expand_path.hpp"
 #include "config/load_config.hpp"
 #include "rt_core/ipc/journal_reader.hpp"
@@ -23,12 +24,6 @@ Result<bool, std::string> copy_file_atomic(const fs::path& from, const fs::path&
         return Err{"copy of " + from.string() + " to " + to.string() + ": " + ec.message()};
     }
     return true;
-}
-
-/// The device profile file kerf-rt reads for `--device NAME` (as kerf-rt's pick_device does).
-std::string device_profile_stem(const std::string& device) {
-    if (device == "simulated" || device == "falcon") return device;
-    return "kerf_hid_reference";  // hid, hid:<serial>
 }
 
 /// `file` relative to `dir` when it lies inside it, else empty.
@@ -69,7 +64,8 @@ Result<std::vector<fs::path>, std::string> session_config_files(const fs::path& 
                                    fs::path("force") / (names.force + ".toml"),
                                    fs::path("scenes") / (names.scene + ".toml")};
     if (!device.empty())
-        files.push_back(fs::path("devices") / (device_profile_stem(device) + ".toml"));
+        files.push_back(fs::path("devices") /
+                        (std::string(config::device_profile_stem(device)) + ".toml"));
     for (const config::SceneBody& body : cfg->scene.bodies) {
         if (body.mesh.kind != config::MeshSourceKind::kFile) continue;
         auto path = config::expand_path(body.mesh.path, config::path_vars(*cfg));
