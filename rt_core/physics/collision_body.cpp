@@ -51,6 +51,11 @@ void store_box(Node& n, const Box& b) noexcept {
     }
 }
 
+/// Half the perimeter of a node's box (the sum of its extents), m.
+double half_perimeter(const Node& n) noexcept {
+    return double(n.hi[0]) - n.lo[0] + double(n.hi[1]) - n.lo[1] + double(n.hi[2]) - n.lo[2];
+}
+
 /// An item to partition: its centre (3 floats) and its index.
 struct Item {
     float c[3];
@@ -117,21 +122,74 @@ void fit_boxes(std::vector<Node>& nodes, const LeafBox& leaf_box) {
     }
 }
 
-/// One chunk: its own tree over its triangles' corners.
+/// One chunk: its own tree over its triangles' corners. A triangle with an edge longer than
+/// BuildOptions::max_piece_edge_m is indexed as pieces (piece_box: the box of each entry's piece;
+/// empty when the chunk has none): one entry per piece, each with the whole triangle's corners,
+/// so queries stay exact on the triangle and a long cap triangle does not give one box that every
+/// query near the cut enters.
 struct Chunk {
     std::vector<Node> nodes;
     std::vector<Tri> tris;
+    std::vector<Box> piece_box;
 
+    bool has_pieces() const noexcept { return !piece_box.empty(); }
     void fit() {
         fit_boxes(nodes, [&](const Node& leaf) {
             Box box;
             for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
-                for (int k = 0; k < 3; ++k) box.grow(&tris[i].v[3 * k]);
+                if (has_pieces()) {
+                    box.grow(piece_box[i]);
+                } else {
+                    for (int k = 0; k < 3; ++k) box.grow(&tris[i].v[3 * k]);
+                }
             }
             return box;
         });
     }
 };
+
+constexpr int kMaxPieces = 16;  ///< pieces per triangle at most
+
+/// Splits triangle `v` (9 floats) at the midpoint of its longest edge until no edge is longer
+/// than `max_edge` (or kMaxPieces), calling `piece(corners)` for each piece. Orientation kept.
+template <class Piece>
+void split_long(const float* v, double max_edge, const Piece& piece) {
+    struct T {
+        float c[9];
+    };
+    T stack[kMaxPieces];
+    int top = 0, emitted = 0;
+    std::memcpy(stack[top++].c, v, sizeof(T));
+    const auto len2 = [](const float* a, const float* b) {
+        double d2 = 0;
+        for (int i = 0; i < 3; ++i) d2 += (double(a[i]) - b[i]) * (double(a[i]) - b[i]);
+        return d2;
+    };
+    while (top > 0) {
+        const T t = stack[--top];
+        int e = 0;  // longest edge: corners e -> e + 1
+        double best = -1;
+        for (int k = 0; k < 3; ++k) {
+            const double l = len2(&t.c[3 * k], &t.c[3 * ((k + 1) % 3)]);
+            if (l > best) best = l, e = k;
+        }
+        if (best <= max_edge * max_edge || emitted + top + 2 > kMaxPieces) {
+            piece(t.c);
+            ++emitted;
+            continue;
+        }
+        const float* p = &t.c[3 * e];
+        const float* q = &t.c[3 * ((e + 1) % 3)];
+        const float* r = &t.c[3 * ((e + 2) % 3)];
+        float m[3];
+        for (int i = 0; i < 3; ++i) m[i] = 0.5f * (p[i] + q[i]);
+        T a, b;  // (p, m, r) and (m, q, r): the same turn as (p, q, r)
+        std::memcpy(a.c, p, 12), std::memcpy(a.c + 3, m, 12), std::memcpy(a.c + 6, r, 12);
+        std::memcpy(b.c, m, 12), std::memcpy(b.c + 3, q, 12), std::memcpy(b.c + 6, r, 12);
+        stack[top++] = b;
+        stack[top++] = a;
+    }
+}
 
 constexpr int kStackSize = 128;  ///< > 2 x (top depth + chunk depth) for 2^26 triangles
 
@@ -160,26 +218,56 @@ struct CollisionBody::Impl {
         return it;
     }
     std::shared_ptr<const Chunk> build_chunk(std::span<Item> items) const;
+    /// The distinct triangles of `chunk` with an index below `limit`, as items (corners re-read).
+    std::vector<Item> triangles_of(const Chunk& chunk, std::uint32_t limit) const;
     std::shared_ptr<const Chunk> refit_chunk(const Chunk& old) const;
-    void add_chunks(std::vector<Item> items);
+    void add_chunks(std::vector<Item> items, std::uint32_t group_triangles);
     void build_top();
 };
 
 std::shared_ptr<const Chunk> CollisionBody::Impl::build_chunk(std::span<Item> items) const {
     auto chunk = std::make_shared<Chunk>();
-    chunk->nodes = split_tree(items, options.leaf_triangles);
-    chunk->tris.resize(items.size());
-    for (std::size_t i = 0; i < items.size(); ++i) {
+    // Entries: the triangles, long ones as pieces. Item ids index `entry_tri` while partitioning.
+    std::vector<Item> entries;
+    std::vector<std::uint32_t> entry_tri;
+    std::vector<Box> entry_box;
+    entries.reserve(items.size());
+    for (const Item& it : items) {
+        float v[9];
+        for (int k = 0; k < 3; ++k) std::memcpy(&v[3 * k], corner(it.id, k), 12);
+        split_long(v, options.max_piece_edge_m, [&](const float* c) {
+            Item e{{0, 0, 0}, static_cast<std::uint32_t>(entry_tri.size())};
+            Box box;
+            for (int k = 0; k < 3; ++k) {
+                box.grow(&c[3 * k]);
+                for (int a = 0; a < 3; ++a) e.c[a] += c[3 * k + a];
+            }
+            entries.push_back(e);
+            entry_tri.push_back(it.id);
+            entry_box.push_back(box);
+        });
+    }
+    const bool pieces = entries.size() != items.size();
+    chunk->nodes = split_tree(entries, options.leaf_triangles);
+    chunk->tris.resize(entries.size());
+    if (pieces) chunk->piece_box.resize(entries.size());
+    for (std::size_t i = 0; i < entries.size(); ++i) {
         Tri& tri = chunk->tris[i];
-        for (int k = 0; k < 3; ++k) std::memcpy(&tri.v[3 * k], corner(items[i].id, k), 12);
-        tri.id = items[i].id;
+        tri.id = entry_tri[entries[i].id];
+        for (int k = 0; k < 3; ++k) std::memcpy(&tri.v[3 * k], corner(tri.id, k), 12);
+        if (pieces) chunk->piece_box[i] = entry_box[entries[i].id];
     }
     chunk->fit();
     return chunk;
 }
 
-/// A copy of `old` with every triangle's corners re-read and every box refitted.
+/// A copy of `old` with every triangle's corners re-read and every box refitted (a chunk with
+/// pieces is rebuilt: its triangles' pieces follow their new corners).
 std::shared_ptr<const Chunk> CollisionBody::Impl::refit_chunk(const Chunk& old) const {
+    if (old.has_pieces()) {
+        std::vector<Item> items = triangles_of(old, std::numeric_limits<std::uint32_t>::max());
+        return build_chunk(items);
+    }
     auto chunk = std::make_shared<Chunk>(old);
     for (Tri& tri : chunk->tris) {
         for (int k = 0; k < 3; ++k) std::memcpy(&tri.v[3 * k], corner(tri.id, k), 12);
@@ -188,10 +276,26 @@ std::shared_ptr<const Chunk> CollisionBody::Impl::refit_chunk(const Chunk& old) 
     return chunk;
 }
 
-/// Splits `items` spatially into groups of at most chunk_triangles, each a new chunk slot.
-void CollisionBody::Impl::add_chunks(std::vector<Item> items) {
+std::vector<Item> CollisionBody::Impl::triangles_of(const Chunk& chunk, std::uint32_t limit) const {
+    std::vector<std::uint32_t> ids;
+    ids.reserve(chunk.tris.size());
+    for (const Tri& tri : chunk.tris) {
+        if (tri.id < limit) ids.push_back(tri.id);
+    }
+    if (chunk.has_pieces()) {
+        std::sort(ids.begin(), ids.end());
+        ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    }
+    std::vector<Item> items;
+    items.reserve(ids.size());
+    for (std::uint32_t id : ids) items.push_back(item(id));
+    return items;
+}
+
+/// Splits `items` spatially into groups of at most `group_triangles`, each a new chunk slot.
+void CollisionBody::Impl::add_chunks(std::vector<Item> items, std::uint32_t group_triangles) {
     if (items.empty()) return;
-    const std::vector<Node> groups = split_tree(items, options.chunk_triangles);
+    const std::vector<Node> groups = split_tree(items, std::max<std::uint32_t>(group_triangles, 1));
     for (const Node& g : groups) {
         if (g.count == 0) continue;
         const auto slot = static_cast<std::uint32_t>(chunks.size());
@@ -254,7 +358,7 @@ CollisionBody::Built CollisionBody::build(const CollisionMeshView& mesh,
     impl->chunk_of.assign(n, 0);
     std::vector<Item> items(n);
     for (std::uint32_t t = 0; t < n; ++t) items[t] = impl->item(t);
-    impl->add_chunks(std::move(items));
+    impl->add_chunks(std::move(items), impl->options.chunk_triangles);
     impl->build_top();
     return std::unique_ptr<const CollisionBody>(new CollisionBody(std::move(impl)));
 }
@@ -304,36 +408,44 @@ CollisionBody::Built CollisionBody::update(const CollisionBody& previous,
     for (std::size_t t = common; t < old_count; ++t) dirty[old.chunk_of[t]] = 1;  // removed
 
     // Chunk slots stay where they were: unchanged ones shared, changed ones refitted, ones that
-    // lost triangles rebuilt from the survivors (or emptied); new triangles get new slots.
+    // lost triangles rebuilt from the survivors (or emptied); new triangles get new slots. A
+    // chunk is a set of triangle indices: when a body loses faces, the indices after them shift
+    // and a slot's triangles are no longer neighbours. A changed chunk whose box grew past
+    // kRegroupGrowth is emptied and its triangles are grouped afresh with the new ones.
+    constexpr double kRegroupGrowth = 1.25;  // box half-perimeter, new / old
     UpdateStats s;
     impl->chunk_of.assign(old.chunk_of.begin(), old.chunk_of.begin() + common);
     impl->chunk_of.resize(new_count, 0);
     impl->chunks = old.chunks;
+    std::vector<Item> regroup;
     for (std::size_t c = 0; c < old.chunks.size(); ++c) {
         if (!dirty[c] || !old.chunks[c]) continue;
         const Chunk& chunk = *old.chunks[c];
-        std::vector<Item> survivors;
-        survivors.reserve(chunk.tris.size());
-        for (const Tri& tri : chunk.tris) {
-            if (tri.id < new_count) survivors.push_back(impl->item(tri.id));
-        }
+        std::vector<Item> survivors =
+            impl->triangles_of(chunk, static_cast<std::uint32_t>(new_count));
         s.triangles_touched += survivors.size();
-        if (survivors.size() == chunk.tris.size()) {
+        if (!chunk.has_pieces() && survivors.size() == chunk.tris.size()) {
             impl->chunks[c] = impl->refit_chunk(chunk);
             ++s.chunks_refitted;
         } else {
             impl->chunks[c] = survivors.empty() ? nullptr : impl->build_chunk(survivors);
             ++s.chunks_rebuilt;
         }
+        if (impl->chunks[c] && half_perimeter(impl->chunks[c]->nodes[0]) >
+                                   kRegroupGrowth * half_perimeter(chunk.nodes[0])) {
+            impl->chunks[c] = nullptr;
+            ++s.chunks_regrouped;
+            regroup.insert(regroup.end(), survivors.begin(), survivors.end());
+        }
     }
-    std::vector<Item> added;
-    added.reserve(new_count - common);
+    std::vector<Item> added = std::move(regroup);
+    added.reserve(added.size() + new_count - common);
     for (std::size_t t = common; t < new_count; ++t) {
         added.push_back(impl->item(static_cast<std::uint32_t>(t)));
     }
     const std::size_t before = impl->chunks.size();
-    s.triangles_touched += added.size();
-    impl->add_chunks(std::move(added));
+    s.triangles_touched += new_count - common;
+    impl->add_chunks(std::move(added), impl->options.chunk_triangles);
     s.chunks_rebuilt += static_cast<std::uint32_t>(impl->chunks.size() - before);
     impl->build_top();
     for (const auto& c : impl->chunks) s.chunks_total += c ? 1 : 0;
@@ -509,6 +621,20 @@ SegmentHit CollisionBody::first_hit(const Vec3& from, const Vec3& to,
     return hit;
 }
 
+namespace {
+
+/// Whether one of the first `found` entries of `out` (those it holds) matches `same`.
+template <class T, class Same>
+bool listed(std::span<T> out, std::size_t found, const Same& same) noexcept {
+    const std::size_t n = std::min(found, out.size());
+    for (std::size_t i = 0; i < n; ++i) {
+        if (same(out[i])) return true;
+    }
+    return false;
+}
+
+}  // namespace
+
 std::size_t CollisionBody::crossings(const Vec3& from, const Vec3& to,
                                      std::span<SegmentCrossing> out) const noexcept {
     std::size_t found = 0;
@@ -524,6 +650,12 @@ std::size_t CollisionBody::crossings(const Vec3& from, const Vec3& to,
                     const TriangleCrossing x =
                         segment_crossing(from, d, load(t.v), load(t.v + 3), load(t.v + 6));
                     if (x.sign == 0) continue;
+                    // A triangle in pieces is seen from each piece the segment passes.
+                    if (chunk.has_pieces() && listed(out, found, [&](const SegmentCrossing& o) {
+                            return o.triangle == t.id;
+                        })) {
+                        continue;
+                    }
                     if (found < out.size()) out[found] = {x.t, 0, t.id, x.sign};
                     ++found;
                 }
@@ -546,6 +678,10 @@ std::size_t CollisionBody::triangles_near(const Vec3& center, double radius,
                 const Vec3 q =
                     closest_point_on_triangle(center, load(t.v), load(t.v + 3), load(t.v + 6));
                 if (norm2(q - center) > r2) continue;
+                if (chunk.has_pieces() &&
+                    listed(out, found, [&](std::uint32_t o) { return o == t.id; })) {
+                    continue;
+                }
                 if (found < out.size()) out[found] = t.id;
                 ++found;
             }
@@ -579,7 +715,10 @@ std::size_t CollisionBody::memory_bytes() const noexcept {
         impl_->indices.capacity() * sizeof(std::uint32_t) + impl_->materials.capacity() +
         impl_->chunk_of.capacity() * sizeof(std::uint32_t) + impl_->top.capacity() * sizeof(Node);
     for (const auto& c : impl_->chunks) {
-        if (c) bytes += c->nodes.capacity() * sizeof(Node) + c->tris.capacity() * sizeof(Tri);
+        if (c) {
+            bytes += c->nodes.capacity() * sizeof(Node) + c->tris.capacity() * sizeof(Tri) +
+                     c->piece_box.capacity() * sizeof(Box);
+        }
     }
     return bytes;
 }

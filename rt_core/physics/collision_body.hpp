@@ -13,14 +13,18 @@
 // Structure (why, measured in tests/physics/bench_collision.cpp; rt_core/README.md has figures):
 // the triangles are split by a spatial median split into chunks of about `chunk_triangles`; each
 // chunk has its own flat binary AABB tree (median split, up to `leaf_triangles` per leaf, each
-// triangle's three corners copied into the leaf order); a small top tree over the chunks' boxes is
+// triangle's three corners copied into the leaf order; a triangle longer than `max_piece_edge_m`
+// has one entry per piece, each boxing its piece); a small top tree over the chunks' boxes is
 // rebuilt on every update. After a cut the new mesh is compared with the previous one triangle by
 // triangle (indices, corners, material); a chunk with changed triangles is copied, patched and
 // refitted (a cut shrinks the triangles it splits and moves vertices by half a kerf, so the boxes
 // stay tight), a chunk that lost triangles is rebuilt, appended triangles get new chunks of their
-// own (they are local to the cut), and unchanged chunks are shared with the previous body. Embree's
-// rtcPointQuery is measured against this tree in the same benchmark; the choice and its figures are
-// in rt_core/README.md.
+// own (they are local to the cut), and unchanged chunks are shared with the previous body. A
+// chunk is a set of triangle indices, so when faces are removed (a body severed) the indices after
+// them shift and its triangles are no longer neighbours: a changed chunk whose box grew by more
+// than a quarter is emptied and its triangles grouped afresh, with the new ones, into new chunks.
+// Embree's rtcPointQuery is measured against this tree in the same benchmark; the choice and its
+// figures are in rt_core/README.md.
 #pragma once
 
 #include <cstddef>
@@ -40,6 +44,10 @@ inline constexpr std::uint32_t kNoTriangle = 0xFFFFFFFFu;  ///< same value as ip
 struct BuildOptions {
     std::uint32_t chunk_triangles = 4096;  ///< triangles per chunk (the unit a cut refits)
     std::uint32_t leaf_triangles = 4;      ///< triangles per leaf of a chunk's tree
+    /// A triangle with a longer edge (m) is indexed as pieces (halved at its longest edge until
+    /// none is longer, at most 16): a cut's cap triangles span the bone's section, and one box
+    /// that size would be entered by every query near the cut. Queries test the whole triangle.
+    double max_piece_edge_m = 0.004;
 };
 
 /// The nearest surface point found by a query. Body queries fill body frame; world queries fill
@@ -90,6 +98,7 @@ struct UpdateStats {
     std::uint32_t chunks_total = 0;       ///< chunks in the new body
     std::uint32_t chunks_refitted = 0;    ///< copied, changed triangles patched, boxes refitted
     std::uint32_t chunks_rebuilt = 0;     ///< rebuilt (lost triangles) or new (added triangles)
+    std::uint32_t chunks_regrouped = 0;   ///< emptied: their box grew (shifted indices), regrouped
     std::uint64_t triangles_touched = 0;  ///< triangles in refitted and rebuilt chunks
 };
 
@@ -128,10 +137,12 @@ public:
     /// traversal: writes up to out.size() and returns how many exist (may exceed out.size()).
     /// Watertight for counting (segment_crossing): through a shared edge or vertex the segment
     /// crosses one triangle, so on closed meshes the signs sum to the winding-number difference.
+    /// (Past out.size(), a triangle indexed in pieces may be counted once per piece.)
     std::size_t crossings(const Vec3& from, const Vec3& to,
                           std::span<SegmentCrossing> out) const noexcept;
     /// Triangles with a point within `radius` of `center` (the proxy's neighbourhood): writes up
-    /// to out.size() indices and returns how many exist (may exceed out.size()).
+    /// to out.size() indices and returns how many exist (may exceed out.size(); past it, a
+    /// triangle indexed in pieces may be counted once per piece).
     std::size_t triangles_near(const Vec3& center, double radius,
                                std::span<std::uint32_t> out) const noexcept;
 
