@@ -428,13 +428,12 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
     // kMinCapCosine of its area, so no rounding turns it over) is kept: a rim edge between a
     // snapped vertex and a cut point near it in the plane is steep, and every triangle on it
     // tilts with it. Anything else is refused.
-    const double min_area = kMinCapRelativeArea * s.scale_m * s.scale_m;
     auto facing = [&](const Triangle& t, double cosine) {
         const Vec3& a = plan.points[t.a].position;
         const Vec3& b = plan.points[t.b].position;
         const Vec3& c = plan.points[t.c].position;
         const Vec3 n = OpenMesh::cross(b - a, c - a);
-        return 0.5 * n.norm() > min_area && OpenMesh::dot(n, normal) > cosine * n.norm();
+        return !s.too_small(a, b, c) && OpenMesh::dot(n, normal) > cosine * n.norm();
     };
     auto good = [&](const Triangle& t) { return facing(t, 0.5); };
     auto acceptable = [&](const Triangle& t) { return facing(t, kMinCapCosine); };

@@ -2,6 +2,8 @@
 // reused by every cut through generation stamps (no clearing pass, no property churn per cut).
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -41,6 +43,30 @@ struct ContextState {
     /// Faces of headroom the context keeps: an eighth of the mesh, at least `min_spare_faces`.
     std::size_t headroom_faces(std::size_t min_spare_faces) const;
 
+    /// Whether triangle a, b, c is too small for a cut to make: twice its area is not above twice
+    /// kMinTriangleRelativeArea x scale², or a float32 file in some supported unit (STL) would
+    /// write it degenerate by validate() (mesh::kDegenerateTwiceAreaRelative x scale², which
+    /// bounds every piece's threshold). The file check runs only for a triangle whose area the
+    /// rounding could bring that low: each corner moves up to sqrt(3) float_rounding_m, which
+    /// takes at most 4 sqrt(3) float_rounding_m x its longest edge from twice its area (a cap
+    /// triangle 1.6 um long and 9 nm high, 50 mm from the origin, lost 79 % of its area).
+    bool too_small(const Vec3& a, const Vec3& b, const Vec3& c) const {
+        const double twice = OpenMesh::cross(b - a, c - a).norm();
+        const double floor = kMinTriangleRelativeArea * scale_m * scale_m;
+        if (!(twice > 2.0 * floor)) return true;
+        const double longest =
+            std::sqrt(std::max({(b - a).sqrnorm(), (c - b).sqrnorm(), (a - c).sqrnorm()}));
+        if (twice - 4.0 * std::sqrt(3.0) * float_rounding_m * longest > kFileMargin * floor)
+            return false;
+        return degenerate_in_a_float_file(a, b, c, kFileMargin * floor);
+    }
+    /// Margin on validate()'s threshold for a triangle read back from a float32 file.
+    static constexpr double kFileMargin = 1.25;
+    /// Whether twice the area of a, b, c written as float32 in any mesh::Units (as the STL
+    /// writer rounds) is at most `floor_m2`.
+    static bool degenerate_in_a_float_file(const Vec3& a, const Vec3& b, const Vec3& c,
+                                           double floor_m2);
+
     bool vertex_marked(mesh::VertexHandle v) const {
         return mesh.property(v_stamp, v) == generation;
     }
@@ -51,6 +77,9 @@ struct ContextState {
     mesh::TriMesh& mesh;
     double scale_m = 0.0;
     double tolerance_m = 0.0;
+    /// Half a float32 step at the mesh's largest coordinate, m: how far writing a vertex to a
+    /// float32 file (STL) may move each of its coordinates, whatever the file's unit.
+    double float_rounding_m = 0.0;
     double max_edge_m =
         0.0;        ///< longest non-cap edge (+ vertex moves noted since): full-slice reach
     FaceTree tree;  ///< faces by bounding box, for seed and nested-loop queries

@@ -8,6 +8,7 @@
 
 #include "display/cut/context_state.hpp"
 #include "display/cut/cross_section.hpp"
+#include "display/mesh/units.hpp"
 
 namespace kerf::cut {
 
@@ -40,6 +41,27 @@ ContextState::~ContextState() {
     mesh.remove_property(f_stamp);
 }
 
+bool ContextState::degenerate_in_a_float_file(const Vec3& a, const Vec3& b, const Vec3& c,
+                                              double floor_m2) {
+    for (const mesh::Units u :
+         {mesh::Units::kMetres, mesh::Units::kMillimetres, mesh::Units::kCentimetres,
+          mesh::Units::kInches, mesh::Units::kMicrometres}) {
+        const double unit = mesh::metres_per_unit(u);
+        // Through a volatile float: gcc 12 -O2 vectorises (double)(float)(x) on two lanes of an
+        // OpenMesh vector and drops the rounding (seen in this function; clang keeps it).
+        auto f32 = [](double x) -> double {
+            volatile float f = static_cast<float>(x);
+            return f;
+        };
+        auto written = [&](const Vec3& p) {
+            return Vec3(f32(p[0] / unit), f32(p[1] / unit), f32(p[2] / unit));
+        };
+        const Vec3 fa = written(a), fb = written(b), fc = written(c);
+        if (!(OpenMesh::cross(fb - fa, fc - fa).norm() * unit * unit > floor_m2)) return true;
+    }
+    return false;
+}
+
 void ContextState::rebuild() {
     Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
     const auto nv = static_cast<int>(mesh.n_vertices());
@@ -51,6 +73,10 @@ void ContextState::rebuild() {
     }
     scale_m = mesh.n_vertices() == 0 ? 0.0 : (hi - lo).norm();
     tolerance_m = Plane::tolerance_for_scale(scale_m);
+    double reach = 0.0;  // the largest coordinate magnitude
+    if (mesh.n_vertices() != 0)
+        for (int a = 0; a < 3; ++a) reach = std::max({reach, std::abs(lo[a]), std::abs(hi[a])});
+    float_rounding_m = std::ldexp(reach, -24);
     max_edge_m = 0.0;
     double max_edge_sq = 0.0;
     for (auto e : mesh.edges()) {

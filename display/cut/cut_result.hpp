@@ -13,8 +13,8 @@ enum class CutStatus : std::uint8_t {
     kPlaneMissesMesh,      ///< no triangle crosses the plane (a plane that only touches is a miss)
     kSeedNotOnSurface,     ///< the seed point lies on no triangle (within the seed tolerance)
     kSeedFarFromCut,       ///< no crossing triangle is reachable from the seed near the plane
-    kSeedOnInnerBoundary,  ///< the seed's loop is a hole (e.g. the canal wall), not an outer
-                           ///< boundary
+    kSeedOnInnerBoundary,  ///< the seed's loop is a hole with no outer loop around it (a lone
+                           ///< inward-facing shell)
     kNonManifoldInput,     ///< an open edge or broken fan where the cut passes
     kInvalidPlane,         ///< non-finite point or normal, or a zero normal
     kInvalidArgument,      ///< e.g. a non-positive or non-finite kerf width

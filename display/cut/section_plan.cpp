@@ -377,6 +377,70 @@ CutStatus add_nested_loops(ContextState& s, Walker& w, const Plane& plane) {
     return CutStatus::kOk;
 }
 
+// The seed's loop (plan.loops[0]) is a hole: the material the seed touches is the region between
+// it and the innermost outer loop around it, the contiguous cross-section holding the seed
+// (§3.7). Every loop around the hole crosses the ray from the hole's point of largest u along +u
+// within the mesh's extent, so walking every loop met along that ray (faces from the face tree,
+// then the cap faces, which the tree does not hold) finds them all; the smallest outer loop
+// holding the hole is selected. kSeedOnInnerBoundary when there is none (a lone inward-facing
+// shell); a broken loop met inside the selected one fails the plan with its status.
+CutStatus select_loop_around_hole(ContextState& s, Walker& w, const Plane& plane) {
+    SectionPlan& plan = s.plan;
+    const PlanLoop hole = plan.loops.front();
+    Vec2 q = plan.points[hole.first].uv;
+    for (std::uint32_t i = 1; i < hole.count; ++i)
+        if (plan.points[hole.first + i].uv[0] > q[0]) q = plan.points[hole.first + i].uv;
+    const double tol = s.tolerance_m;
+    const double far = q[0] + 2.0 * s.scale_m;
+    struct Broken {
+        Vec2 start;
+        CutStatus status;
+    };
+    std::vector<Broken> broken;
+    const auto n = static_cast<int>(s.mesh.n_faces());
+    auto walk_from = [&](FaceHandle f) {
+        if (f.idx() >= n || s.mesh.status(f).deleted() || s.face_marked(f)) return;
+        s.mark_face(f);
+        CutPointKey start;
+        if (!w.start_on(f, start)) return;
+        const std::size_t points_before = plan.points.size();
+        const CutStatus st = w.walk(start);
+        if (st == CutStatus::kOk) return;
+        broken.push_back(Broken{plan.points[points_before].uv, st});
+        plan.points.resize(points_before);
+    };
+    s.tree.for_each_near_plane(plane, q, Vec2(far, q[1]), tol,
+                               [&](std::int32_t fi) { walk_from(FaceHandle(fi)); });
+    for (const FaceHandle f : s.cap_faces) {
+        if (s.mesh.status(f).deleted()) continue;
+        double d_lo = 1e300, d_hi = -1e300, v_lo = 1e300, v_hi = -1e300, u_hi = -1e300;
+        for (auto v : s.mesh.fv_range(f)) {
+            const Vec3& p = s.mesh.point(v);
+            const double d = plane.signed_distance(p);
+            const Vec2 uv = plane.to_2d(p);
+            d_lo = std::min(d_lo, d), d_hi = std::max(d_hi, d);
+            v_lo = std::min(v_lo, uv[1]), v_hi = std::max(v_hi, uv[1]);
+            u_hi = std::max(u_hi, uv[0]);
+        }
+        if (d_lo > tol || d_hi < -tol || v_lo > q[1] + tol || v_hi < q[1] - tol ||
+            u_hi < q[0] - tol)
+            continue;
+        walk_from(f);
+    }
+    std::size_t around = 0;
+    for (std::size_t i = 1; i < plan.loops.size(); ++i) {
+        const PlanLoop& l = plan.loops[i];
+        if (l.area_m2 > 0 && (around == 0 || l.area_m2 < plan.loops[around].area_m2) &&
+            loop_nested(plan, hole, l))
+            around = i;
+    }
+    if (around == 0) return CutStatus::kSeedOnInnerBoundary;
+    for (const Broken& b : broken)
+        if (inside(plan, plan.loops[around], b.start)) return b.status;
+    plan.loops[around].selected = true;
+    return CutStatus::kOk;
+}
+
 }  // namespace
 
 void SectionPlan::clear() {
@@ -546,10 +610,7 @@ void propose_snap(ContextState& s, const Plane& plane, std::span<const VertexHan
 CutStatus check_split_areas(ContextState& s, const Plane& plane) {
     const SectionPlan& plan = s.plan;
     const TriMesh& m = s.mesh;
-    const double min_area = kMinTriangleRelativeArea * s.scale_m * s.scale_m;
-    auto small = [&](const Vec3& a, const Vec3& b, const Vec3& c) {
-        return !(0.5 * OpenMesh::cross(b - a, c - a).norm() > min_area);
-    };
+    auto small = [&](const Vec3& a, const Vec3& b, const Vec3& c) { return s.too_small(a, b, c); };
     CutStatus status = CutStatus::kOk;
     for (const PlanLoop& l : plan.loops) {
         if (!l.selected) continue;
@@ -680,10 +741,13 @@ CutStatus plan_localised(ContextState& s, const Plane& plane, const Seed& seed) 
     s.next_generation();
     st = w.walk(start);
     if (st != CutStatus::kOk) return st;
-    if (s.plan.loops.front().area_m2 < 0) return CutStatus::kSeedOnInnerBoundary;
-    s.plan.loops.front().selected = true;
-    st = add_nested_loops(s, w, plane);
-    return st;
+    if (s.plan.loops.front().area_m2 < 0) {
+        st = select_loop_around_hole(s, w, plane);  // the hole is selected with it, below
+        if (st != CutStatus::kOk) return st;
+    } else {
+        s.plan.loops.front().selected = true;
+    }
+    return add_nested_loops(s, w, plane);
 }
 
 CutStatus plan_from_faces(ContextState& s, const Plane& plane,

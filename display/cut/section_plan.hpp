@@ -92,8 +92,9 @@ CutStatus plan_wall(ContextState& s, const Plane& plane,
 /// Smallest triangle a cut may create (split parts and cap triangles), relative to the squared
 /// mesh scale: the project's one degenerate threshold (mesh::kDegenerateTwiceAreaRelative is
 /// twice the area) with a factor 2 of margin, so that validate() never counts a triangle a cut
-/// made, in double or after the float32 rounding of an STL file (a 1 um triangle at 100 mm from
-/// the origin moves by a few per cent).
+/// made in double. Float32 rounding of a file can take more than that margin from a small
+/// triangle (a 1 um cap triangle 9 nm high, 50 mm from the origin, lost 79 % of its area), so
+/// ContextState::too_small() adds a rounding bound that grows with the triangle's size.
 inline constexpr double kMinTriangleRelativeArea = mesh::kDegenerateTwiceAreaRelative;
 
 /// Checks that splitting every face the selected loops cross leaves no triangle smaller than

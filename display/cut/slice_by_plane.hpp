@@ -42,7 +42,10 @@
 //
 // Localised statuses: kSeedNotOnSurface (no triangle within the seed tolerance), kSeedFarFromCut
 // (no crossing reached within 20,000 triangles of the seed, nearest-to-plane first),
-// kSeedOnInnerBoundary (the seed's loop is a hole, e.g. on the canal wall).
+// kSeedOnInnerBoundary (the seed's loop is a hole with no outer loop around it). A seed on a hole
+// (the canal wall, or the inner loop where the plane meets a concavity) touches the material
+// between that hole and the innermost outer loop around it: that outer loop is cut, as if the
+// seed were on it.
 #pragma once
 
 #include "display/cut/cross_section.hpp"
@@ -62,8 +65,9 @@ inline constexpr double kSnapTolerances = 16.0;
 /// @pre `ctx` was built on the mesh to cut (and rebuilt after any garbage collection).
 CutResult slice_by_plane(CutContext& ctx, const Plane& plane, CrossSection& out);
 
-/// Localised slice (§3.7): cuts the loop reached from `seed` and every loop nested inside it (the
-/// medullary canal), leaving loops outside it (other toes) bit-identical. Cost is proportional to
+/// Localised slice (§3.7): cuts the loop reached from `seed` (when that loop is a hole, the
+/// innermost outer loop around it) and every loop nested inside it (the medullary canal), leaving
+/// loops outside it (other toes) bit-identical. Cost is proportional to
 /// the cross-section: no pass over all vertices or faces.
 /// @pre as above; `seed.point_m` lies on the surface near the plane.
 CutResult slice_by_plane(CutContext& ctx, const Plane& plane, const Seed& seed, CrossSection& out);

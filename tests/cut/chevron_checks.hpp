@@ -28,6 +28,42 @@ inline Plane chevron_second_limb(const Plane& first, const Vec3& through, double
     return *Plane::make(through, n2);
 }
 
+/// Volume of the piece of `ref` (already sliced on both slab planes) between the planes that
+/// holds the face nearest to `p`, m^3 (0 when none lies between them). A rim vertex may lie
+/// kSnapTolerances tolerances outside its plane (snapped).
+inline double between_piece_volume(const kerf::mesh::TriMesh& ref, const Plane& lower,
+                                   const Plane& upper, const Vec3& p, double tolerance_m) {
+    const double tol = kSnapTolerances * tolerance_m;
+    double best_d = 1e300, volume = 0;
+    for (const Body& b : find_components(ref)) {
+        bool between = true;
+        for (auto v : b.vertices)
+            between &= lower.signed_distance(ref.point(v)) > -tol &&
+                       upper.signed_distance(ref.point(v)) < tol;
+        if (!between) continue;
+        for (kerf::mesh::FaceHandle f : b.faces) {
+            const double d = (face_centroid(ref, f) - p).norm();
+            if (d < best_d) best_d = d, volume = b.volume_m3;
+        }
+    }
+    return volume;
+}
+
+/// What a slab cut of `shape` on `plane`, `kerf_m` wide, from a seed at `seed_point` must remove,
+/// found independently: a copy sliced on both slab planes and the piece between them that holds
+/// the seed, m^3; -1 when a reference slice fails.
+inline double slab_reference_removed_volume(const kerf::mesh::TriMesh& shape, const Plane& plane,
+                                            double kerf_m, const Vec3& seed_point) {
+    kerf::mesh::TriMesh ref = shape;
+    CutContext ctx(ref);
+    CrossSection cs;
+    const Plane lower = plane.offset(-0.5 * kerf_m), upper = plane.offset(0.5 * kerf_m);
+    if (!slice_by_plane(ctx, lower, cs).ok()) return -1.0;
+    const CutStatus up = slice_by_plane(ctx, upper, cs).status;
+    if (up != CutStatus::kOk && up != CutStatus::kPlaneMissesMesh) return -1.0;
+    return between_piece_volume(ref, lower, upper, seed_point, ctx.tolerance_m());
+}
+
 /// A mesh of the given faces of `m` (positions only), for writing one piece.
 inline kerf::mesh::TriMesh piece_mesh(const kerf::mesh::TriMesh& m, const Body& b) {
     return extract_faces(m, [&](kerf::mesh::FaceHandle f) {

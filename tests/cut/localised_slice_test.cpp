@@ -1,6 +1,8 @@
 // Localised slices (paper §3.7): only the seed's cross-section and the loops nested in it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <numeric>
 #include <string>
@@ -92,16 +94,58 @@ TEST(LocalisedSlice, FindsTheCanalNestedInsideTheOuterLoop) {
     expect_cross_section_consistent(m, cs, ctx.tolerance_m());
 }
 
-TEST(LocalisedSlice, ASeedOnTheCanalWallIsRefusedAsAnInnerBoundary) {
-    auto m = mesh::make_hollow_tube(0.05, 0.01, 0.006, 48, 20);
-    const Plane plane = plane_of(Vec3(0, 0, 0.0213), Vec3(0, 0, 1));
-    FaceHandle seed_face;
-    for (auto f : m.faces()) {
-        const Vec3 c = centroid(m, f);
-        if (crossing_face(m, plane, f.idx(), f.idx() + 1).is_valid() &&
-            std::hypot(c[0], c[1]) < 0.007)
-            seed_face = f;
+// A seed on a hole (the canal wall here; on the bones, the inner loop of a concavity's section)
+// touches the material between the hole and the outer loop around it: the cut takes that outer
+// loop and everything nested in it, exactly as a seed on the outer wall does.
+TEST(LocalisedSlice, ASeedOnTheCanalWallCutsTheRegionAroundTheCanal) {
+    const auto shape = mesh::make_hollow_tube(0.05, 0.01, 0.006, 48, 20);
+    const Plane plane = plane_of(Vec3(0, 0, 0.0213), Vec3(0.1, -0.05, 1));
+    FaceHandle canal_face, outer_face;
+    for (auto f : shape.faces()) {
+        if (!crossing_face(shape, plane, f.idx(), f.idx() + 1).is_valid()) continue;
+        const Vec3 c = centroid(shape, f);
+        (std::hypot(c[0], c[1]) < 0.007 ? canal_face : outer_face) = f;
     }
+    ASSERT_TRUE(canal_face.is_valid() && outer_face.is_valid());
+    auto cut_from = [&](FaceHandle f, FaceHandle hint) {
+        TriMesh m = shape;
+        CutContext ctx(m);
+        CrossSection cs;
+        const auto r = slice_by_plane(ctx, plane, Seed{centroid(shape, f), hint, -1.0}, cs);
+        EXPECT_EQ(r.status, CutStatus::kOk) << to_string(r.status);
+        EXPECT_EQ(r.stats.loops, 2u);
+        const auto rep = expect_closed_2_manifold(m);
+        EXPECT_NEAR(rep.total_volume_m3, signed_volume(shape), 1e-9 * signed_volume(shape));
+        expect_cross_section_consistent(m, cs, ctx.tolerance_m());
+        expect_face_normals_agree(m);
+        auto pieces = rep.piece_volumes_m3;
+        std::sort(pieces.begin(), pieces.end());
+        return pieces;
+    };
+    const auto from_outer = cut_from(outer_face, outer_face);
+    ASSERT_EQ(from_outer.size(), 2u);
+    const auto from_canal = cut_from(canal_face, canal_face);
+    const auto from_canal_no_hint = cut_from(canal_face, FaceHandle());
+    ASSERT_EQ(from_canal.size(), 2u);
+    for (std::size_t i = 0; i < 2; ++i) {
+        EXPECT_NEAR(from_canal[i], from_outer[i], 1e-12 * from_outer[i]);
+        EXPECT_EQ(from_canal_no_hint[i], from_canal[i]);
+    }
+}
+
+// Only a hole with no outer loop around it is refused: an inward-facing shell on its own.
+TEST(LocalisedSlice, ASeedOnAHoleWithNothingAroundItIsRefusedAsAnInnerBoundary) {
+    const auto sphere = uv_sphere(0.01, 16, 32);
+    TriMesh m;
+    std::vector<mesh::VertexHandle> vs;
+    for (auto v : sphere.vertices()) vs.push_back(m.add_vertex(sphere.point(v)));
+    for (auto f : sphere.faces()) {
+        std::vector<mesh::VertexHandle> c;
+        for (auto v : sphere.fv_range(f)) c.push_back(vs[v.idx()]);
+        m.add_face(c[2], c[1], c[0]);  // reversed: normals point inwards
+    }
+    const Plane plane = plane_of(Vec3(0, 0, 0.00123), Vec3(0, 0.1, 1));
+    const FaceHandle seed_face = crossing_face(m, plane, 0, static_cast<int>(m.n_faces()));
     ASSERT_TRUE(seed_face.is_valid());
     const auto before = snapshot(m);
     CutContext ctx(m);

@@ -122,8 +122,8 @@ std::string refusal_text(cut::CutStatus status) {
             break;
         case cut::CutStatus::kSeedOnInnerBoundary:
             words =
-                "the seed is on an inner wall (e.g. the medullary canal): put it on the bone's "
-                "outer surface";
+                "the seed's cross-section loop is a hole with no outer boundary around it (an "
+                "inward-facing shell): check the mesh's orientation, or seed on the outer surface";
             break;
         case cut::CutStatus::kNonManifoldInput:
             words =
