@@ -49,16 +49,22 @@ struct ContextState {
     /// bounds every piece's threshold). The file check runs only for a triangle whose area the
     /// rounding could bring that low: each corner moves up to sqrt(3) float_rounding_m, which
     /// takes at most 4 sqrt(3) float_rounding_m x its longest edge from twice its area (a cap
-    /// triangle 1.6 um long and 9 nm high, 50 mm from the origin, lost 79 % of its area).
+    /// triangle 1.6 um long and 9 nm high, 50 mm from the origin, lost 79 % of its area). A
+    /// triangle with two corners within the tolerance is left to merge_close_points, which
+    /// collapses them (a file may well merge them). No square root on the common path.
     bool too_small(const Vec3& a, const Vec3& b, const Vec3& c) const {
-        const double twice = OpenMesh::cross(b - a, c - a).norm();
+        const double twice2 = OpenMesh::cross(b - a, c - a).sqrnorm();
         const double floor = kMinTriangleRelativeArea * scale_m * scale_m;
-        if (!(twice > 2.0 * floor)) return true;
-        const double longest =
-            std::sqrt(std::max({(b - a).sqrnorm(), (c - b).sqrnorm(), (a - c).sqrnorm()}));
-        if (twice - 4.0 * std::sqrt(3.0) * float_rounding_m * longest > kFileMargin * floor)
-            return false;
-        return degenerate_in_a_float_file(a, b, c, kFileMargin * floor);
+        if (!(twice2 > 4.0 * floor * floor)) return true;
+        const double ab = (b - a).sqrnorm(), bc = (c - b).sqrnorm(), ca = (a - c).sqrnorm();
+        const double longest2 = std::max({ab, bc, ca});
+        const double loss = 4.0 * std::sqrt(3.0) * float_rounding_m;  // per metre of edge
+        const double kept = kFileMargin * floor;
+        // (kept + loss L)² <= 2 kept² + 2 loss² L²: enough room without a square root.
+        if (twice2 > 2.0 * (kept * kept + loss * loss * longest2)) return false;
+        if (std::sqrt(twice2) - loss * std::sqrt(longest2) > kept) return false;
+        if (std::min({ab, bc, ca}) <= tolerance_m * tolerance_m) return false;
+        return degenerate_in_a_float_file(a, b, c, kept);
     }
     /// Margin on validate()'s threshold for a triangle read back from a float32 file.
     static constexpr double kFileMargin = 1.25;
