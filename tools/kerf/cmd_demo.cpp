@@ -151,6 +151,22 @@ std::uint64_t mid_first_cut(const fs::path& journal) {
     return begin ? (begin + end) / 2 : 0;
 }
 
+/// The last step kerf-hapsim's trace (`--trace`) has reached, its first column; 0 before any.
+/// In real time that is the hand script's clock: it falls behind the wall clock whenever the
+/// emulator is not scheduled for over 10 periods (it drops the periods it missed).
+std::uint64_t last_trace_step(const fs::path& trace) {
+    std::ifstream f(trace, std::ios::binary | std::ios::ate);
+    if (!f) return 0;
+    const std::streamoff size = f.tellg();
+    f.seekg(std::max<std::streamoff>(0, size - 512));
+    const std::string tail{std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+    const auto end = tail.rfind('\n');  // the last complete row ends here
+    if (end == std::string::npos || end == 0) return 0;
+    const auto begin = tail.rfind('\n', end - 1);
+    if (begin == std::string::npos) return 0;
+    return std::strtoull(tail.c_str() + begin + 1, nullptr, 10);
+}
+
 void run_demo(const DemoOptions& o) {
     const auto t0 = std::chrono::steady_clock::now();
     const auto elapsed = [&] {
@@ -220,6 +236,17 @@ void run_demo(const DemoOptions& o) {
         "--script",
         hand.string(),
         o.lockstep ? "--lockstep" : "--realtime"};
+    // Real time: the surgery lasts until the hand's script is over in the hand's own time (the
+    // emulator's trace), not for a wall-clock budget. The emulator drops the periods it misses
+    // when not scheduled, so on a loaded machine its script ran seconds behind kerf-rt's
+    // --duration, which then ended the session mid-shift (the head moved 0.5-2 mm of 4).
+    const fs::path hand_trace = work.path() / "hapsim-trace.csv";
+    constexpr double kHapsimPeriod_s = 1e-3;  // kerf-hapsim's default --period-us
+    const auto script_steps = std::uint64_t(std::ceil(duration_s / kHapsimPeriod_s));
+    if (!o.lockstep) {
+        hapsim_args.push_back("--trace");
+        hapsim_args.push_back(hand_trace.string());
+    }
     auto hapsim =
         sup.add({{"kerf-hapsim", hapsim_args, logs / "hapsim.log", {}}, Policy::kMayFinish},
                 [&] { return fs::exists(sock); });
@@ -233,6 +260,8 @@ void run_demo(const DemoOptions& o) {
         [&] { return number_after(slurp(status), "\"frames\": ") >= 1; },
         std::chrono::seconds(120));  // scene built, first frame drawn
     if (!display) stopped(), fail(display.error().message());
+    // Real time: a cap; the hand's trace ends the surgery (above).
+    const double rt_duration_s = o.lockstep ? duration_s : 4 * duration_s;
     std::vector<std::string> rt_args = {(bin / "kerf-rt").string(),
                                         "--config",
                                         toml.string(),
@@ -243,7 +272,7 @@ void run_demo(const DemoOptions& o) {
                                         "--session",
                                         session,
                                         "--duration",
-                                        std::to_string(duration_s),
+                                        std::to_string(rt_duration_s),
                                         "--trace",
                                         trace.string(),
                                         "--record",
@@ -269,8 +298,13 @@ void run_demo(const DemoOptions& o) {
             st.empty() ? "-" : std::to_string(long(number_after(st, "\"frames\": "))).c_str());
         std::fflush(stdout);
     };
+    bool rt_stopped = false;
     supervise::RunOutcome outcome = sup.run([&] {
         progress("cutting");
+        if (!o.lockstep && !rt_stopped && last_trace_step(hand_trace) >= script_steps) {
+            sup.find("kerf-rt")->signal(SIGTERM);  // an orderly end: force zeroed, exit 0
+            rt_stopped = true;
+        }
         return !sup.find("kerf-rt")->running();
     });
     const auto stop_and_exit = [&](const std::string& why, int code) {
