@@ -12,7 +12,12 @@ namespace {
 using detail::closed;
 using detail::TableReader;
 
-const std::vector<std::string_view> kUnitNames = {"m", "cm", "mm", "um", "in"};
+// The accepted `units` names, in kLengthUnits' order ("m", "cm", "mm", "um", "in").
+const std::vector<std::string_view> kUnitNames = [] {
+    std::vector<std::string_view> names;
+    for (const LengthUnit unit : kLengthUnits) names.push_back(to_string(unit));
+    return names;
+}();
 const std::vector<std::string_view> kMaterialNames = {"cortical", "cancellous"};
 const std::vector<std::string_view> kSourceNames = {"file", "builtin_foot"};
 
@@ -35,7 +40,7 @@ void read_mesh(TableReader m, MeshSource& out) {
                    "a path; variables ${config}, ${shared}, ${tmp}, ${runtime}",
                    "cannot expand " + bad);
         }
-        out.units = static_cast<LengthUnit>(m.choice("units", kUnitNames, ConfigErrc::kBadUnit));
+        out.units = kLengthUnits[m.choice("units", kUnitNames, ConfigErrc::kBadUnit)];
         for (auto key : {"target_triangles", "seed"})
             m.forbid(key, "only for source = \"builtin_foot\"");
     } else {
@@ -179,38 +184,6 @@ Scene read_scene(TableReader& root) {
 }
 
 }  // namespace
-
-std::string_view to_string(LengthUnit unit) noexcept {
-    switch (unit) {
-        case LengthUnit::kMetre:
-            return "m";
-        case LengthUnit::kCentimetre:
-            return "cm";
-        case LengthUnit::kMillimetre:
-            return "mm";
-        case LengthUnit::kMicrometre:
-            return "um";
-        case LengthUnit::kInch:
-            return "in";
-    }
-    return "unknown";
-}
-
-double metres_per_unit(LengthUnit unit) noexcept {
-    switch (unit) {
-        case LengthUnit::kMetre:
-            return 1.0;
-        case LengthUnit::kCentimetre:
-            return 0.01;
-        case LengthUnit::kMillimetre:
-            return 0.001;
-        case LengthUnit::kMicrometre:
-            return 1e-6;
-        case LengthUnit::kInch:
-            return 0.0254;
-    }
-    return 1.0;
-}
 
 std::string_view to_string(BodyMaterial material) noexcept {
     return material == BodyMaterial::kCortical ? "cortical" : "cancellous";

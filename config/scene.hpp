@@ -20,16 +20,12 @@
 #include <string_view>
 #include <vector>
 
+#include "config/base/length_unit.hpp"
 #include "config/base/result.hpp"
 #include "config/config_error.hpp"
 #include "config/expand_path.hpp"
 
 namespace kerf::config {
-
-/// Length unit of a mesh file. Loaders multiply coordinates by `metres_per_unit()`.
-enum class LengthUnit : std::uint8_t { kMetre, kCentimetre, kMillimetre, kMicrometre, kInch };
-std::string_view to_string(LengthUnit unit) noexcept;  ///< "m", "cm", "mm", "um", "in"
-double metres_per_unit(LengthUnit unit) noexcept;
 
 /// What a body is made of (the cutting resistance the force profile gives it).
 enum class BodyMaterial : std::uint8_t { kCortical, kCancellous };

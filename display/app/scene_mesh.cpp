@@ -9,22 +9,6 @@
 namespace kerf::display {
 namespace {
 
-mesh::Units units_of(config::LengthUnit unit) {
-    switch (unit) {
-        case config::LengthUnit::kMetre:
-            return mesh::Units::kMetres;
-        case config::LengthUnit::kCentimetre:
-            return mesh::Units::kCentimetres;
-        case config::LengthUnit::kMillimetre:
-            return mesh::Units::kMillimetres;
-        case config::LengthUnit::kMicrometre:
-            return mesh::Units::kMicrometres;
-        case config::LengthUnit::kInch:
-            return mesh::Units::kInches;
-    }
-    return mesh::Units::kMetres;
-}
-
 /// Appends `part`, placed by `t`, to `scene` (every vertex attribute copied).
 void append_placed(mesh::TriMesh& scene, const mesh::TriMesh& part,
                    const config::RigidTransform& t) {
@@ -63,7 +47,7 @@ Result<mesh::TriMesh, std::string> build_scene_mesh(const config::Config& config
         }
         auto path = config::resolve_mesh_path(body, vars);
         if (!path) return Err{where + path.error().message()};
-        auto loaded = mesh::load_mesh(*path, units_of(body.mesh.units));
+        auto loaded = mesh::load_mesh(*path, body.mesh.units);
         if (!loaded) return Err{where + loaded.error().message()};
         append_placed(scene, *loaded, body.transform);
     }

@@ -68,7 +68,7 @@ struct ContextState {
     }
     /// Margin on validate()'s threshold for a triangle read back from a float32 file.
     static constexpr double kFileMargin = 1.25;
-    /// Whether twice the area of a, b, c written as float32 in any mesh::Units (as the STL
+    /// Whether twice the area of a, b, c written as float32 in any LengthUnit (as the STL
     /// writer rounds) is at most `floor_m2`.
     static bool degenerate_in_a_float_file(const Vec3& a, const Vec3& b, const Vec3& c,
                                            double floor_m2);

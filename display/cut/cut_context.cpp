@@ -6,9 +6,9 @@
 #include <limits>
 #include <type_traits>
 
+#include "config/base/length_unit.hpp"
 #include "display/cut/context_state.hpp"
 #include "display/cut/cross_section.hpp"
-#include "display/mesh/units.hpp"
 
 namespace kerf::cut {
 
@@ -43,10 +43,9 @@ ContextState::~ContextState() {
 
 bool ContextState::degenerate_in_a_float_file(const Vec3& a, const Vec3& b, const Vec3& c,
                                               double floor_m2) {
-    for (const mesh::Units u :
-         {mesh::Units::kMetres, mesh::Units::kMillimetres, mesh::Units::kCentimetres,
-          mesh::Units::kInches, mesh::Units::kMicrometres}) {
-        const double unit = mesh::metres_per_unit(u);
+    for (const LengthUnit u : {LengthUnit::kMetre, LengthUnit::kMillimetre, LengthUnit::kCentimetre,
+                               LengthUnit::kInch, LengthUnit::kMicrometre}) {
+        const double unit = metres_per_unit(u);
         // Through a volatile float: gcc 12 -O2 vectorises (double)(float)(x) on two lanes of an
         // OpenMesh vector and drops the rounding (seen in this function; clang keeps it).
         auto f32 = [](double x) -> double {

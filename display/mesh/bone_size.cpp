@@ -5,7 +5,7 @@
 
 namespace kerf::mesh {
 
-std::string bone_size_warning(double size_m, Units units) {
+std::string bone_size_warning(double size_m, LengthUnit units) {
     if (!std::isfinite(size_m) || size_m <= 0) return {};
     if (size_m >= kMinBoneSize_m && size_m <= kMaxBoneSize_m) return {};
     const double in_file_units = size_m / metres_per_unit(units);
@@ -17,8 +17,8 @@ std::string bone_size_warning(double size_m, Units units) {
                   kMaxBoneSize_m);
     std::string out = text;
     // The unit that makes the file's numbers a plausible bone, most common first.
-    for (Units u : {Units::kMillimetres, Units::kMetres, Units::kCentimetres, Units::kInches,
-                    Units::kMicrometres}) {
+    for (LengthUnit u : {LengthUnit::kMillimetre, LengthUnit::kMetre, LengthUnit::kCentimetre,
+                         LengthUnit::kInch, LengthUnit::kMicrometre}) {
         const double as_u = in_file_units * metres_per_unit(u);
         if (u == units || as_u < kMinBoneSize_m || as_u > kMaxBoneSize_m) continue;
         std::snprintf(text, sizeof text, ": is the file in %s? (--units %s reads it as %.4g mm)",

@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "display/mesh/units.hpp"
+#include "config/base/length_unit.hpp"
 
 namespace kerf::mesh {
 
@@ -15,6 +15,6 @@ inline constexpr double kMaxBoneSize_m = 1.0;
 
 /// A warning when a mesh whose largest bounding-box side is `size_m` (read as `units`) is too
 /// small or too large for a bone, naming the unit that would make it one ("" when plausible).
-std::string bone_size_warning(double size_m, Units units);
+std::string bone_size_warning(double size_m, LengthUnit units);
 
 }  // namespace kerf::mesh

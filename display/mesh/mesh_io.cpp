@@ -67,7 +67,7 @@ std::optional<Format> format_from_path(const std::filesystem::path& path) {
 }
 
 Result<IndexedMesh, MeshError> parse_indexed(std::span<const std::byte> bytes, Format format,
-                                             Units units, std::string_view name) {
+                                             LengthUnit units, std::string_view name) {
     const detail::ParseContext ctx{name, metres_per_unit(units)};
     if (bytes.empty()) return Err{ctx.error(MeshErrc::kEmpty, 0, 0, "the file is empty")};
     switch (format) {
@@ -84,14 +84,14 @@ Result<IndexedMesh, MeshError> parse_indexed(std::span<const std::byte> bytes, F
 }
 
 Result<LoadedMesh, MeshError> parse_mesh(std::span<const std::byte> bytes, Format format,
-                                         Units units, std::string_view name) {
+                                         LengthUnit units, std::string_view name) {
     auto indexed = parse_indexed(bytes, format, units, name);
     if (!indexed) return Err{std::move(indexed).error()};
     BuiltMesh built = build_tri_mesh(*indexed);
     return LoadedMesh{std::move(*indexed), std::move(built.mesh), built.detached_triangles};
 }
 
-Result<LoadedMesh, MeshError> load_mesh_file(const std::filesystem::path& path, Units units) {
+Result<LoadedMesh, MeshError> load_mesh_file(const std::filesystem::path& path, LengthUnit units) {
     const auto format = format_from_path(path);
     if (!format) {
         return Err{unknown_format(path)};
@@ -102,7 +102,7 @@ Result<LoadedMesh, MeshError> load_mesh_file(const std::filesystem::path& path, 
 }
 
 Result<std::unique_ptr<TriMesh>, MeshError> load_mesh_owned(const std::filesystem::path& path,
-                                                            Units units) {
+                                                            LengthUnit units) {
     const auto format = format_from_path(path);
     if (!format) {
         return Err{unknown_format(path)};
@@ -120,17 +120,19 @@ Result<std::unique_ptr<TriMesh>, MeshError> load_mesh_owned(const std::filesyste
     return mesh;
 }
 
-Result<TriMesh, MeshError> load_mesh(const std::filesystem::path& path, Units units) {
+Result<TriMesh, MeshError> load_mesh(const std::filesystem::path& path, LengthUnit units) {
     auto loaded = load_mesh_owned(path, units);
     if (!loaded) return Err{std::move(loaded).error()};
     return std::move(**loaded);  // the one copy
 }
 
-std::string serialize_mesh(const TriMesh& mesh, Format format, Units units, Encoding encoding) {
+std::string serialize_mesh(const TriMesh& mesh, Format format, LengthUnit units,
+                           Encoding encoding) {
     return serialize_mesh(to_indexed(mesh), format, units, encoding);
 }
 
-std::string serialize_mesh(const IndexedMesh& m, Format format, Units units, Encoding encoding) {
+std::string serialize_mesh(const IndexedMesh& m, Format format, LengthUnit units,
+                           Encoding encoding) {
     const double scale = metres_per_unit(units);
     const bool binary = encoding != Encoding::kAscii;
     switch (format) {
@@ -146,7 +148,8 @@ std::string serialize_mesh(const IndexedMesh& m, Format format, Units units, Enc
     return {};
 }
 
-Status<MeshError> save_mesh(const TriMesh& mesh, const std::filesystem::path& path, Units units) {
+Status<MeshError> save_mesh(const TriMesh& mesh, const std::filesystem::path& path,
+                            LengthUnit units) {
     const auto format = format_from_path(path);
     if (!format) {
         return Err{unknown_format(path)};

@@ -1,7 +1,7 @@
 // Mesh files in and out: STL (ASCII and binary), OBJ, PLY (ASCII, binary little and big endian)
 // and OFF, read by Kerf's own parsers (OpenMesh's readers are not trusted with hostile input).
 //
-//   Result<TriMesh, MeshError> r = load_mesh("calcaneus.stl", Units::kMillimetres);
+//   Result<TriMesh, MeshError> r = load_mesh("calcaneus.stl", LengthUnit::kMillimetre);
 //   if (!r) { std::cerr << r.error().message() << '\n'; return 1; }
 //
 // Every loader: converts the file's units to metres; welds vertices whose coordinates are
@@ -22,11 +22,11 @@
 #include <string>
 #include <string_view>
 
+#include "config/base/length_unit.hpp"
 #include "config/base/result.hpp"
 #include "display/mesh/indexed_mesh.hpp"
 #include "display/mesh/mesh_error.hpp"
 #include "display/mesh/tri_mesh.hpp"
-#include "display/mesh/units.hpp"
 
 namespace kerf::mesh {
 
@@ -49,38 +49,39 @@ struct LoadedMesh {
 
 /// Parses bytes already in memory; `name` only labels errors. The fuzz target's entry point.
 Result<IndexedMesh, MeshError> parse_indexed(std::span<const std::byte> bytes, Format format,
-                                             Units units, std::string_view name = "<memory>");
+                                             LengthUnit units, std::string_view name = "<memory>");
 
 /// Parses bytes already in memory into a half-edge mesh.
 Result<LoadedMesh, MeshError> parse_mesh(std::span<const std::byte> bytes, Format format,
-                                         Units units, std::string_view name = "<memory>");
+                                         LengthUnit units, std::string_view name = "<memory>");
 
 /// Reads and parses a file; the format comes from its extension. Only a regular file of at most
 /// 2 GiB is read (a FIFO, device or link to one is a kIo error naming it, never a hang).
-Result<LoadedMesh, MeshError> load_mesh_file(const std::filesystem::path& path, Units units);
+Result<LoadedMesh, MeshError> load_mesh_file(const std::filesystem::path& path, LengthUnit units);
 
 /// Reads a file and returns only the half-edge mesh (normals computed). One copy of the mesh
 /// on the way out (OpenMesh meshes have no move constructor: moving a TriMesh copies it);
 /// large meshes: load_mesh_owned().
-Result<TriMesh, MeshError> load_mesh(const std::filesystem::path& path, Units units);
+Result<TriMesh, MeshError> load_mesh(const std::filesystem::path& path, LengthUnit units);
 
 /// The same on the heap, built where it stays: no copy of the mesh at all, and the file's bytes
 /// are freed before the half-edge mesh is built (`kerf cut` of a 1M-triangle file peaked at
 /// four meshes' worth of memory through load_mesh and CutSession's copies).
 Result<std::unique_ptr<TriMesh>, MeshError> load_mesh_owned(const std::filesystem::path& path,
-                                                            Units units);
+                                                            LengthUnit units);
 
 /// Encodes a mesh (metres inside) in `units`. Binary PLY/STL default to little endian; a
 /// big-endian STL does not exist, so STL with kBinaryBigEndian gives little endian.
 /// PLY carries each vertex's material as a `uchar material` property (read back by Kerf).
-std::string serialize_mesh(const TriMesh& mesh, Format format, Units units,
+std::string serialize_mesh(const TriMesh& mesh, Format format, LengthUnit units,
                            Encoding encoding = Encoding::kBinaryLittleEndian);
 /// The same for a plain indexed mesh (no half-edge mesh needed to write a file).
-std::string serialize_mesh(const IndexedMesh& mesh, Format format, Units units,
+std::string serialize_mesh(const IndexedMesh& mesh, Format format, LengthUnit units,
                            Encoding encoding = Encoding::kBinaryLittleEndian);
 
 /// Writes a file atomically (temp file in its folder + rename); the format comes from the
 /// extension; STL and PLY are written binary.
-Status<MeshError> save_mesh(const TriMesh& mesh, const std::filesystem::path& path, Units units);
+Status<MeshError> save_mesh(const TriMesh& mesh, const std::filesystem::path& path,
+                            LengthUnit units);
 
 }  // namespace kerf::mesh

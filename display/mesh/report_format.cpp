@@ -50,7 +50,7 @@ std::string shell_line(std::size_t i, const ShellSummary& s, double scale, std::
 
 }  // namespace
 
-std::string format_report_text(const ValidationReport& r, Units units) {
+std::string format_report_text(const ValidationReport& r, LengthUnit units) {
     const double s = metres_per_unit(units);
     const std::string u{to_string(units)};
     std::string out;

@@ -54,10 +54,9 @@ Result<std::vector<BodyArrays>, std::string> load_scene_arrays(const config::Sce
         }
         auto path = config::resolve_mesh_path(body, vars);
         if (!path) return Err{path.error().message()};
-        auto loaded = load_mesh_file(*path, Units::kMetres);
+        auto loaded = load_mesh_file(*path, LengthUnit::kMetre);
         if (!loaded) return Err{"scene body '" + body.name + "': " + loaded.error().message()};
-        bodies.push_back(
-            to_arrays(loaded->indexed, config::metres_per_unit(body.mesh.units), body));
+        bodies.push_back(to_arrays(loaded->indexed, metres_per_unit(body.mesh.units), body));
     }
     return bodies;
 }

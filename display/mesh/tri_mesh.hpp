@@ -13,12 +13,17 @@
 
 namespace kerf::mesh {
 
-/// What a vertex is made of. Cutting interpolates continuous attributes; a discrete tag takes
-/// the nearer endpoint's value, and cap vertices get `CutSurface`.
+/// What a vertex is made of. Cutting interpolates continuous attributes; a cut point takes the
+/// nearer endpoint's material (the lower-index one at t = 0.5) and its rim copy the same, so a
+/// cap's corners (every one a rim vertex, shared with the piece's side faces) keep the material
+/// of the surface they lie on. Which faces are caps is the cut library's face property
+/// (cut::kCapFaceProperty), not a vertex material: the renderer draws a cap corner as cut
+/// cortical or cut canal bone by this material, and the collision export makes cap faces
+/// kCutSurface and faces whose corners are all kCancellous the canal.
 enum class Material : std::uint8_t {
     kCortical = 0,    ///< dense outer bone
     kCancellous = 1,  ///< spongy inner bone (medullary canal wall)
-    kCutSurface = 2,  ///< a cap made by a cut: rendered as cancellous bone
+    kCutSurface = 2,  ///< cut bone; no cut sets it on a vertex (a PLY file may carry it)
 };
 std::string_view to_string(Material m) noexcept;
 

@@ -20,9 +20,9 @@
 #include <string>
 #include <vector>
 
+#include "config/base/length_unit.hpp"
 #include "display/mesh/indexed_mesh.hpp"
 #include "display/mesh/tri_mesh.hpp"
-#include "display/mesh/units.hpp"
 
 namespace kerf::mesh {
 
@@ -74,7 +74,8 @@ ValidationReport validate(const IndexedMesh& in);
 ValidationReport validate(const TriMesh& mesh);
 
 /// Several lines for people, lengths shown in `units` (mm for most bone files).
-std::string format_report_text(const ValidationReport& r, Units units = Units::kMillimetres);
+std::string format_report_text(const ValidationReport& r,
+                               LengthUnit units = LengthUnit::kMillimetre);
 
 /// One JSON object, SI units (keys end in _m, _m2, _m3).
 std::string format_report_json(const ValidationReport& r);

@@ -340,7 +340,7 @@ const TriMesh* refined_bone() {
         const char* dir = std::getenv("KERF_SHARED_MESHES_DIR");  // e.g. on another machine
         const auto path = std::filesystem::path(dir != nullptr ? dir : KERF_SHARED_MESHES) /
                           "jma_norm01_calcaneus_right.stl";
-        auto loaded = kerf::mesh::load_mesh(path, kerf::mesh::Units::kMillimetres);
+        auto loaded = kerf::mesh::load_mesh(path, kerf::LengthUnit::kMillimetre);
         if (!loaded) return std::unique_ptr<TriMesh>();
         auto m = std::make_unique<TriMesh>(std::move(*loaded));
         OpenMesh::Subdivider::Uniform::LoopT<TriMesh, double> loop;

@@ -75,7 +75,7 @@ Spread spread(std::vector<double> v) {
 [[noreturn]] void measure_in_child(const std::filesystem::path& file, int fd) {
     const double rss0 = resident_bytes();
     const double t0 = now_s(), c0 = cpu_s();
-    auto mesh = kerf::mesh::load_mesh(file, kerf::mesh::Units::kMillimetres);
+    auto mesh = kerf::mesh::load_mesh(file, kerf::LengthUnit::kMillimetre);
     const double t1 = now_s(), c1 = cpu_s();
     if (!mesh) _exit(2);
     malloc_trim(0);
@@ -161,7 +161,7 @@ int main(int argc, char** argv) {
     if (mkdtemp(dir_template) == nullptr) return std::perror("mkdtemp"), 1;
     const std::filesystem::path dir(dir_template);
     const std::filesystem::path file = dir / "foot.stl";
-    if (!kerf::mesh::save_mesh(foot->mesh, file, kerf::mesh::Units::kMillimetres))
+    if (!kerf::mesh::save_mesh(foot->mesh, file, kerf::LengthUnit::kMillimetre))
         return std::fprintf(stderr, "bench_cut_setup: cannot write %s\n", file.c_str()), 1;
     // The cut: across the first metatarsal's shaft, seeded on its outer surface (mm).
     const kerf::mesh::BoneInfo bone = foot->first_metatarsal();

@@ -76,9 +76,9 @@ inline void expect_pieces_round_trip(const kerf::mesh::TriMesh& m, mesh::Format 
                                      const std::string& what) {
     for (const Body& b : group_cavities(find_components(m))) {
         const kerf::mesh::TriMesh piece = piece_mesh(m, b);
-        const std::string bytes = mesh::serialize_mesh(piece, format, mesh::Units::kMillimetres);
+        const std::string bytes = mesh::serialize_mesh(piece, format, LengthUnit::kMillimetre);
         auto back = mesh::parse_mesh(std::as_bytes(std::span(bytes.data(), bytes.size())), format,
-                                     mesh::Units::kMillimetres);
+                                     LengthUnit::kMillimetre);
         ASSERT_TRUE(back) << what << ": " << to_string(format) << " piece does not reload";
         const mesh::ValidationReport v = mesh::validate(back->indexed);
         EXPECT_TRUE(v.closed && v.oriented && v.non_manifold_vertices == 0 &&

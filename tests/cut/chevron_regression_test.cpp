@@ -52,7 +52,7 @@ TEST_P(ChevronNearVertices, SecondLimbLeavesNoVertexWithinTheToleranceAndPiecesR
     const CloseChevron& c = GetParam();
     const auto path = std::filesystem::path(KERF_SHARED_MESHES) / c.mesh;
     if (!std::filesystem::exists(path)) GTEST_SKIP() << "real meshes absent: " << path;
-    auto loaded = mesh::load_mesh(path, mesh::Units::kMillimetres);
+    auto loaded = mesh::load_mesh(path, LengthUnit::kMillimetre);
     ASSERT_TRUE(loaded);
     TriMesh m = std::move(*loaded);
     const double v0 = testing::signed_volume(m);

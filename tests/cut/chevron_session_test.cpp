@@ -190,7 +190,7 @@ TEST(ChevronSession, WithABladeOfRealWidthTheHeadComesFreeToo) {
 TEST(ChevronSession, TwoWithdrawnLimbsFreeTheHeadOfTheSharedFirstMetatarsal) {
     const auto path = std::filesystem::path(KERF_SHARED_MESHES) / "bp3d_right_first_metatarsal.stl";
     if (!std::filesystem::exists(path)) GTEST_SKIP() << "real meshes absent: " << path;
-    auto loaded = mesh::load_mesh(path, mesh::Units::kMillimetres);
+    auto loaded = mesh::load_mesh(path, LengthUnit::kMillimetre);
     ASSERT_TRUE(loaded);
     TriMesh m = std::move(*loaded);
     // The bone's long axis and a perpendicular (principal axes of its vertices).

@@ -18,7 +18,7 @@
 namespace {
 
 namespace fs = std::filesystem;
-using kerf::mesh::Units;
+using kerf::LengthUnit;
 
 using kerf::test::ProcessRun;
 using kerf::test::slurp;
@@ -30,9 +30,9 @@ protected:
         fs::create_directories(dir_);
         // A 10 mm sphere and a hollow tube (50 mm long, canal) written in millimetres.
         ASSERT_TRUE(kerf::mesh::save_mesh(kerf::mesh::make_uv_sphere(0.01, 4000), sphere(),
-                                          Units::kMillimetres));
+                                          LengthUnit::kMillimetre));
         ASSERT_TRUE(kerf::mesh::save_mesh(kerf::mesh::make_hollow_tube(0.05, 0.01, 0.006, 48, 20),
-                                          tube(), Units::kMillimetres));
+                                          tube(), LengthUnit::kMillimetre));
     }
     void TearDown() override { fs::remove_all(dir_); }
 
@@ -64,13 +64,13 @@ TEST_F(KerfCut, OnePlaneWritesTwoClosedPiecesWhoseVolumesAddUp) {
     EXPECT_NE(r.out.find("mesh hash "), std::string::npos) << r.out;
     double total = 0;
     for (const char* name : {"out_1.stl", "out_2.stl"}) {
-        auto piece = kerf::mesh::load_mesh(dir_ / name, Units::kMillimetres);
+        auto piece = kerf::mesh::load_mesh(dir_ / name, LengthUnit::kMillimetre);
         ASSERT_TRUE(piece) << name;
         const auto rep = kerf::cut::testing::expect_closed_2_manifold(*piece);
         EXPECT_EQ(rep.piece_volumes_m3.size(), 1u);
         total += rep.total_volume_m3;
     }
-    const auto original = kerf::mesh::load_mesh(sphere(), Units::kMillimetres);
+    const auto original = kerf::mesh::load_mesh(sphere(), LengthUnit::kMillimetre);
     // STL stores float coordinates: the cut positions are rounded to float on the way out.
     EXPECT_NEAR(total, kerf::cut::testing::signed_volume(*original), 1e-6 * total);
     EXPECT_FALSE(fs::exists(dir_ / "out_3.stl"));
@@ -96,7 +96,8 @@ TEST_F(KerfCut, SeededSeparatedAndBiplanarModesOpenAKerf) {
         ASSERT_EQ(r.exit_code, 0) << mode << ": " << r.err;
         double total = 0;
         for (const char* k : {"_1.obj", "_2.obj"}) {
-            auto piece = kerf::mesh::load_mesh(dir_ / (std::string(mode) + k), Units::kMillimetres);
+            auto piece =
+                kerf::mesh::load_mesh(dir_ / (std::string(mode) + k), LengthUnit::kMillimetre);
             ASSERT_TRUE(piece);
             total += kerf::cut::testing::signed_volume(*piece);
         }

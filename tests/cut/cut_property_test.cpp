@@ -81,7 +81,7 @@ TEST_P(CutProperty, EveryCutIsClosedOrientedNonDegenerateConservesVolumeAndRound
                         "doubles this test's time, which CI has no room for)";
     const auto path = std::filesystem::path(KERF_SHARED_MESHES) / name;
     if (!std::filesystem::exists(path)) GTEST_SKIP() << "real meshes absent: " << path;
-    auto loaded = mesh::load_mesh(path, mesh::Units::kMillimetres);
+    auto loaded = mesh::load_mesh(path, LengthUnit::kMillimetre);
     ASSERT_TRUE(loaded);
     const TriMesh shape = std::move(*loaded);
     ASSERT_TRUE(check_closed_2_manifold(shape).ok) << name << " is not clean";

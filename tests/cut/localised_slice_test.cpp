@@ -42,10 +42,10 @@ FaceHandle crossing_face(const TriMesh& m, const Plane& plane, int first, int la
 }
 
 TEST(LocalisedSlice, CutsOnlyTheToeTheSeedIsOnAndLeavesTheOthersBitIdentical) {
-    auto m = uv_sphere(0.01, 16, 32, TriMesh::Point(0, 0, 0));
+    auto m = uv_sphere_by_rings(0.01, 16, 32, TriMesh::Point(0, 0, 0));
     const int per = static_cast<int>(m.n_faces());
-    append(m, uv_sphere(0.01, 16, 32, TriMesh::Point(0.03, 0, 0)));
-    append(m, uv_sphere(0.01, 16, 32, TriMesh::Point(0.06, 0, 0)));
+    append(m, uv_sphere_by_rings(0.01, 16, 32, TriMesh::Point(0.03, 0, 0)));
+    append(m, uv_sphere_by_rings(0.01, 16, 32, TriMesh::Point(0.06, 0, 0)));
     const Plane plane = plane_of(Vec3(0, 0, 0.00123), Vec3(0, 0.1, 1));
     const auto v0 = signed_volume(m);
     const auto left = snapshot(m, 0, per);
@@ -135,7 +135,7 @@ TEST(LocalisedSlice, ASeedOnTheCanalWallCutsTheRegionAroundTheCanal) {
 
 // Only a hole with no outer loop around it is refused: an inward-facing shell on its own.
 TEST(LocalisedSlice, ASeedOnAHoleWithNothingAroundItIsRefusedAsAnInnerBoundary) {
-    const auto sphere = uv_sphere(0.01, 16, 32);
+    const auto sphere = uv_sphere_by_rings(0.01, 16, 32);
     TriMesh m;
     std::vector<mesh::VertexHandle> vs;
     for (auto v : sphere.vertices()) vs.push_back(m.add_vertex(sphere.point(v)));
@@ -156,7 +156,7 @@ TEST(LocalisedSlice, ASeedOnAHoleWithNothingAroundItIsRefusedAsAnInnerBoundary) 
 }
 
 TEST(LocalisedSlice, ASeedFarFromThePlaneIsRefused) {
-    auto m = uv_sphere(0.01, 16, 32);
+    auto m = uv_sphere_by_rings(0.01, 16, 32);
     const auto before = snapshot(m);
     CutContext ctx(m);
     CrossSection cs;
@@ -196,7 +196,7 @@ TEST(LocalisedSlice,
     const std::filesystem::path path =
         std::filesystem::path(KERF_SHARED_MESHES) / "bp3d_right_forefoot_24shells.stl";
     if (!std::filesystem::exists(path)) GTEST_SKIP() << "real meshes absent: " << path;
-    auto loaded = mesh::load_mesh(path, mesh::Units::kMillimetres);
+    auto loaded = mesh::load_mesh(path, LengthUnit::kMillimetre);
     ASSERT_TRUE(loaded) << "cannot load " << path;
     TriMesh m = std::move(*loaded);
     const Plane plane = plane_of(Vec3(0, 0, 0.100), Vec3(0, 0, 1));

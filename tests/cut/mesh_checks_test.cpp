@@ -6,6 +6,7 @@
 
 #include <numbers>
 
+#include "display/mesh/shapes.hpp"
 #include "tests/cut/test_shapes.hpp"
 
 namespace kerf::cut::testing {
@@ -13,31 +14,31 @@ namespace {
 
 TEST(MeshChecks, TestShapesAreClosedOrientedWithTheExpectedVolumes) {
     const double pi = std::numbers::pi;
-    auto s = uv_sphere(1.0, 64, 128);
+    auto s = uv_sphere_by_rings(1.0, 64, 128);
     auto rs = expect_closed_2_manifold(s);
     ASSERT_EQ(rs.piece_volumes_m3.size(), 1u);
     EXPECT_NEAR(rs.total_volume_m3, 4.0 / 3.0 * pi, 0.01);
-    auto t = torus(0.03, 0.01, 48, 24);
+    auto t = mesh::make_torus(0.03, 0.01, 48, 24);
     EXPECT_NEAR(expect_closed_2_manifold(t).total_volume_m3, 2 * pi * pi * 0.03 * 0.01 * 0.01,
                 2e-6);
-    auto tube = hollow_tube(0.01, 0.006, 0.05, 20, 48);
+    auto tube = mesh::make_hollow_tube(0.05, 0.01, 0.006, 48, 20);
     auto rt = expect_closed_2_manifold(tube);
     EXPECT_NEAR(rt.total_volume_m3, pi * (1e-4 - 3.6e-5) * 0.05, 2e-7);
-    auto b = box(TriMesh::Point(0, 0, 0), TriMesh::Point(1, 2, 3), 3);
+    auto b = mesh::make_box(TriMesh::Point(0, 0, 0), TriMesh::Point(1, 2, 3), 3);
     EXPECT_NEAR(expect_closed_2_manifold(b).total_volume_m3, 6.0, 1e-12);
     expect_face_normals_agree(b);
 }
 
 TEST(MeshChecks, CountsPiecesSeparately) {
-    auto m = uv_sphere(1.0, 8, 16);
-    append(m, uv_sphere(0.5, 8, 16, TriMesh::Point(5, 0, 0)));
+    auto m = uv_sphere_by_rings(1.0, 8, 16);
+    append(m, uv_sphere_by_rings(0.5, 8, 16, TriMesh::Point(5, 0, 0)));
     auto r = expect_closed_2_manifold(m);
     ASSERT_EQ(r.piece_volumes_m3.size(), 2u);
     EXPECT_GT(r.piece_volumes_m3[0], 7.0 * r.piece_volumes_m3[1]);
 }
 
 TEST(MeshChecks, ReportsAnOpenSurface) {
-    auto m = box(TriMesh::Point(0, 0, 0), TriMesh::Point(1, 1, 1), 1);
+    auto m = mesh::make_box(TriMesh::Point(0, 0, 0), TriMesh::Point(1, 1, 1), 1);
     m.delete_face(*m.faces().begin(), false);
     EXPECT_NONFATAL_FAILURE(expect_closed_2_manifold(m), "open surface");
 }
@@ -56,7 +57,7 @@ TEST(MeshChecks, ReportsANearZeroAreaTriangle) {
 }
 
 TEST(MeshChecks, ReportsAFlippedTriangle) {
-    auto m = box(TriMesh::Point(0, 0, 0), TriMesh::Point(1, 1, 1), 1);
+    auto m = mesh::make_box(TriMesh::Point(0, 0, 0), TriMesh::Point(1, 1, 1), 1);
     auto f = *m.faces().begin();
     m.set_normal(f, -m.normal(f));
     EXPECT_NONFATAL_FAILURE(expect_face_normals_agree(m), "winding disagrees");

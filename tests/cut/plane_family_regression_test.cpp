@@ -69,7 +69,7 @@ TEST_P(NewPlaneFamily, CutsClosedWithTheRightVolumeAndRoundTripsThroughEveryForm
     const NewPlaneCase& c = GetParam();
     const auto path = std::filesystem::path(KERF_SHARED_MESHES) / c.mesh;
     if (!std::filesystem::exists(path)) GTEST_SKIP() << "real meshes absent: " << path;
-    auto loaded = mesh::load_mesh(path, mesh::Units::kMillimetres);
+    auto loaded = mesh::load_mesh(path, LengthUnit::kMillimetre);
     ASSERT_TRUE(loaded);
     const TriMesh shape = std::move(*loaded);
     TriMesh m = shape;

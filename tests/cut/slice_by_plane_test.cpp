@@ -37,7 +37,7 @@ CutResult full_cut_checked(TriMesh& m, const Plane& plane, CrossSection& cs, std
 }
 
 TEST(SliceByPlane, FullPlaneCutOfASphereMakesTwoClosedPiecesWhoseVolumesAddUp) {
-    auto m = uv_sphere(0.01, 24, 48);
+    auto m = uv_sphere_by_rings(0.01, 24, 48);
     CrossSection cs;
     const auto r = full_cut_checked(m, plane_of(Vec3(0, 0, 0.0012345), Vec3(0.1, 0.2, 1)), cs, 2);
     EXPECT_EQ(r.stats.loops, 1u);
@@ -47,7 +47,7 @@ TEST(SliceByPlane, FullPlaneCutOfASphereMakesTwoClosedPiecesWhoseVolumesAddUp) {
 }
 
 TEST(SliceByPlane, PlaneThroughAVertexRingReusesTheRingVertices) {
-    auto m = uv_sphere(1.0, 12, 24);
+    auto m = uv_sphere_by_rings(1.0, 12, 24);
     const double z = 1.0 * std::cos(std::numbers::pi * 5 / 12);  // exactly the ring's z
     const auto n_vertices = m.n_vertices();
     CrossSection cs;
@@ -59,7 +59,7 @@ TEST(SliceByPlane, PlaneThroughAVertexRingReusesTheRingVertices) {
 }
 
 TEST(SliceByPlane, PlaneAlongGridEdgesOfABoxCutsWithoutSplitting) {
-    auto m = box(TriMesh::Point(0, 0, 0), TriMesh::Point(1, 1, 1), 4);
+    auto m = mesh::make_box(TriMesh::Point(0, 0, 0), TriMesh::Point(1, 1, 1), 4);
     CrossSection cs;
     const auto r = full_cut_checked(m, plane_of(Vec3(0.5, 0.5, 0.5), Vec3(1, 0, 0)), cs, 2);
     EXPECT_EQ(r.stats.faces_split, 0u);
@@ -67,13 +67,13 @@ TEST(SliceByPlane, PlaneAlongGridEdgesOfABoxCutsWithoutSplitting) {
 }
 
 TEST(SliceByPlane, DiagonalPlaneThroughABoxIsCappedWithCollinearRimPoints) {
-    auto m = box(TriMesh::Point(0, 0, 0), TriMesh::Point(1, 1, 1), 3);
+    auto m = mesh::make_box(TriMesh::Point(0, 0, 0), TriMesh::Point(1, 1, 1), 3);
     CrossSection cs;
     full_cut_checked(m, plane_of(Vec3(0.5, 0.5, 0.5), Vec3(1, 1, 0.3)), cs, 2);
 }
 
 TEST(SliceByPlane, TangentAndMissingPlanesLeaveTheMeshUnchanged) {
-    auto m = uv_sphere(1.0, 12, 24);
+    auto m = uv_sphere_by_rings(1.0, 12, 24);
     const auto before = snapshot(m);
     CutContext ctx(m);
     CrossSection cs;
@@ -81,7 +81,7 @@ TEST(SliceByPlane, TangentAndMissingPlanesLeaveTheMeshUnchanged) {
               CutStatus::kPlaneMissesMesh);  // touches the pole vertex only
     EXPECT_EQ(slice_by_plane(ctx, plane_of(Vec3(0, 0, 2.0), Vec3(0, 0, 1)), cs).status,
               CutStatus::kPlaneMissesMesh);
-    auto b = box(TriMesh::Point(0, 0, 0), TriMesh::Point(1, 1, 1), 2);
+    auto b = mesh::make_box(TriMesh::Point(0, 0, 0), TriMesh::Point(1, 1, 1), 2);
     const auto box_before = snapshot(b);
     CutContext bctx(b);
     EXPECT_EQ(slice_by_plane(bctx, plane_of(Vec3(0, 0, 1), Vec3(0, 0, 1)), cs).status,
@@ -92,7 +92,7 @@ TEST(SliceByPlane, TangentAndMissingPlanesLeaveTheMeshUnchanged) {
 }
 
 TEST(SliceByPlane, HollowTubeCutHasAnOuterLoopAndAHole) {
-    auto m = hollow_tube(0.01, 0.006, 0.05, 10, 32);
+    auto m = mesh::make_hollow_tube(0.05, 0.01, 0.006, 32, 10);
     CrossSection cs;
     const auto r = full_cut_checked(m, plane_of(Vec3(0, 0, 0.0213), Vec3(0.05, 0.02, 1)), cs, 2);
     EXPECT_EQ(r.stats.loops, 2u);
@@ -101,7 +101,7 @@ TEST(SliceByPlane, HollowTubeCutHasAnOuterLoopAndAHole) {
 }
 
 TEST(SliceByPlane, RepeatingACutIsAMissBecauseTheCapsLieInThePlane) {
-    auto m = uv_sphere(1.0, 16, 32);
+    auto m = uv_sphere_by_rings(1.0, 16, 32);
     CutContext ctx(m);
     CrossSection cs;
     const Plane p = plane_of(Vec3(0, 0, 0.1), Vec3(0.3, 0, 1));
@@ -113,7 +113,7 @@ TEST(SliceByPlane, RepeatingACutIsAMissBecauseTheCapsLieInThePlane) {
 }
 
 TEST(SliceByPlane, InvalidSeedIsRefusedAndTheMeshIsUnchanged) {
-    auto m = uv_sphere(1.0, 16, 32);
+    auto m = uv_sphere_by_rings(1.0, 16, 32);
     const auto before = snapshot(m);
     CutContext ctx(m);
     CrossSection cs;
@@ -126,10 +126,12 @@ TEST(SliceByPlane, InvalidSeedIsRefusedAndTheMeshIsUnchanged) {
 }
 
 TEST(SliceByPlane, EdgeVerticesInterpolateEveryAttributeWithOneParameter) {
-    auto m = box(TriMesh::Point(0, 0, 0), TriMesh::Point(1, 1, 1), 1);
+    auto m = mesh::make_box(TriMesh::Point(0, 0, 0), TriMesh::Point(1, 1, 1), 1);
     for (auto v : m.vertices()) {
         const auto p = m.point(v);
         m.set_color(v, TriMesh::Color(static_cast<float>(p[0]), 0.5f, 0.25f));
+        m.set_texcoord2D(v,
+                         TriMesh::TexCoord2D(static_cast<float>(p[0]), static_cast<float>(p[1])));
         m.data(v).set_material(p[0] < 0.5 ? mesh::Material::kCortical
                                           : mesh::Material::kCancellous);
     }
@@ -211,7 +213,7 @@ TEST(SliceByPlane, APlaneGrazingAThinTriangleSnapsItsNearVertexInsteadOfLeavingA
 }
 
 TEST(SliceByPlane, ALocalisedCutCoplanarWithAnEarlierCapIsAMiss) {
-    auto m = hollow_tube(0.01, 0.006, 0.05, 10, 32);
+    auto m = mesh::make_hollow_tube(0.05, 0.01, 0.006, 32, 10);
     CutContext ctx(m);
     CrossSection cs;
     const Plane p = plane_of(Vec3(0, 0, 0.0213), Vec3(0, 0, 1));

@@ -28,7 +28,7 @@ class RealMeshSweep : public ::testing::TestWithParam<const char*> {};
 TEST_P(RealMeshSweep, RandomPlanesAndSeedsGiveClosedPiecesThatConserveVolume) {
     const auto path = shared(GetParam());
     if (!std::filesystem::exists(path)) GTEST_SKIP() << "real meshes absent: " << path;
-    auto loaded = mesh::load_mesh(path, mesh::Units::kMillimetres);
+    auto loaded = mesh::load_mesh(path, LengthUnit::kMillimetre);
     ASSERT_TRUE(loaded) << "cannot load " << path;
     const TriMesh shape = std::move(*loaded);
     const auto base = expect_closed_2_manifold(shape);
@@ -60,7 +60,7 @@ INSTANTIATE_TEST_SUITE_P(SharedMeshes, RealMeshSweep,
 TEST(RealMeshes, ACutThroughTheMissingTriangleOfTheOpenFootIsRefusedUnchanged) {
     const auto path = shared("opensim_gait2392_foot_OPEN_metres.stl");
     if (!std::filesystem::exists(path)) GTEST_SKIP() << "real meshes absent: " << path;
-    auto loaded = mesh::load_mesh(path, mesh::Units::kMetres);
+    auto loaded = mesh::load_mesh(path, LengthUnit::kMetre);
     ASSERT_TRUE(loaded);
     TriMesh m = std::move(*loaded);
     // The hole: a boundary halfedge; cut through its edge's midpoint.
@@ -81,7 +81,7 @@ TEST(RealMeshes, ACutThroughTheMissingTriangleOfTheOpenFootIsRefusedUnchanged) {
 TEST(RealMeshes, SlabThroughTheFirstMetatarsalShaftRemovesTheKerf) {
     const auto path = shared("bp3d_right_first_metatarsal.stl");
     if (!std::filesystem::exists(path)) GTEST_SKIP() << "real meshes absent: " << path;
-    auto loaded = mesh::load_mesh(path, mesh::Units::kMillimetres);
+    auto loaded = mesh::load_mesh(path, LengthUnit::kMillimetre);
     ASSERT_TRUE(loaded);
     TriMesh m = std::move(*loaded);
     Vec3 lo(1e9, 1e9, 1e9), hi(-1e9, -1e9, -1e9);

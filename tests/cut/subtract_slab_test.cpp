@@ -154,7 +154,7 @@ TEST(SubtractSlab, ASlabComponentWithTwoLoopsOnOneWallIsCutOnBoth) {
 }
 
 TEST(SubtractSlab, ATipThinnerThanTheKerfIsRemovedWhole) {
-    auto m = uv_sphere(0.01, 16, 32);
+    auto m = uv_sphere_by_rings(0.01, 16, 32);
     const double v0 = signed_volume(m);
     // Lower plane cuts near the north pole; the upper plane is above the sphere.
     const Plane plane = *Plane::make(Vec3(0, 0, 0.0098), Vec3(0, 0, 1));
@@ -169,7 +169,7 @@ TEST(SubtractSlab, ATipThinnerThanTheKerfIsRemovedWhole) {
 }
 
 TEST(SubtractSlab, BadKerfWidthIsRefusedAndTheMeshIsUnchanged) {
-    auto m = uv_sphere(0.01, 16, 32);
+    auto m = uv_sphere_by_rings(0.01, 16, 32);
     const auto before = snapshot(m);
     CutContext ctx(m);
     SlabCut slab;

@@ -59,7 +59,7 @@ struct Scratch {
                "path = \"${config}/tubes.ply\"\nunits = \"m\"\n[bodies.transform]\n"
                "translation_m = [0.0, 0.0, 0.0]\nrotation_quaternion_wxyz = [1.0, 0.0, 0.0, 0.0]\n";
         const auto saved =
-            mesh::save_mesh(cut::test::two_tubes(), dir / "tubes.ply", mesh::Units::kMetres);
+            mesh::save_mesh(cut::test::two_tubes(), dir / "tubes.ply", LengthUnit::kMetre);
         EXPECT_TRUE(saved.has_value());
     }
     ~Scratch() {

@@ -45,7 +45,7 @@ BENCHMARK(BM_OpenMeshReadMeshCalcaneus)->Unit(benchmark::kMillisecond);
 void BM_KerfLoadMeshCalcaneus(benchmark::State& state) {
     if (!have_file(state)) return;
     for (auto _ : state) {
-        auto loaded = load_mesh_file(kCalcaneus, Units::kMillimetres);
+        auto loaded = load_mesh_file(kCalcaneus, kerf::LengthUnit::kMillimetre);
         if (!loaded) state.SkipWithError("kerf could not read the file");
         benchmark::DoNotOptimize(loaded->mesh.n_faces());
     }
@@ -63,7 +63,7 @@ void BM_KerfParseIndexedCalcaneus(benchmark::State& state) {
     const std::span<const std::byte> bytes(reinterpret_cast<const std::byte*>(data.data()),
                                            data.size());
     for (auto _ : state) {
-        auto m = parse_indexed(bytes, Format::kStl, Units::kMillimetres);
+        auto m = parse_indexed(bytes, Format::kStl, kerf::LengthUnit::kMillimetre);
         benchmark::DoNotOptimize(m->triangles.data());
     }
 }
@@ -71,7 +71,7 @@ BENCHMARK(BM_KerfParseIndexedCalcaneus)->Unit(benchmark::kMillisecond);
 
 void BM_ValidateCalcaneus(benchmark::State& state) {
     if (!have_file(state)) return;
-    const auto loaded = load_mesh_file(kCalcaneus, Units::kMillimetres);
+    const auto loaded = load_mesh_file(kCalcaneus, kerf::LengthUnit::kMillimetre);
     for (auto _ : state) {
         const ValidationReport r = validate(loaded->indexed);
         benchmark::DoNotOptimize(r.volume_m3);

@@ -14,7 +14,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     constexpr Format kFormats[] = {Format::kStl, Format::kObj, Format::kPly, Format::kOff};
     const Format format = kFormats[data[0] % 4];
     const std::span<const std::byte> bytes(reinterpret_cast<const std::byte*>(data + 1), size - 1);
-    auto loaded = parse_mesh(bytes, format, Units::kMillimetres, "fuzz");
+    auto loaded = parse_mesh(bytes, format, kerf::LengthUnit::kMillimetre, "fuzz");
     if (loaded) {
         const ValidationReport r = validate(loaded->indexed);
         if (r.triangles != loaded->mesh.n_faces()) __builtin_trap();  // nothing may be dropped

@@ -199,7 +199,7 @@ class MalformedInput : public ::testing::TestWithParam<Bad> {};
 
 TEST_P(MalformedInput, GivesTheExpectedErrorNamingWhereAndWhat) {
     const Bad& b = GetParam();
-    auto r = parse_mesh(as_bytes(b.bytes), b.format, Units::kMillimetres, "bad.mesh");
+    auto r = parse_mesh(as_bytes(b.bytes), b.format, LengthUnit::kMillimetre, "bad.mesh");
     ASSERT_FALSE(r) << b.name << " parsed";
     const MeshError& e = r.error();
     EXPECT_EQ(e.code, b.kind) << e.message();
@@ -229,7 +229,7 @@ TEST(MalformedInputPosition, ABinaryPlyIndexErrorNamesTheIndexByte) {
     s.push_back(3);
     const std::int32_t idx[3] = {0, 1, 7};
     s.append(reinterpret_cast<const char*>(idx), sizeof idx);  // little-endian host (x86-64)
-    auto r = parse_mesh(as_bytes(s), Format::kPly, Units::kMillimetres, "bad.ply");
+    auto r = parse_mesh(as_bytes(s), Format::kPly, LengthUnit::kMillimetre, "bad.ply");
     ASSERT_FALSE(r);
     EXPECT_EQ(r.error().code, MeshErrc::kIndexOutOfRange);
     EXPECT_EQ(r.error().byte_offset, data + 36 + 1 + 8) << r.error().message();
@@ -241,7 +241,7 @@ TEST(MalformedInputPosition, LegalObjCornerAndVertexFormsStillParse) {
     const std::string ok =
         "v 0 0 0 1\nv 1 0 0 0.5 0.5 0.5\nv 0 1 0 # comment\nv 0 0 1 1 0 0 0\n"
         "f 1/1/1 2//2 3/3\nf 1 2 4\nf -4 -2 -1\nf 2 3 4\n";
-    auto r = parse_mesh(as_bytes(ok), Format::kObj, Units::kMillimetres, "ok.obj");
+    auto r = parse_mesh(as_bytes(ok), Format::kObj, LengthUnit::kMillimetre, "ok.obj");
     ASSERT_TRUE(r) << r.error().message();
     EXPECT_EQ(r->indexed.triangles.size(), 4u);
 }
@@ -251,10 +251,10 @@ TEST(MalformedInputTruncation, EveryPrefixOfEveryFormatFailsCleanlyOrParses) {
     for (Format f : {Format::kStl, Format::kObj, Format::kPly, Format::kOff}) {
         for (Encoding enc :
              {Encoding::kAscii, Encoding::kBinaryLittleEndian, Encoding::kBinaryBigEndian}) {
-            const std::string full = serialize_mesh(box, f, Units::kMetres, enc);
+            const std::string full = serialize_mesh(box, f, LengthUnit::kMetre, enc);
             for (std::size_t n = 0; n < full.size(); ++n) {
-                auto r =
-                    parse_indexed(as_bytes(std::string_view(full).substr(0, n)), f, Units::kMetres);
+                auto r = parse_indexed(as_bytes(std::string_view(full).substr(0, n)), f,
+                                       LengthUnit::kMetre);
                 if (r) {
                     EXPECT_LE(r->triangles.size(), 12u);  // text cut at a line end may parse
                 }
@@ -273,13 +273,13 @@ TEST(MalformedInputCorruption, RandomByteFlipsFailCleanlyOrKeepEveryTriangle) {
     for (Format f : {Format::kStl, Format::kObj, Format::kPly, Format::kOff}) {
         for (Encoding enc :
              {Encoding::kAscii, Encoding::kBinaryLittleEndian, Encoding::kBinaryBigEndian}) {
-            const std::string clean = serialize_mesh(tube, f, Units::kMillimetres, enc);
+            const std::string clean = serialize_mesh(tube, f, LengthUnit::kMillimetre, enc);
             for (int trial = 0; trial < 300; ++trial) {
                 std::string bytes = clean;
                 for (int k = 0; k < 3; ++k) {
                     bytes[next() % bytes.size()] = kInteresting[next() % sizeof kInteresting];
                 }
-                auto r = parse_mesh(as_bytes(bytes), f, Units::kMillimetres, "corrupt");
+                auto r = parse_mesh(as_bytes(bytes), f, LengthUnit::kMillimetre, "corrupt");
                 if (r) {
                     EXPECT_EQ(r->mesh.n_faces(), r->indexed.triangles.size());
                 } else {

@@ -27,8 +27,8 @@ class RoundTrip : public ::testing::TestWithParam<Case> {};
 TEST_P(RoundTrip, TorusSurvivesWithSameTopologyVolumeAndPositions) {
     const Case c = GetParam();
     const TriMesh torus = make_torus(0.03, 0.01, 24, 12);
-    const std::string data = serialize_mesh(torus, c.format, Units::kMillimetres, c.encoding);
-    auto back = parse_mesh(as_bytes(data), c.format, Units::kMillimetres, "roundtrip");
+    const std::string data = serialize_mesh(torus, c.format, LengthUnit::kMillimetre, c.encoding);
+    auto back = parse_mesh(as_bytes(data), c.format, LengthUnit::kMillimetre, "roundtrip");
     ASSERT_TRUE(back) << back.error().message();
     const ValidationReport a = validate(torus);
     const ValidationReport b = validate(back->indexed);
@@ -69,8 +69,8 @@ INSTANTIATE_TEST_SUITE_P(EveryFormat, RoundTrip,
 
 TEST(MeshIo, PlyCarriesVertexMaterialsThroughARoundTrip) {
     const TriMesh tube = make_hollow_tube(0.04, 0.006, 0.003, 16, 4);
-    const std::string data = serialize_mesh(tube, Format::kPly, Units::kMetres);
-    auto back = parse_mesh(as_bytes(data), Format::kPly, Units::kMetres);
+    const std::string data = serialize_mesh(tube, Format::kPly, LengthUnit::kMetre);
+    auto back = parse_mesh(as_bytes(data), Format::kPly, LengthUnit::kMetre);
     ASSERT_TRUE(back) << back.error().message();
     std::size_t cancellous = 0;
     for (const VertexHandle v : back->mesh.vertices()) {
@@ -88,9 +88,9 @@ TEST(MeshIo, LoadMeshOwnedReadsWhatLoadMeshReads) {
     std::filesystem::create_directories(dir);
     const auto file = dir / "tube.ply";
     const TriMesh tube = make_hollow_tube(0.04, 0.006, 0.003, 16, 4);
-    ASSERT_TRUE(save_mesh(tube, file, Units::kMillimetres));
-    auto value = load_mesh(file, Units::kMillimetres);
-    auto owned = load_mesh_owned(file, Units::kMillimetres);
+    ASSERT_TRUE(save_mesh(tube, file, LengthUnit::kMillimetre));
+    auto value = load_mesh(file, LengthUnit::kMillimetre);
+    auto owned = load_mesh_owned(file, LengthUnit::kMillimetre);
     ASSERT_TRUE(value) << value.error().message();
     ASSERT_TRUE(owned) << owned.error().message();
     ASSERT_NE(owned->get(), nullptr);
@@ -102,13 +102,13 @@ TEST(MeshIo, LoadMeshOwnedReadsWhatLoadMeshReads) {
         EXPECT_EQ(o.normal(v), value->normal(v));
         EXPECT_EQ(o.data(v).material(), value->data(v).material());
     }
-    auto missing = load_mesh_owned(dir / "absent.stl", Units::kMillimetres);
+    auto missing = load_mesh_owned(dir / "absent.stl", LengthUnit::kMillimetre);
     ASSERT_FALSE(missing);
     EXPECT_NE(missing.error().message().find("absent.stl"), std::string::npos);
-    auto unknown = load_mesh_owned(dir / "tube.xyz", Units::kMillimetres);
+    auto unknown = load_mesh_owned(dir / "tube.xyz", LengthUnit::kMillimetre);
     ASSERT_FALSE(unknown);
     EXPECT_EQ(unknown.error().message(),
-              load_mesh(dir / "tube.xyz", Units::kMillimetres).error().message());
+              load_mesh(dir / "tube.xyz", LengthUnit::kMillimetre).error().message());
     std::error_code ec;
     std::filesystem::remove_all(dir, ec);
 }
@@ -116,8 +116,8 @@ TEST(MeshIo, LoadMeshOwnedReadsWhatLoadMeshReads) {
 TEST(MeshIo, UnitsScaleEveryCoordinateToMetres) {
     const std::string obj = "v 0 0 0\nv 10 0 0\nv 0 20 0\nf 1 2 3\n";
     for (const auto& [units, metres] :
-         {std::pair{Units::kMillimetres, 0.01}, std::pair{Units::kCentimetres, 0.1},
-          std::pair{Units::kInches, 0.254}, std::pair{Units::kMetres, 10.0}}) {
+         {std::pair{LengthUnit::kMillimetre, 0.01}, std::pair{LengthUnit::kCentimetre, 0.1},
+          std::pair{LengthUnit::kInch, 0.254}, std::pair{LengthUnit::kMetre, 10.0}}) {
         auto m = parse_indexed(as_bytes(obj), Format::kObj, units);
         ASSERT_TRUE(m) << m.error().message();
         EXPECT_DOUBLE_EQ(m->positions_m[1][0], metres) << to_string(units);
@@ -126,19 +126,21 @@ TEST(MeshIo, UnitsScaleEveryCoordinateToMetres) {
 }
 
 TEST(MeshIo, BinaryStlThatBeginsWithSolidIsReadAsBinary) {
-    std::string data = serialize_mesh(make_box({0, 0, 0}, {1, 1, 1}), Format::kStl, Units::kMetres);
+    std::string data =
+        serialize_mesh(make_box({0, 0, 0}, {1, 1, 1}), Format::kStl, LengthUnit::kMetre);
     std::memcpy(data.data(), "solid exported-by-a-cad-tool", 28);
-    auto m = parse_indexed(as_bytes(data), Format::kStl, Units::kMetres);
+    auto m = parse_indexed(as_bytes(data), Format::kStl, LengthUnit::kMetre);
     ASSERT_TRUE(m) << m.error().message();
     EXPECT_EQ(m->triangles.size(), 12u);
     EXPECT_EQ(m->positions_m.size(), 8u);
 }
 
 TEST(MeshIo, StoredStlNormalsAreIgnoredEvenWhenGarbage) {
-    std::string data = serialize_mesh(make_box({0, 0, 0}, {1, 1, 1}), Format::kStl, Units::kMetres);
+    std::string data =
+        serialize_mesh(make_box({0, 0, 0}, {1, 1, 1}), Format::kStl, LengthUnit::kMetre);
     const float nan = std::numeric_limits<float>::quiet_NaN();
     for (std::size_t f = 0; f < 12; ++f) std::memcpy(data.data() + 84 + 50 * f, &nan, 4);
-    auto m = parse_mesh(as_bytes(data), Format::kStl, Units::kMetres);
+    auto m = parse_mesh(as_bytes(data), Format::kStl, LengthUnit::kMetre);
     ASSERT_TRUE(m) << m.error().message();
     for (const FaceHandle f : m->mesh.faces()) EXPECT_NEAR(m->mesh.normal(f).norm(), 1.0, 1e-12);
 }
@@ -147,7 +149,7 @@ TEST(MeshIo, VerticesWeldOnlyWhenBitIdenticalWithNegativeZeroAsZero) {
     const std::string obj =
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nv -0 0 0\nv 1.0000001 0 0\nv 0 1 0\n"
         "f 1 2 3\nf 4 5 6\n";
-    auto m = parse_indexed(as_bytes(obj), Format::kObj, Units::kMetres);
+    auto m = parse_indexed(as_bytes(obj), Format::kObj, LengthUnit::kMetre);
     ASSERT_TRUE(m) << m.error().message();
     EXPECT_EQ(m->positions_m.size(), 4u);  // v4 = v1, v6 = v3, v5 is new
     EXPECT_EQ(m->triangles[1], (Triangle{0, 3, 2}));
@@ -155,7 +157,7 @@ TEST(MeshIo, VerticesWeldOnlyWhenBitIdenticalWithNegativeZeroAsZero) {
 
 TEST(MeshIo, PolygonsBecomeTriangleFans) {
     const std::string off = "OFF\n5 1 0\n0 0 0\n1 0 0\n1 1 0\n0.5 1.5 0\n0 1 0\n5 0 1 2 3 4\n";
-    auto m = parse_indexed(as_bytes(off), Format::kOff, Units::kMetres);
+    auto m = parse_indexed(as_bytes(off), Format::kOff, LengthUnit::kMetre);
     ASSERT_TRUE(m) << m.error().message();
     ASSERT_EQ(m->triangles.size(), 3u);
     EXPECT_EQ(m->triangles[2], (Triangle{0, 3, 4}));
@@ -166,7 +168,7 @@ TEST(MeshIo, NonManifoldEdgeIsKeptDetachedAndCountedNotDropped) {
     const std::string obj =
         "v 0 0 0\nv 0 0 1\nv 1 0 0\nv 0 1 0\nv -1 0 0\n"
         "f 1 2 3\nf 2 1 4\nf 1 2 5\n";
-    auto m = parse_mesh(as_bytes(obj), Format::kObj, Units::kMetres);
+    auto m = parse_mesh(as_bytes(obj), Format::kObj, LengthUnit::kMetre);
     ASSERT_TRUE(m) << m.error().message();
     EXPECT_EQ(m->mesh.n_faces(), 3u);
     EXPECT_EQ(m->detached_triangles, 1u);
@@ -179,7 +181,7 @@ TEST(MeshIo, NonManifoldEdgeIsKeptDetachedAndCountedNotDropped) {
 
 TEST(MeshIo, RepeatedIndexTriangleIsDegenerateAndDetached) {
     const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 1 2\n";
-    auto m = parse_mesh(as_bytes(obj), Format::kObj, Units::kMetres);
+    auto m = parse_mesh(as_bytes(obj), Format::kObj, LengthUnit::kMetre);
     ASSERT_TRUE(m) << m.error().message();
     EXPECT_EQ(m->mesh.n_faces(), 2u);
     EXPECT_EQ(m->detached_triangles, 1u);
@@ -193,9 +195,9 @@ TEST(MeshIo, SaveAndLoadThroughTheFileSystem) {
     const TriMesh sphere = make_uv_sphere(0.01, 800);
     for (const char* name : {"s.stl", "s.obj", "s.ply", "s.off", "S.STL"}) {
         const auto path = dir / name;
-        auto saved = save_mesh(sphere, path, Units::kMillimetres);
+        auto saved = save_mesh(sphere, path, LengthUnit::kMillimetre);
         ASSERT_TRUE(saved) << saved.error().message();
-        auto loaded = load_mesh(path, Units::kMillimetres);
+        auto loaded = load_mesh(path, LengthUnit::kMillimetre);
         ASSERT_TRUE(loaded) << loaded.error().message();
         EXPECT_EQ(loaded->n_faces(), sphere.n_faces()) << name;
     }
@@ -203,17 +205,18 @@ TEST(MeshIo, SaveAndLoadThroughTheFileSystem) {
 }
 
 TEST(MeshIo, FileErrorsNameThePathAndTheReason) {
-    auto missing = load_mesh("/nonexistent/dir/bone.stl", Units::kMillimetres);
+    auto missing = load_mesh("/nonexistent/dir/bone.stl", LengthUnit::kMillimetre);
     ASSERT_FALSE(missing);
     EXPECT_EQ(missing.error().code, MeshErrc::kIo);
     EXPECT_EQ(missing.error().message(), "/nonexistent/dir/bone.stl: no such file (io)");
-    auto directory = load_mesh_file(std::filesystem::temp_directory_path() / ".", Units::kMetres);
+    auto directory =
+        load_mesh_file(std::filesystem::temp_directory_path() / ".", LengthUnit::kMetre);
     ASSERT_FALSE(directory);
-    auto unknown = load_mesh("bone.vtk", Units::kMillimetres);
+    auto unknown = load_mesh("bone.vtk", LengthUnit::kMillimetre);
     ASSERT_FALSE(unknown);
     EXPECT_EQ(unknown.error().code, MeshErrc::kUnknownFormat);
     auto unwritable =
-        save_mesh(make_box({0, 0, 0}, {1, 1, 1}), "/nonexistent/dir/x.stl", Units::kMetres);
+        save_mesh(make_box({0, 0, 0}, {1, 1, 1}), "/nonexistent/dir/x.stl", LengthUnit::kMetre);
     ASSERT_FALSE(unwritable);
     EXPECT_EQ(unwritable.error().code, MeshErrc::kIo);
     EXPECT_NE(unwritable.error().message().find("/nonexistent/dir/x.stl"), std::string::npos);
@@ -235,7 +238,7 @@ TEST(MeshIo, EveryFuzzSeedParsesWithEveryTriangleKept) {
                                 std::istreambuf_iterator<char>());
         ASSERT_FALSE(bytes.empty());
         const Format f = kFormats[static_cast<unsigned char>(bytes[0]) % 4];
-        auto m = parse_mesh(as_bytes(std::string_view(bytes).substr(1)), f, Units::kMillimetres,
+        auto m = parse_mesh(as_bytes(std::string_view(bytes).substr(1)), f, LengthUnit::kMillimetre,
                             entry.path().filename().string());
         ASSERT_TRUE(m) << m.error().message();
         EXPECT_EQ(m->mesh.n_faces(), m->indexed.triangles.size()) << entry.path();

@@ -13,7 +13,7 @@ namespace {
 
 struct Expected {
     const char* file;
-    Units units;
+    LengthUnit units;
     std::size_t triangles;
     std::size_t vertices;
     std::size_t shells;
@@ -22,14 +22,14 @@ struct Expected {
 };
 
 constexpr Expected kReadme[] = {
-    {"bp3d_right_forefoot_24shells.stl", Units::kMillimetres, 41'320, 20'654, 24, 0, 72'859},
-    {"bp3d_right_first_metatarsal.stl", Units::kMillimetres, 4'886, 2'445, 1, 0, 13'494},
-    {"jma_norm01_calcaneus_right.stl", Units::kMillimetres, 58'334, 29'169, 1, 0, 68'475},
-    {"jma_norm01_talus_right.stl", Units::kMillimetres, 36'768, 18'386, 1, 0, 35'731},
-    {"tcsm_ksbl_L01_talus_left.stl", Units::kMillimetres, 40'000, 20'002, 1, 0, 23'387},
-    {"tcsm_ksbl_L01_tibia_distal_left.stl", Units::kMillimetres, 40'000, 20'002, 1, 0, 32'643},
-    {"tcsm_ksbl_L01_fibula_distal_left.stl", Units::kMillimetres, 40'000, 20'002, 1, 0, 9'691},
-    {"opensim_gait2392_foot_OPEN_metres.stl", Units::kMetres, 1'955, 1'000, 11, 3, 0},
+    {"bp3d_right_forefoot_24shells.stl", LengthUnit::kMillimetre, 41'320, 20'654, 24, 0, 72'859},
+    {"bp3d_right_first_metatarsal.stl", LengthUnit::kMillimetre, 4'886, 2'445, 1, 0, 13'494},
+    {"jma_norm01_calcaneus_right.stl", LengthUnit::kMillimetre, 58'334, 29'169, 1, 0, 68'475},
+    {"jma_norm01_talus_right.stl", LengthUnit::kMillimetre, 36'768, 18'386, 1, 0, 35'731},
+    {"tcsm_ksbl_L01_talus_left.stl", LengthUnit::kMillimetre, 40'000, 20'002, 1, 0, 23'387},
+    {"tcsm_ksbl_L01_tibia_distal_left.stl", LengthUnit::kMillimetre, 40'000, 20'002, 1, 0, 32'643},
+    {"tcsm_ksbl_L01_fibula_distal_left.stl", LengthUnit::kMillimetre, 40'000, 20'002, 1, 0, 9'691},
+    {"opensim_gait2392_foot_OPEN_metres.stl", LengthUnit::kMetre, 1'955, 1'000, 11, 3, 0},
 };
 
 std::filesystem::path meshes_dir() { return KERF_SHARED_MESHES; }
@@ -71,7 +71,7 @@ INSTANTIATE_TEST_SUITE_P(SharedMeshes, RealMeshes, ::testing::ValuesIn(kReadme),
 TEST(RealMeshes, OpenFileNamesItsThreeBoundaryEdgesWhereTheReadmeSaysTheHoleIs) {
     const auto path = meshes_dir() / "opensim_gait2392_foot_OPEN_metres.stl";
     if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared meshes not present: " << path;
-    auto loaded = load_mesh_file(path, Units::kMetres);
+    auto loaded = load_mesh_file(path, LengthUnit::kMetre);
     ASSERT_TRUE(loaded) << loaded.error().message();
     const ValidationReport r = validate(loaded->indexed);
     ASSERT_EQ(r.boundary_samples_m.size(), 3u);
@@ -92,7 +92,7 @@ TEST(RealMeshes, OpenFileNamesItsThreeBoundaryEdgesWhereTheReadmeSaysTheHoleIs) 
 TEST(RealMeshes, ForefootBoundingBoxMatchesTheReadme) {
     const auto path = meshes_dir() / "bp3d_right_forefoot_24shells.stl";
     if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared meshes not present: " << path;
-    auto loaded = load_mesh_file(path, Units::kMillimetres);
+    auto loaded = load_mesh_file(path, LengthUnit::kMillimetre);
     ASSERT_TRUE(loaded) << loaded.error().message();
     const ValidationReport r = validate(loaded->indexed);
     EXPECT_NEAR(r.bbox_min_m[0], 0.0652, 1e-4);

@@ -258,7 +258,7 @@ CutFixture* cut_fixture() {
     if (tried) return f.get();
     tried = true;
     const auto file = std::filesystem::path(KERF_SHARED_MESHES) / "jma_norm01_calcaneus_right.stl";
-    auto scene = mesh::load_mesh_owned(file, mesh::Units::kMillimetres);
+    auto scene = mesh::load_mesh_owned(file, LengthUnit::kMillimetre);
     if (!scene) return nullptr;
     f = std::make_unique<CutFixture>();
     cut::CutSession session(std::move(*scene));

@@ -27,7 +27,7 @@ std::unique_ptr<ipc::CollisionMesh> load_bone(const std::string& path) {
     body.name = "bone";
     body.mesh.kind = config::MeshSourceKind::kFile;
     body.mesh.path = path;
-    body.mesh.units = config::LengthUnit::kMillimetre;
+    body.mesh.units = LengthUnit::kMillimetre;
     scene.bodies.push_back(body);
     auto arrays = mesh::load_scene_arrays(scene, config::PathVars{});
     if (!arrays) return nullptr;

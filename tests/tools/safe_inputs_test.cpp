@@ -24,7 +24,7 @@ protected:
         char tmpl[] = "/tmp/kerf-safe-inputs-XXXXXX";
         dir_ = mkdtemp(tmpl);
         ASSERT_TRUE(kerf::mesh::save_mesh(kerf::mesh::make_uv_sphere(0.01, 2000), bone(),
-                                          kerf::mesh::Units::kMillimetres));
+                                          kerf::LengthUnit::kMillimetre));
     }
     void TearDown() override { fs::remove_all(dir_); }
     fs::path bone() const { return dir_ / "bone.stl"; }

@@ -195,12 +195,12 @@ std::vector<std::filesystem::path> stale_pieces(const std::filesystem::path& out
 }
 
 void run_cut(const CutOptions& o) {
-    const auto units = mesh::parse_units(o.units);
+    const auto units = parse_length_unit(o.units);
     if (!units) fail(kExitUsage, "--units", o.units, "expected mm, m, cm, in or um");
     if (!mesh::format_from_path(o.output)) {
         fail(kExitUsage, "-o", o.output, "unknown extension (expected .stl .obj .ply .off)");
     }
-    const double unit = mesh::metres_per_unit(*units);
+    const double unit = metres_per_unit(*units);
     const CutJob job = job_from(o, unit);
     auto loaded = mesh::load_mesh_owned(o.input, *units);  // no copy of a large mesh
     if (!loaded) fail(kExitFailure, "cannot load mesh", o.input, loaded.error().message());

@@ -43,7 +43,7 @@ struct GenFootOptions {
 
 const CLI::Validator kUnitsValidator(
     [](std::string& value) {
-        return mesh::parse_units(value) ? std::string{}
+        return parse_length_unit(value) ? std::string{}
                                         : "'" + value + "' is not one of mm, m, cm, in, um";
     },
     "UNIT", "units");
@@ -114,7 +114,7 @@ std::string point_text(const mesh::Point& p, double scale) {
 
 std::string coincidence_text(const mesh::CoincidenceReport& c, const mesh::ValidationReport& r,
                              const std::string& units) {
-    const double s = mesh::metres_per_unit(*mesh::parse_units(units));
+    const double s = metres_per_unit(*parse_length_unit(units));
     char b[160];
     std::string out;
     std::snprintf(b, sizeof b,
@@ -144,7 +144,7 @@ std::string coincidence_text(const mesh::CoincidenceReport& c, const mesh::Valid
 }
 
 /// "warning: ..." when the mesh is implausibly small or large for a bone in `units`; "" if not.
-std::string size_warning(const mesh::ValidationReport& r, mesh::Units units) {
+std::string size_warning(const mesh::ValidationReport& r, LengthUnit units) {
     const mesh::Point size = r.bbox_max_m - r.bbox_min_m;
     const double largest = std::max({size[0], size[1], size[2]});
     const std::string w = r.vertices > 0 ? mesh::bone_size_warning(largest, units) : "";
@@ -152,7 +152,7 @@ std::string size_warning(const mesh::ValidationReport& r, mesh::Units units) {
 }
 
 void run_mesh_info(const MeshInfoOptions& o) {
-    const mesh::Units units = *mesh::parse_units(o.units);
+    const LengthUnit units = *parse_length_unit(o.units);
     auto loaded = mesh::load_mesh_file(o.file, units);
     if (!loaded) fail("mesh info", "cannot load mesh", loaded.error().message());
     mesh::ValidationReport report = mesh::validate(loaded->indexed);
@@ -181,10 +181,10 @@ void run_mesh_info(const MeshInfoOptions& o) {
 void run_gen_foot(const GenFootOptions& o) {
     auto foot = mesh::generate_foot({o.triangles, o.seed});
     if (!foot) fail("gen foot", "--triangles", foot.error());
-    auto saved = mesh::save_mesh(foot->mesh, o.output, *mesh::parse_units(o.units));
+    auto saved = mesh::save_mesh(foot->mesh, o.output, *parse_length_unit(o.units));
     if (!saved) fail("gen foot", "cannot write mesh", saved.error().message());
     const mesh::BoneInfo& m1 = foot->first_metatarsal();
-    const double s = 1.0 / mesh::metres_per_unit(*mesh::parse_units(o.units));
+    const double s = 1.0 / metres_per_unit(*parse_length_unit(o.units));
     std::cout << "wrote " << o.output << ": " << foot->mesh.n_faces() << " triangles, "
               << foot->mesh.n_vertices() << " vertices, " << foot->bones.size()
               << " bones (38 shells), seed " << o.seed << ", units " << o.units << "\n"
