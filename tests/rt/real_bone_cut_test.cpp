@@ -47,6 +47,17 @@ const char* kSliceScript =
     "hold,60\n";
 constexpr double kPlaneZ_m = 0.0249;  // device z = world z (the device origin is above z = 0)
 
+/// A consumer in the display's slot, reading the rig's session from its first event; a producer
+/// silent for a minute (a loaded machine) still counts as alive.
+auto attach_as_display(test::Rig& rig) {
+    return ipc::ConsumerBuilder()
+        .segment_name(rig.producer().segment_name())
+        .role(ipc::ConsumerRole::kDisplay)
+        .from_sequence(0)
+        .stale_after_ns(60'000'000'000)
+        .attach();
+}
+
 struct Seen {
     int begins = 0, progresses = 0, completed = 0, other_ends = 0, refused = 0;
     std::string why;  ///< refusals and other ends, for failure messages
@@ -82,12 +93,7 @@ TEST(RtRealBoneCut, KerfRtEventsSawASliceOffTheCalcaneusAndTheReplayMatches) {
 
     test::Rig rig({kSliceScript, {}, 100'000, true}, cfg.kerf_toml());
     ASSERT_TRUE(rig.ok()) << rig.error();
-    auto consumer = ipc::ConsumerBuilder()
-                        .segment_name(rig.producer().segment_name())
-                        .role(ipc::ConsumerRole::kDisplay)
-                        .from_sequence(0)
-                        .stale_after_ns(60'000'000'000)
-                        .attach();
+    auto consumer = attach_as_display(rig);
     ASSERT_TRUE(consumer) << consumer.error().message();
 
     cut::CutSession live(std::move(*scene));
@@ -178,12 +184,7 @@ Session run_session(test::Rig& rig, const config::Config& config, bool live, std
     Session out;
     auto scene = display::build_scene_mesh(config);
     EXPECT_TRUE(scene) << scene.error();
-    auto consumer = ipc::ConsumerBuilder()
-                        .segment_name(rig.producer().segment_name())
-                        .role(ipc::ConsumerRole::kDisplay)
-                        .from_sequence(0)
-                        .stale_after_ns(60'000'000'000)
-                        .attach();
+    auto consumer = attach_as_display(rig);
     EXPECT_TRUE(consumer) << consumer.error().message();
     if (!scene || !consumer) return out;
     cut::CutSession session(std::move(*scene));
