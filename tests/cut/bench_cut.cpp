@@ -7,16 +7,22 @@
 //
 //   build/bin/bench_cut                       # everything, 5 repetitions, then the ratio table
 //   build/bin/bench_cut --benchmark_filter=Localised
+//   build/bin/bench_cut --benchmark_report_aggregates_only   # console: aggregates and ratios
+// The ratios need every repetition: --benchmark_report_aggregates_only and
+// --benchmark_display_aggregates_only are taken by this program, which shows only the aggregates
+// on the console and still reports every repetition to the ratio table (and to --benchmark_out).
 // Each ratio is median(a) / median(b) over the repetitions, with the widest range the
 // repetitions allow (min a / max b .. max a / min b).
 #include <benchmark/benchmark.h>
 
 #include <OpenMesh/Tools/Subdivider/Uniform/LoopT.hh>
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <optional>
@@ -446,11 +452,23 @@ BENCHMARK(BM_LocalisedSliceCaps_Foot1M)->Iterations(40)->Unit(benchmark::kMicros
 // ---- ratio table
 // ---------------------------------------------------------------------------------
 
-/// Console output as usual, plus each benchmark's real time per iteration kept for the ratios.
+/// Console output as usual (only the aggregates when `aggregates_only`), plus each benchmark's
+/// times per repetition kept for the ratios.
 class RatioReporter : public benchmark::ConsoleReporter {
 public:
+    explicit RatioReporter(bool aggregates_only) : aggregates_only_(aggregates_only) {}
+
     void ReportRuns(const std::vector<Run>& runs) override {
-        ConsoleReporter::ReportRuns(runs);
+        const bool has_aggregates = std::any_of(
+            runs.begin(), runs.end(), [](const Run& r) { return r.run_type == Run::RT_Aggregate; });
+        if (aggregates_only_ && has_aggregates) {
+            std::vector<Run> shown;
+            std::copy_if(runs.begin(), runs.end(), std::back_inserter(shown),
+                         [](const Run& r) { return r.run_type == Run::RT_Aggregate; });
+            ConsoleReporter::ReportRuns(shown);
+        } else {
+            ConsoleReporter::ReportRuns(runs);
+        }
         for (const Run& r : runs) {
             if (r.error_occurred || r.run_type != Run::RT_Iteration) continue;
             const double unit = benchmark::GetTimeUnitMultiplier(r.time_unit);
@@ -539,9 +557,32 @@ private:
                         sa->min * 1e6 / faces, sa->max * 1e6 / faces, sa->n);
         }
     }
+    bool aggregates_only_;
     std::map<std::string, std::vector<double>> real_, cpu_;
     const std::map<std::string, std::vector<double>>* seconds_ = &real_;
 };
+
+/// Whether a Google Benchmark boolean flag's value (after '=', or empty for the bare flag) is true.
+bool flag_true(std::string_view value) {
+    if (value.empty()) return true;
+    std::string v(value);
+    std::transform(v.begin(), v.end(), v.begin(), [](unsigned char c) { return std::tolower(c); });
+    return !(v == "0" || v == "f" || v == "n" || v == "false" || v == "no" || v == "off");
+}
+
+/// Removes `--name` / `--name=value` from args; true when the last one given says true.
+bool take_bool_flag(std::vector<char*>& args, std::string_view name, bool fallback) {
+    bool value = fallback;
+    std::erase_if(args, [&](const char* a) {
+        const std::string_view arg(a);
+        if (arg.rfind(name, 0) != 0) return false;
+        const std::string_view rest = arg.substr(name.size());
+        if (!rest.empty() && rest.front() != '=') return false;
+        value = flag_true(rest.empty() ? rest : rest.substr(1));
+        return true;
+    });
+    return value;
+}
 
 }  // namespace
 
@@ -554,11 +595,15 @@ static int program_main(int argc, char** argv) {
         })) {
         args.push_back(reps.data());
     }
+    // Google Benchmark would hand the reporter only the aggregates: the ratio table, which needs
+    // every repetition, would read "not measured". The reporter filters the console instead.
+    bool aggregates_only = take_bool_flag(args, "--benchmark_report_aggregates_only", false);
+    aggregates_only = take_bool_flag(args, "--benchmark_display_aggregates_only", aggregates_only);
     argc = static_cast<int>(args.size());
     argv = args.data();
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-    RatioReporter reporter;
+    RatioReporter reporter(aggregates_only);
     benchmark::RunSpecifiedBenchmarks(&reporter);
     reporter.print_ratios();
     benchmark::Shutdown();
