@@ -150,44 +150,94 @@ struct Chunk {
 
 constexpr int kMaxPieces = 16;  ///< pieces per triangle at most
 
-/// Splits triangle `v` (9 floats) at the midpoint of its longest edge until no edge is longer
-/// than `max_edge` (or kMaxPieces), calling `piece(corners)` for each piece. Orientation kept.
+/// `x` rounded to float downwards (`up` false) or upwards.
+float round_outward(double x, bool up) noexcept {
+    const float f = static_cast<float>(x);
+    if (up) return double(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+    return double(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+}
+
+/// Covers triangle `v` (9 floats) with boxes, calling `piece(box, split)` for each: the
+/// triangle's own box (split false) unless it is wider than `max_extent` on some axis; then,
+/// while one is wider (and there are fewer than kMaxPieces), the widest box is halved across its
+/// widest axis and the part of the triangle in it clipped to each half (split true). The boxes
+/// (rounded outward to float) hold the whole triangle, which is all a query's box test needs. A
+/// sliver 20 mm long gets about five 4 mm boxes whatever its direction (halving its longest
+/// edge needs two splits per halving of its length).
 template <class Piece>
-void split_long(const float* v, double max_edge, const Piece& piece) {
-    struct T {
-        float c[9];
-    };
-    T stack[kMaxPieces];
-    int top = 0, emitted = 0;
-    std::memcpy(stack[top++].c, v, sizeof(T));
-    const auto len2 = [](const float* a, const float* b) {
-        double d2 = 0;
-        for (int i = 0; i < 3; ++i) d2 += (double(a[i]) - b[i]) * (double(a[i]) - b[i]);
-        return d2;
-    };
-    while (top > 0) {
-        const T t = stack[--top];
-        int e = 0;  // longest edge: corners e -> e + 1
-        double best = -1;
-        for (int k = 0; k < 3; ++k) {
-            const double l = len2(&t.c[3 * k], &t.c[3 * ((k + 1) % 3)]);
-            if (l > best) best = l, e = k;
+void split_long(const float* v, double max_extent, const Piece& piece) {
+    Box whole;
+    for (int k = 0; k < 3; ++k) whole.grow(&v[3 * k]);
+    if (!(std::max({whole.hi[0] - whole.lo[0], whole.hi[1] - whole.lo[1],
+                    whole.hi[2] - whole.lo[2]}) > max_extent)) {
+        piece(whole, false);
+        return;
+    }
+    constexpr int kMaxCorners = 3 + kMaxPieces;  // a clip adds at most one corner
+    struct Part {
+        double c[kMaxCorners][3];
+        int n = 0;
+        double lo[3], hi[3];
+        int axis = 0;
+        double width = 0;  // along `axis`, the box's widest
+        void measure() noexcept {
+            for (int i = 0; i < 3; ++i) lo[i] = hi[i] = c[0][i];
+            for (int k = 1; k < n; ++k) {
+                for (int i = 0; i < 3; ++i)
+                    lo[i] = std::min(lo[i], c[k][i]), hi[i] = std::max(hi[i], c[k][i]);
+            }
+            axis = 0;
+            for (int i = 1; i < 3; ++i) {
+                if (hi[i] - lo[i] > hi[axis] - lo[axis]) axis = i;
+            }
+            width = hi[axis] - lo[axis];
         }
-        if (best <= max_edge * max_edge || emitted + top + 2 > kMaxPieces) {
-            piece(t.c);
-            ++emitted;
-            continue;
+    };
+    Part parts[kMaxPieces];
+    Part below;
+    int count = 1;
+    parts[0].n = 3;
+    for (int k = 0; k < 3; ++k) {
+        for (int i = 0; i < 3; ++i) parts[0].c[k][i] = v[3 * k + i];
+    }
+    parts[0].measure();
+    while (count < kMaxPieces) {
+        int widest = 0;
+        for (int p = 1; p < count; ++p) {
+            if (parts[p].width > parts[widest].width) widest = p;
         }
-        const float* p = &t.c[3 * e];
-        const float* q = &t.c[3 * ((e + 1) % 3)];
-        const float* r = &t.c[3 * ((e + 2) % 3)];
-        float m[3];
-        for (int i = 0; i < 3; ++i) m[i] = 0.5f * (p[i] + q[i]);
-        T a, b;  // (p, m, r) and (m, q, r): the same turn as (p, q, r)
-        std::memcpy(a.c, p, 12), std::memcpy(a.c + 3, m, 12), std::memcpy(a.c + 6, r, 12);
-        std::memcpy(b.c, m, 12), std::memcpy(b.c + 3, q, 12), std::memcpy(b.c + 6, r, 12);
-        stack[top++] = b;
-        stack[top++] = a;
+        const Part& part = parts[widest];
+        if (!(part.width > max_extent)) break;
+        // Clip the convex polygon at x[axis] = cut into the parts below and above.
+        const int axis = part.axis;
+        const double cut = 0.5 * (part.lo[axis] + part.hi[axis]);
+        Part& above = parts[count++];
+        below.n = above.n = 0;
+        for (int k = 0; k < part.n; ++k) {
+            const double* a = part.c[k];
+            const double* b = part.c[(k + 1) % part.n];
+            if (a[axis] <= cut) std::copy(a, a + 3, below.c[below.n++]);
+            if (a[axis] >= cut) std::copy(a, a + 3, above.c[above.n++]);
+            if ((a[axis] < cut && b[axis] > cut) || (a[axis] > cut && b[axis] < cut)) {
+                const double t = (cut - a[axis]) / (b[axis] - a[axis]);
+                double x[3];
+                for (int i = 0; i < 3; ++i) x[i] = a[i] + t * (b[i] - a[i]);
+                x[axis] = cut;
+                std::copy(x, x + 3, below.c[below.n++]);
+                std::copy(x, x + 3, above.c[above.n++]);
+            }
+        }
+        below.measure();
+        above.measure();
+        parts[widest] = below;
+    }
+    for (int p = 0; p < count; ++p) {
+        Box box;
+        for (int i = 0; i < 3; ++i) {
+            box.lo[i] = round_outward(parts[p].lo[i], false);
+            box.hi[i] = round_outward(parts[p].hi[i], true);
+        }
+        piece(box, count > 1);
     }
 }
 
@@ -220,7 +270,9 @@ struct CollisionBody::Impl {
     std::shared_ptr<const Chunk> build_chunk(std::span<Item> items) const;
     /// The distinct triangles of `chunk` with an index below `limit`, as items (corners re-read).
     std::vector<Item> triangles_of(const Chunk& chunk, std::uint32_t limit) const;
-    std::shared_ptr<const Chunk> refit_chunk(const Chunk& old) const;
+    /// `old` refitted to this mesh; `changed` (optional, per triangle of `old`): which to re-read.
+    std::shared_ptr<const Chunk> refit_chunk(const Chunk& old,
+                                             const std::uint8_t* changed = nullptr) const;
     void add_chunks(std::vector<Item> items, std::uint32_t group_triangles);
     void build_top();
 };
@@ -232,16 +284,17 @@ std::shared_ptr<const Chunk> CollisionBody::Impl::build_chunk(std::span<Item> it
     std::vector<std::uint32_t> entry_tri;
     std::vector<Box> entry_box;
     entries.reserve(items.size());
+    entry_tri.reserve(items.size());
+    entry_box.reserve(items.size());
     for (const Item& it : items) {
         float v[9];
         for (int k = 0; k < 3; ++k) std::memcpy(&v[3 * k], corner(it.id, k), 12);
-        split_long(v, options.max_piece_edge_m, [&](const float* c) {
-            Item e{{0, 0, 0}, static_cast<std::uint32_t>(entry_tri.size())};
-            Box box;
-            for (int k = 0; k < 3; ++k) {
-                box.grow(&c[3 * k]);
-                for (int a = 0; a < 3; ++a) e.c[a] += c[3 * k + a];
+        split_long(v, options.max_piece_edge_m, [&](const Box& box, bool split) {
+            Item e = it;
+            if (split) {
+                for (int a = 0; a < 3; ++a) e.c[a] = 1.5f * (box.lo[a] + box.hi[a]);
             }
+            e.id = static_cast<std::uint32_t>(entry_tri.size());
             entries.push_back(e);
             entry_tri.push_back(it.id);
             entry_box.push_back(box);
@@ -261,15 +314,18 @@ std::shared_ptr<const Chunk> CollisionBody::Impl::build_chunk(std::span<Item> it
     return chunk;
 }
 
-/// A copy of `old` with every triangle's corners re-read and every box refitted (a chunk with
-/// pieces is rebuilt: its triangles' pieces follow their new corners).
-std::shared_ptr<const Chunk> CollisionBody::Impl::refit_chunk(const Chunk& old) const {
+/// A copy of `old` with its triangles' corners re-read (only those flagged in `changed`, per
+/// triangle, when given) and every box refitted (a chunk with pieces is rebuilt: its triangles'
+/// pieces follow their new corners).
+std::shared_ptr<const Chunk> CollisionBody::Impl::refit_chunk(const Chunk& old,
+                                                              const std::uint8_t* changed) const {
     if (old.has_pieces()) {
         std::vector<Item> items = triangles_of(old, std::numeric_limits<std::uint32_t>::max());
         return build_chunk(items);
     }
     auto chunk = std::make_shared<Chunk>(old);
     for (Tri& tri : chunk->tris) {
+        if (changed && !changed[tri.id]) continue;
         for (int k = 0; k < 3; ++k) std::memcpy(&tri.v[3 * k], corner(tri.id, k), 12);
     }
     chunk->fit();
@@ -390,6 +446,7 @@ CollisionBody::Built CollisionBody::update(const CollisionBody& previous,
     }
     std::vector<std::uint8_t> dirty(old.chunks.size(), 0);
     const std::size_t common = std::min(old_count, new_count);
+    std::vector<std::uint8_t> changed(common, 0);  // per triangle kept in place
     for (std::size_t t0 = 0; t0 < common; t0 += kBlock) {
         const std::size_t n = std::min(kBlock, common - t0);
         if (!any_moved && std::memcmp(&old.indices[3 * t0], &impl->indices[3 * t0], 12 * n) == 0 &&
@@ -402,7 +459,7 @@ CollisionBody::Built CollisionBody::update(const CollisionBody& previous,
             const bool same = a[0] == b[0] && a[1] == b[1] && a[2] == b[2] &&
                               old.materials[t] == impl->materials[t] && !moved[a[0]] &&
                               !moved[a[1]] && !moved[a[2]];
-            if (!same) dirty[old.chunk_of[t]] = 1;
+            if (!same) dirty[old.chunk_of[t]] = 1, changed[t] = 1;
         }
     }
     for (std::size_t t = common; t < old_count; ++t) dirty[old.chunk_of[t]] = 1;  // removed
@@ -414,25 +471,34 @@ CollisionBody::Built CollisionBody::update(const CollisionBody& previous,
     // kRegroupGrowth is emptied and its triangles are grouped afresh with the new ones.
     constexpr double kRegroupGrowth = 1.25;  // box half-perimeter, new / old
     UpdateStats s;
-    impl->chunk_of.assign(old.chunk_of.begin(), old.chunk_of.begin() + common);
-    impl->chunk_of.resize(new_count, 0);
+    impl->chunk_of.resize(new_count);
+    std::copy(old.chunk_of.begin(), old.chunk_of.begin() + common, impl->chunk_of.begin());
     impl->chunks = old.chunks;
     std::vector<Item> regroup;
     for (std::size_t c = 0; c < old.chunks.size(); ++c) {
         if (!dirty[c] || !old.chunks[c]) continue;
         const Chunk& chunk = *old.chunks[c];
-        std::vector<Item> survivors =
-            impl->triangles_of(chunk, static_cast<std::uint32_t>(new_count));
-        s.triangles_touched += survivors.size();
-        if (!chunk.has_pieces() && survivors.size() == chunk.tris.size()) {
-            impl->chunks[c] = impl->refit_chunk(chunk);
+        // Refitted when it keeps every triangle (the common case: a cut shrinks the triangles it
+        // splits in place); its triangles are listed only when it must be rebuilt or regrouped.
+        const bool keeps_all =
+            !chunk.has_pieces() && std::all_of(chunk.tris.begin(), chunk.tris.end(),
+                                               [&](const Tri& t) { return t.id < new_count; });
+        std::vector<Item> survivors;
+        if (keeps_all) {
+            impl->chunks[c] = impl->refit_chunk(chunk, changed.data());
             ++s.chunks_refitted;
+            s.triangles_touched += chunk.tris.size();
         } else {
+            survivors = impl->triangles_of(chunk, static_cast<std::uint32_t>(new_count));
+            s.triangles_touched += survivors.size();
             impl->chunks[c] = survivors.empty() ? nullptr : impl->build_chunk(survivors);
             ++s.chunks_rebuilt;
         }
         if (impl->chunks[c] && half_perimeter(impl->chunks[c]->nodes[0]) >
                                    kRegroupGrowth * half_perimeter(chunk.nodes[0])) {
+            if (keeps_all) {
+                survivors = impl->triangles_of(chunk, static_cast<std::uint32_t>(new_count));
+            }
             impl->chunks[c] = nullptr;
             ++s.chunks_regrouped;
             regroup.insert(regroup.end(), survivors.begin(), survivors.end());

@@ -13,13 +13,14 @@
 // Structure (why, measured in tests/physics/bench_collision.cpp; rt_core/README.md has figures):
 // the triangles are split by a spatial median split into chunks of about `chunk_triangles`; each
 // chunk has its own flat binary AABB tree (median split, up to `leaf_triangles` per leaf, each
-// triangle's three corners copied into the leaf order; a triangle longer than `max_piece_edge_m`
-// has one entry per piece, each boxing its piece); a small top tree over the chunks' boxes is
-// rebuilt on every update. After a cut the new mesh is compared with the previous one triangle by
-// triangle (indices, corners, material); a chunk with changed triangles is copied, patched and
-// refitted (a cut shrinks the triangles it splits and moves vertices by half a kerf, so the boxes
-// stay tight), a chunk that lost triangles is rebuilt, appended triangles get new chunks of their
-// own (they are local to the cut), and unchanged chunks are shared with the previous body. A
+// triangle's three corners copied into the leaf order; a triangle wider than `max_piece_edge_m`
+// along an axis has one entry per piece, each boxing its piece); a small top tree over the
+// chunks' boxes is rebuilt on every update. After a cut the new mesh is compared with the
+// previous one triangle by triangle (indices, corners, material); a chunk with changed triangles
+// is copied, its changed triangles patched, and its boxes refitted (a cut shrinks the triangles
+// it splits and moves vertices by half a kerf, so the boxes stay tight), a chunk that lost
+// triangles is rebuilt, appended triangles get new chunks of their own (they are local to the
+// cut), and unchanged chunks are shared with the previous body. A
 // chunk is a set of triangle indices, so when faces are removed (a body severed) the indices after
 // them shift and its triangles are no longer neighbours: a changed chunk whose box grew by more
 // than a quarter is emptied and its triangles grouped afresh, with the new ones, into new chunks.
@@ -44,9 +45,11 @@ inline constexpr std::uint32_t kNoTriangle = 0xFFFFFFFFu;  ///< same value as ip
 struct BuildOptions {
     std::uint32_t chunk_triangles = 4096;  ///< triangles per chunk (the unit a cut refits)
     std::uint32_t leaf_triangles = 4;      ///< triangles per leaf of a chunk's tree
-    /// A triangle with a longer edge (m) is indexed as pieces (halved at its longest edge until
-    /// none is longer, at most 16): a cut's cap triangles span the bone's section, and one box
-    /// that size would be entered by every query near the cut. Queries test the whole triangle.
+    /// A triangle whose box is wider than this (m) along an axis is indexed as pieces: boxes
+    /// covering it, the widest halved across its widest axis (the triangle clipped to each half)
+    /// until none is wider, at most 16. A cut's cap triangles span the bone's section, and one
+    /// box that size would be entered by every query near the cut. Queries test the whole
+    /// triangle.
     double max_piece_edge_m = 0.004;
 };
 

@@ -1,7 +1,9 @@
 // Validation of collision mesh input (collision_mesh.hpp).
 #include "rt_core/physics/collision_mesh.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace kerf::physics {
 
@@ -58,6 +60,23 @@ bool is_rotation(const Mat3& r) noexcept {
     return dot(cross(r.column(0), r.column(1)), r.column(2)) > 0;
 }
 
+/// The index of the first element of `values` for which `fails` holds, or values.size(). Blocks
+/// of a fixed size are tested branch-free (the loop vectorises); a failing block is rescanned.
+template <class T, class Fails>
+std::size_t first_failing(std::span<const T> values, const Fails& fails) noexcept {
+    constexpr std::size_t kBlock = 256;
+    std::size_t i0 = 0;
+    for (; i0 + kBlock <= values.size(); i0 += kBlock) {
+        unsigned bad = 0;
+        for (std::size_t i = 0; i < kBlock; ++i) bad |= fails(values[i0 + i]) ? 1u : 0u;
+        if (bad) break;
+    }
+    for (std::size_t i = i0; i < values.size(); ++i) {
+        if (fails(values[i])) return i;
+    }
+    return values.size();
+}
+
 }  // namespace
 
 MeshProblem validate_mesh(const CollisionMeshView& mesh) noexcept {
@@ -66,23 +85,28 @@ MeshProblem validate_mesh(const CollisionMeshView& mesh) noexcept {
     if (mesh.indices.size() % 3 != 0) return {MeshError::kIndicesNotTriples, mesh.indices.size()};
     if (mesh.indices.empty()) return {MeshError::kEmpty, 0};
     if (mesh.triangle_count() > kMaxTriangles) return {MeshError::kTooLarge, mesh.triangle_count()};
-    for (std::size_t i = 0; i < mesh.positions_m.size(); ++i) {
-        const float c = mesh.positions_m[i];
-        if (!std::isfinite(c)) return {MeshError::kNonFinitePosition, i};
-        if (std::abs(c) > kMaxCoordinate_m) return {MeshError::kCoordinateTooLarge, i};
+    const std::span<const float> positions = mesh.positions_m;
+    const std::size_t bad_position =
+        first_failing(positions, [](float c) { return !(std::abs(c) <= kMaxCoordinate_m); });
+    if (bad_position < positions.size()) {
+        return {std::isfinite(positions[bad_position]) ? MeshError::kCoordinateTooLarge
+                                                       : MeshError::kNonFinitePosition,
+                bad_position};
     }
     const std::size_t vertices = mesh.vertex_count();
-    for (std::size_t i = 0; i < mesh.indices.size(); ++i) {
-        if (mesh.indices[i] >= vertices) return {MeshError::kIndexOutOfRange, i};
+    if (vertices <= std::numeric_limits<std::uint32_t>::max()) {
+        const auto limit = static_cast<std::uint32_t>(vertices);
+        const std::size_t bad_index =
+            first_failing(mesh.indices, [limit](std::uint32_t i) { return i >= limit; });
+        if (bad_index < mesh.indices.size()) return {MeshError::kIndexOutOfRange, bad_index};
     }
     if (!mesh.materials.empty()) {
         if (mesh.materials.size() != mesh.triangle_count()) {
             return {MeshError::kMaterialCount, mesh.materials.size()};
         }
-        for (std::size_t i = 0; i < mesh.materials.size(); ++i) {
-            if (static_cast<std::uint8_t>(mesh.materials[i]) > 2)
-                return {MeshError::kBadMaterial, i};
-        }
+        const std::size_t bad_material = first_failing(
+            mesh.materials, [](Material m) { return static_cast<std::uint8_t>(m) > 2; });
+        if (bad_material < mesh.materials.size()) return {MeshError::kBadMaterial, bad_material};
     }
     if (!is_rotation(mesh.world_from_body.rotation) ||
         !is_finite(mesh.world_from_body.translation)) {

@@ -12,6 +12,7 @@
 #include <embree3/rtcore.h>
 #include <malloc.h>
 
+#include "rt_core/loop/realtime_setup.hpp"
 #include "tests/physics/bench_support.hpp"
 
 namespace kerf::physics::bench {
@@ -466,6 +467,9 @@ void BM_UpdateEmbreeChunks(benchmark::State& state) {
 }
 
 void register_all() {
+    // The heap kerf-rt runs with (freed memory kept, rt_core/loop/realtime_setup.hpp): a
+    // structure update reuses pages faulted in by earlier ones, as it does in kerf-rt.
+    if (!kerf::rt::keep_freed_memory().ok) std::fprintf(stderr, "keep_freed_memory refused\n");
     for (int which : {0, 1}) {
         const std::string n = name_of(which);
         with_min_max(
