@@ -77,8 +77,15 @@ std::vector<Node> split_tree(std::span<Item> items, std::uint32_t max_leaf) {
     while (!jobs.empty()) {
         const Job job = jobs.back();
         jobs.pop_back();
-        Box centres;
-        for (std::uint32_t i = job.begin; i < job.end; ++i) centres.grow(items[i].c);
+        Box centres;  // in locals: Box::grow through a pointer would store every step (aliasing)
+        float lo[3] = {centres.lo[0], centres.lo[1], centres.lo[2]};
+        float hi[3] = {centres.hi[0], centres.hi[1], centres.hi[2]};
+        for (std::uint32_t i = job.begin; i < job.end; ++i) {
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = std::min(lo[a], items[i].c[a]), hi[a] = std::max(hi[a], items[i].c[a]);
+            }
+        }
+        std::copy(lo, lo + 3, centres.lo), std::copy(hi, hi + 3, centres.hi);
         const std::uint32_t count = job.end - job.begin;
         int axis = 0;
         for (int i = 1; i < 3; ++i) {
@@ -103,12 +110,16 @@ std::vector<Node> split_tree(std::span<Item> items, std::uint32_t max_leaf) {
     return nodes;
 }
 
-/// Sets every box of `nodes` bottom-up: a leaf's from `leaf_box(node)`, an inner node's from its
-/// children (which follow it in the array).
-template <class LeafBox>
-void fit_boxes(std::vector<Node>& nodes, const LeafBox& leaf_box) {
+/// Sets the boxes of `nodes` bottom-up: a leaf's from `leaf_box(node)`, an inner node's from its
+/// children (which follow it in the array); only those of leaves for which `stale(leaf)` holds and
+/// of their ancestors (the others are kept as they are).
+template <class LeafBox, class Stale>
+void fit_boxes(std::vector<Node>& nodes, const LeafBox& leaf_box, const Stale& stale) {
+    std::vector<std::uint8_t> refit(nodes.size(), 0);
     for (std::size_t n = nodes.size(); n-- > 0;) {
         Node& node = nodes[n];
+        refit[n] = node.count > 0 ? stale(node) : refit[node.first] | refit[node.first + 1];
+        if (!refit[n]) continue;
         Box box;
         if (node.count > 0) {
             box = leaf_box(node);
@@ -122,6 +133,12 @@ void fit_boxes(std::vector<Node>& nodes, const LeafBox& leaf_box) {
     }
 }
 
+/// Sets every box of `nodes` bottom-up (fit_boxes with every leaf stale).
+template <class LeafBox>
+void fit_boxes(std::vector<Node>& nodes, const LeafBox& leaf_box) {
+    fit_boxes(nodes, leaf_box, [](const Node&) -> std::uint8_t { return 1; });
+}
+
 /// One chunk: its own tree over its triangles' corners. A triangle with an edge longer than
 /// BuildOptions::max_piece_edge_m is indexed as pieces (piece_box: the box of each entry's piece;
 /// empty when the chunk has none): one entry per piece, each with the whole triangle's corners,
@@ -133,8 +150,10 @@ struct Chunk {
     std::vector<Box> piece_box;
 
     bool has_pieces() const noexcept { return !piece_box.empty(); }
-    void fit() {
-        fit_boxes(nodes, [&](const Node& leaf) {
+    /// Refits the boxes: all of them, or those over a triangle flagged in `changed` (per mesh
+    /// triangle) when given.
+    void fit(const std::uint8_t* changed = nullptr) {
+        const auto leaf_box = [&](const Node& leaf) {
             Box box;
             for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
                 if (has_pieces()) {
@@ -144,6 +163,14 @@ struct Chunk {
                 }
             }
             return box;
+        };
+        if (!changed) return fit_boxes(nodes, leaf_box);
+        fit_boxes(nodes, leaf_box, [&](const Node& leaf) {
+            std::uint8_t stale = 0;
+            for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
+                stale |= changed[tris[i].id];
+            }
+            return stale;
         });
     }
 };
@@ -328,7 +355,7 @@ std::shared_ptr<const Chunk> CollisionBody::Impl::refit_chunk(const Chunk& old,
         if (changed && !changed[tri.id]) continue;
         for (int k = 0; k < 3; ++k) std::memcpy(&tri.v[3 * k], corner(tri.id, k), 12);
     }
-    chunk->fit();
+    chunk->fit(changed);
     return chunk;
 }
 
@@ -385,11 +412,10 @@ void CollisionBody::Impl::build_top() {
 
 namespace {
 
-std::unique_ptr<CollisionBody::Impl> copy_mesh(const CollisionMeshView& mesh,
-                                               const BuildOptions& options) {
+/// A body's Impl with `mesh`'s materials, pose and `options`; positions and indices empty.
+std::unique_ptr<CollisionBody::Impl> mesh_without_corners(const CollisionMeshView& mesh,
+                                                          const BuildOptions& options) {
     auto impl = std::make_unique<CollisionBody::Impl>();
-    impl->positions.assign(mesh.positions_m.begin(), mesh.positions_m.end());
-    impl->indices.assign(mesh.indices.begin(), mesh.indices.end());
     if (mesh.materials.empty()) {
         impl->materials.assign(mesh.triangle_count(), Material::kCortical);
     } else {
@@ -399,6 +425,14 @@ std::unique_ptr<CollisionBody::Impl> copy_mesh(const CollisionMeshView& mesh,
     impl->options = options;
     impl->options.chunk_triangles = std::max<std::uint32_t>(options.chunk_triangles, 1);
     impl->options.leaf_triangles = std::max<std::uint32_t>(options.leaf_triangles, 1);
+    return impl;
+}
+
+std::unique_ptr<CollisionBody::Impl> copy_mesh(const CollisionMeshView& mesh,
+                                               const BuildOptions& options) {
+    auto impl = mesh_without_corners(mesh, options);
+    impl->positions.assign(mesh.positions_m.begin(), mesh.positions_m.end());
+    impl->indices.assign(mesh.indices.begin(), mesh.indices.end());
     return impl;
 }
 
@@ -421,47 +455,78 @@ CollisionBody::Built CollisionBody::build(const CollisionMeshView& mesh,
 
 CollisionBody::Built CollisionBody::update(const CollisionBody& previous,
                                            const CollisionMeshView& next, UpdateStats* stats) {
-    if (const MeshProblem problem = validate_mesh(next); problem.error != MeshError::kNone) {
-        return Err{problem};
-    }
+    // One pass per array, block by block: compared with the previous mesh, checked only where it
+    // differs (the previous mesh passed validate_mesh), copied. A cut appends vertices and
+    // triangles and rewrites a few triangles in place. Any refusal is validate_mesh's own answer
+    // (the first offender), which reads the whole mesh again.
+    const auto refused = [&] { return Err{validate_mesh(next)}; };
+    if (validate_mesh_shape(next).error != MeshError::kNone) return refused();
     const Impl& old = *previous.impl_;
-    auto impl = copy_mesh(next, old.options);
-    const std::size_t old_count = old.indices.size() / 3, new_count = next.triangle_count();
+    auto impl = mesh_without_corners(next, old.options);
+    if (!all_pass(std::span<const Material>(impl->materials),
+                  [](Material m) { return material_ok(m); })) {
+        return refused();
+    }
+
     // Vertices whose position changed (new vertices are only reachable through changed indices).
-    // Blocks that compare equal as bytes are skipped: a cut appends vertices and leaves the old
-    // ones where they were.
-    constexpr std::size_t kBlock = 1024;
+    constexpr std::size_t kVertexBlock = 1024;
     const std::size_t old_vertices = old.positions.size() / 3;
-    const std::size_t common_vertices = std::min(old_vertices, impl->positions.size() / 3);
+    const std::size_t new_vertices = next.vertex_count();
+    const std::size_t common_vertices = std::min(old_vertices, new_vertices);
     std::vector<std::uint8_t> moved(old_vertices, 1);  // vertices past the new count are gone
     std::fill(moved.begin(), moved.begin() + common_vertices, 0);
-    bool any_moved = common_vertices < old_vertices;
-    for (std::size_t v0 = 0; v0 < common_vertices; v0 += kBlock) {
-        const std::size_t n = std::min(kBlock, common_vertices - v0);
-        if (std::memcmp(&old.positions[3 * v0], &impl->positions[3 * v0], 12 * n) == 0) continue;
-        for (std::size_t v = v0; v < v0 + n; ++v) {
-            moved[v] = std::memcmp(&old.positions[3 * v], &impl->positions[3 * v], 12) != 0;
-            any_moved = any_moved || moved[v];
+    bool any_moved = common_vertices < old_vertices, elements_ok = true;
+    impl->positions.reserve(next.positions_m.size());
+    for (std::size_t v0 = 0; v0 < new_vertices; v0 += kVertexBlock) {
+        const std::size_t n = std::min(kVertexBlock, new_vertices - v0);
+        const std::span<const float> block = next.positions_m.subspan(3 * v0, 3 * n);
+        const std::size_t kept = v0 < common_vertices ? std::min(n, common_vertices - v0) : 0;
+        if (kept < n || std::memcmp(&old.positions[3 * v0], block.data(), 12 * n) != 0) {
+            elements_ok = elements_ok && all_pass(block, [](float c) { return position_ok(c); });
+            for (std::size_t v = v0; v < v0 + kept; ++v) {
+                moved[v] = std::memcmp(&old.positions[3 * v], &block[3 * (v - v0)], 12) != 0;
+                any_moved = any_moved || moved[v];
+            }
         }
+        impl->positions.insert(impl->positions.end(), block.begin(), block.end());
     }
-    std::vector<std::uint8_t> dirty(old.chunks.size(), 0);
+    if (!elements_ok) return refused();
+
+    // Triangles changed in place (indices, material or a moved corner) mark their chunk dirty.
+    // Indices equal to the previous mesh's are in range unless vertices were removed.
+    constexpr std::size_t kTriangleBlock = 256;
+    const std::size_t old_count = old.indices.size() / 3, new_count = next.triangle_count();
     const std::size_t common = std::min(old_count, new_count);
+    const bool check_every_index = new_vertices < old_vertices;
+    const auto in_range = [limit = std::min<std::size_t>(new_vertices, 0xFFFFFFFFu)](
+                              std::uint32_t i) { return i < limit; };
+    std::vector<std::uint8_t> dirty(old.chunks.size(), 0);
     std::vector<std::uint8_t> changed(common, 0);  // per triangle kept in place
-    for (std::size_t t0 = 0; t0 < common; t0 += kBlock) {
-        const std::size_t n = std::min(kBlock, common - t0);
-        if (!any_moved && std::memcmp(&old.indices[3 * t0], &impl->indices[3 * t0], 12 * n) == 0 &&
-            std::memcmp(&old.materials[t0], &impl->materials[t0], n) == 0) {
+    impl->indices.reserve(next.indices.size());
+    for (std::size_t t0 = 0; t0 < new_count; t0 += kTriangleBlock) {
+        const std::size_t n = std::min(kTriangleBlock, new_count - t0);
+        const std::span<const std::uint32_t> block = next.indices.subspan(3 * t0, 3 * n);
+        const std::size_t kept = t0 < common ? std::min(n, common - t0) : 0;
+        const bool same_indices =
+            kept == n && std::memcmp(&old.indices[3 * t0], block.data(), 12 * n) == 0;
+        if (!same_indices || check_every_index) {
+            elements_ok = elements_ok && all_pass(block, in_range);
+        }
+        impl->indices.insert(impl->indices.end(), block.begin(), block.end());
+        if (kept == 0 || (same_indices && !any_moved &&
+                          std::memcmp(&old.materials[t0], &impl->materials[t0], n) == 0)) {
             continue;
         }
-        for (std::size_t t = t0; t < t0 + n; ++t) {
+        for (std::size_t t = t0; t < t0 + kept; ++t) {
             const std::uint32_t* a = &old.indices[3 * t];
-            const std::uint32_t* b = &impl->indices[3 * t];
+            const std::uint32_t* b = &block[3 * (t - t0)];
             const bool same = a[0] == b[0] && a[1] == b[1] && a[2] == b[2] &&
-                              old.materials[t] == impl->materials[t] && !moved[a[0]] &&
-                              !moved[a[1]] && !moved[a[2]];
+                              old.materials[t] == impl->materials[t] &&
+                              (!any_moved || (!moved[a[0]] && !moved[a[1]] && !moved[a[2]]));
             if (!same) dirty[old.chunk_of[t]] = 1, changed[t] = 1;
         }
     }
+    if (!elements_ok) return refused();
     for (std::size_t t = common; t < old_count; ++t) dirty[old.chunk_of[t]] = 1;  // removed
 
     // Chunk slots stay where they were: unchanged ones shared, changed ones refitted, ones that

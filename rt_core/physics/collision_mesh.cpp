@@ -60,17 +60,14 @@ bool is_rotation(const Mat3& r) noexcept {
     return dot(cross(r.column(0), r.column(1)), r.column(2)) > 0;
 }
 
-/// The index of the first element of `values` for which `fails` holds, or values.size(). Blocks
-/// of a fixed size are tested branch-free (the loop vectorises); a failing block is rescanned.
+/// The index of the first element of `values` for which `fails` holds, or values.size(): whole
+/// blocks are passed by all_pass, the first failing one is rescanned.
 template <class T, class Fails>
 std::size_t first_failing(std::span<const T> values, const Fails& fails) noexcept {
     constexpr std::size_t kBlock = 256;
+    const auto ok = [&](const T& v) { return !fails(v); };
     std::size_t i0 = 0;
-    for (; i0 + kBlock <= values.size(); i0 += kBlock) {
-        unsigned bad = 0;
-        for (std::size_t i = 0; i < kBlock; ++i) bad |= fails(values[i0 + i]) ? 1u : 0u;
-        if (bad) break;
-    }
+    while (i0 + kBlock <= values.size() && all_pass(values.subspan(i0, kBlock), ok)) i0 += kBlock;
     for (std::size_t i = i0; i < values.size(); ++i) {
         if (fails(values[i])) return i;
     }
@@ -87,7 +84,7 @@ MeshProblem validate_mesh(const CollisionMeshView& mesh) noexcept {
     if (mesh.triangle_count() > kMaxTriangles) return {MeshError::kTooLarge, mesh.triangle_count()};
     const std::span<const float> positions = mesh.positions_m;
     const std::size_t bad_position =
-        first_failing(positions, [](float c) { return !(std::abs(c) <= kMaxCoordinate_m); });
+        first_failing(positions, [](float c) { return !position_ok(c); });
     if (bad_position < positions.size()) {
         return {std::isfinite(positions[bad_position]) ? MeshError::kCoordinateTooLarge
                                                        : MeshError::kNonFinitePosition,
@@ -104,9 +101,25 @@ MeshProblem validate_mesh(const CollisionMeshView& mesh) noexcept {
         if (mesh.materials.size() != mesh.triangle_count()) {
             return {MeshError::kMaterialCount, mesh.materials.size()};
         }
-        const std::size_t bad_material = first_failing(
-            mesh.materials, [](Material m) { return static_cast<std::uint8_t>(m) > 2; });
+        const std::size_t bad_material =
+            first_failing(mesh.materials, [](Material m) { return !material_ok(m); });
         if (bad_material < mesh.materials.size()) return {MeshError::kBadMaterial, bad_material};
+    }
+    if (!is_rotation(mesh.world_from_body.rotation) ||
+        !is_finite(mesh.world_from_body.translation)) {
+        return {MeshError::kBadTransform, 0};
+    }
+    return {};
+}
+
+MeshProblem validate_mesh_shape(const CollisionMeshView& mesh) noexcept {
+    if (mesh.positions_m.size() % 3 != 0)
+        return {MeshError::kPositionsNotTriples, mesh.positions_m.size()};
+    if (mesh.indices.size() % 3 != 0) return {MeshError::kIndicesNotTriples, mesh.indices.size()};
+    if (mesh.indices.empty()) return {MeshError::kEmpty, 0};
+    if (mesh.triangle_count() > kMaxTriangles) return {MeshError::kTooLarge, mesh.triangle_count()};
+    if (!mesh.materials.empty() && mesh.materials.size() != mesh.triangle_count()) {
+        return {MeshError::kMaterialCount, mesh.materials.size()};
     }
     if (!is_rotation(mesh.world_from_body.rotation) ||
         !is_finite(mesh.world_from_body.translation)) {

@@ -4,6 +4,7 @@
 // triangle. A view borrows the caller's arrays; the collision structure copies what it keeps.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -62,5 +63,31 @@ struct MeshProblem {
 /// Checks every size, index, coordinate, material and the transform; kNone when usable.
 /// Pure, O(size), allocation-free.
 MeshProblem validate_mesh(const CollisionMeshView& mesh) noexcept;
+
+/// validate_mesh's checks that read no element: sizes, counts and the transform. A mesh that
+/// passes them and whose every element passes position_ok, index_ok and material_ok passes
+/// validate_mesh (for callers that check only the elements that changed since a mesh passed).
+MeshProblem validate_mesh_shape(const CollisionMeshView& mesh) noexcept;
+/// Whether validate_mesh accepts a coordinate: finite and within kMaxCoordinate_m (branch-free).
+inline bool position_ok(float c) noexcept { return std::abs(c) <= kMaxCoordinate_m; }
+/// Whether validate_mesh accepts a material value.
+inline bool material_ok(Material m) noexcept { return static_cast<std::uint8_t>(m) <= 2; }
+
+/// Whether every element of `values` passes `ok`, tested in fixed-size blocks without branches
+/// (the loop vectorises).
+template <class T, class Ok>
+bool all_pass(std::span<const T> values, const Ok& ok) noexcept {
+    constexpr std::size_t kBlock = 256;
+    std::size_t i0 = 0;
+    for (; i0 + kBlock <= values.size(); i0 += kBlock) {
+        unsigned fails = 0;
+        for (std::size_t i = 0; i < kBlock; ++i) fails |= ok(values[i0 + i]) ? 0u : 1u;
+        if (fails) return false;
+    }
+    for (std::size_t i = i0; i < values.size(); ++i) {
+        if (!ok(values[i])) return false;
+    }
+    return true;
+}
 
 }  // namespace kerf::physics

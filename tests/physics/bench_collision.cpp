@@ -3,11 +3,15 @@
 //    same double-precision triangle routine in its callback; one thread each), p50/p99/max per
 //    query; the two must agree on every distance (counter `mismatches`);
 //  - build from scratch (kerf: 1 thread; Embree: a 1-thread device, low and medium quality);
-//  - structure update after a cut at 1M: kerf local update (refit touched chunks, new chunk for
-//    new triangles), kerf whole refit (same topology, vertices moved by half a kerf), kerf
-//    rebuild, Embree rebuild (low quality), Embree refit, and Embree as 64 instanced chunks with
-//    only the touched chunks recommitted.
-// Meshes: the calcaneus refined x16 (933k triangles) and an icosphere (1.31M).
+//  - structure update after a cut (a plane through the middle: the triangles it crosses split in
+//    place and appended, a fan cap appended), on both meshes: kerf local update (touched chunks
+//    refitted, new chunks for new triangles), kerf whole refit (same topology, vertices moved by
+//    half a kerf), kerf rebuild, and their physical floor: a copy of the cut mesh's bytes into
+//    fresh arrays, which any update that keeps its own copy of the mesh does; on the calcaneus
+//    also Embree rebuild (low quality), Embree refit, and Embree as 64 instanced chunks with only
+//    the touched chunks recommitted.
+// Meshes: the calcaneus refined x16 (933k triangles) and an icosphere (1.31M). The process runs
+// with kerf-rt's heap set-up (keep_freed_memory), as the world builder does.
 //   build/bin/bench_collision --benchmark_repetitions=5 --benchmark_counters_tabular=true
 #include <embree3/rtcore.h>
 #include <malloc.h>
@@ -323,18 +327,19 @@ void BM_BuildEmbree(benchmark::State& state) {
     state.counters["MiB"] = double(bytes) / (1 << 20);  // glibc heap (Embree allocates there)
 }
 
-// ---- update after a cut (calcaneus 933k) --------------------------------------------------
+// ---- update after a cut (calcaneus 933k, sphere 1.31M) ------------------------------------
 
 struct CutFixture {
     test::TestMesh before, cut, spread;
     std::unique_ptr<const CollisionBody> body;
 };
 
-CutFixture& cut_fixture() {
-    static std::unique_ptr<CutFixture> f;
+CutFixture& cut_fixture(int which) {
+    static std::map<int, std::unique_ptr<CutFixture>> cache;
+    auto& f = cache[which];
     if (!f) {
         f = std::make_unique<CutFixture>();
-        f->before = mesh_for(0);
+        f->before = mesh_for(which);
         if (f->before.triangles() == 0) return *f;
         const double x0 = mesh_centre_x(f->before);
         f->cut = cut_at(f->before, x0);
@@ -345,7 +350,7 @@ CutFixture& cut_fixture() {
 }
 
 void BM_UpdateKerfLocal(benchmark::State& state) {
-    CutFixture& f = cut_fixture();
+    CutFixture& f = cut_fixture(int(state.range(0)));
     if (!f.body) return state.SkipWithError("no mesh");
     UpdateStats stats;
     for (auto _ : state) {
@@ -355,11 +360,31 @@ void BM_UpdateKerfLocal(benchmark::State& state) {
     state.counters["chunks"] = stats.chunks_total;
     state.counters["refitted"] = stats.chunks_refitted;
     state.counters["rebuilt"] = stats.chunks_rebuilt;
-    state.counters["changed_tris"] = double(f.cut.triangles() - f.before.triangles()) / 2;
+    state.counters["regrouped"] = stats.chunks_regrouped;
+    state.counters["triangles"] = double(f.cut.triangles());
+    state.counters["added_tris"] = double(f.cut.triangles() - f.before.triangles());
+}
+
+/// The floor of an update that keeps its own copy of the mesh: the cut mesh's positions,
+/// indices and materials copied into fresh arrays (as CollisionBody does, on the same heap).
+void BM_UpdateFloorMemcpy(benchmark::State& state) {
+    CutFixture& f = cut_fixture(int(state.range(0)));
+    if (!f.body) return state.SkipWithError("no mesh");
+    for (auto _ : state) {
+        std::vector<float> positions(f.cut.positions.begin(), f.cut.positions.end());
+        std::vector<std::uint32_t> indices(f.cut.indices.begin(), f.cut.indices.end());
+        std::vector<Material> materials(f.cut.materials.begin(), f.cut.materials.end());
+        benchmark::DoNotOptimize(positions.data());
+        benchmark::DoNotOptimize(indices.data());
+        benchmark::DoNotOptimize(materials.data());
+    }
+    state.counters["MiB"] =
+        double(f.cut.positions.size() * 4 + f.cut.indices.size() * 4 + f.cut.materials.size()) /
+        (1 << 20);
 }
 
 void BM_UpdateKerfWholeRefit(benchmark::State& state) {
-    CutFixture& f = cut_fixture();
+    CutFixture& f = cut_fixture(int(state.range(0)));
     if (!f.body) return state.SkipWithError("no mesh");
     for (auto _ : state) {
         auto next = CollisionBody::refit(*f.body, f.spread.view());
@@ -368,7 +393,7 @@ void BM_UpdateKerfWholeRefit(benchmark::State& state) {
 }
 
 void BM_UpdateKerfRebuild(benchmark::State& state) {
-    CutFixture& f = cut_fixture();
+    CutFixture& f = cut_fixture(int(state.range(0)));
     if (!f.body) return state.SkipWithError("no mesh");
     for (auto _ : state) {
         auto next = CollisionBody::build(f.cut.view());
@@ -377,7 +402,7 @@ void BM_UpdateKerfRebuild(benchmark::State& state) {
 }
 
 void BM_UpdateEmbreeRebuild(benchmark::State& state) {
-    CutFixture& f = cut_fixture();
+    CutFixture& f = cut_fixture(int(state.range(0)));
     if (!f.body) return state.SkipWithError("no mesh");
     for (auto _ : state) {
         auto e = embree_build(f.cut, 1, RTC_BUILD_QUALITY_LOW);
@@ -386,7 +411,7 @@ void BM_UpdateEmbreeRebuild(benchmark::State& state) {
 }
 
 void BM_UpdateEmbreeRefit(benchmark::State& state) {
-    CutFixture& f = cut_fixture();
+    CutFixture& f = cut_fixture(int(state.range(0)));
     if (!f.body) return state.SkipWithError("no mesh");
     auto e = embree_build(f.before, 1, RTC_BUILD_QUALITY_REFIT);
     for (auto _ : state) {
@@ -402,7 +427,7 @@ void BM_UpdateEmbreeRefit(benchmark::State& state) {
 }
 
 void BM_UpdateEmbreeChunks(benchmark::State& state) {
-    CutFixture& f = cut_fixture();
+    CutFixture& f = cut_fixture(int(state.range(0)));
     if (!f.body) return state.SkipWithError("no mesh");
     std::size_t touched = 0;
     for (auto _ : state) {
@@ -495,22 +520,31 @@ void register_all() {
         ->Args({0, RTC_BUILD_QUALITY_MEDIUM})
         ->Iterations(1)
         ->Unit(benchmark::kMillisecond);
-    with_min_max(benchmark::RegisterBenchmark("BM_UpdateKerfLocal", BM_UpdateKerfLocal))
-        ->Iterations(1)
-        ->Unit(benchmark::kMillisecond);
-    with_min_max(benchmark::RegisterBenchmark("BM_UpdateKerfWholeRefit", BM_UpdateKerfWholeRefit))
-        ->Iterations(1)
-        ->Unit(benchmark::kMillisecond);
-    with_min_max(benchmark::RegisterBenchmark("BM_UpdateKerfRebuild", BM_UpdateKerfRebuild))
-        ->Iterations(1)
-        ->Unit(benchmark::kMillisecond);
+    // The three updates and their floor on each mesh, one after the other (one run, same load).
+    for (int which : {0, 1}) {
+        const std::string n = name_of(which);
+        const std::pair<const char*, void (*)(benchmark::State&)> updates[] = {
+            {"BM_UpdateKerfLocal/", BM_UpdateKerfLocal},
+            {"BM_UpdateKerfWholeRefit/", BM_UpdateKerfWholeRefit},
+            {"BM_UpdateKerfRebuild/", BM_UpdateKerfRebuild},
+            {"BM_UpdateFloorMemcpy/", BM_UpdateFloorMemcpy}};
+        for (const auto& [name, fn] : updates) {
+            with_min_max(benchmark::RegisterBenchmark((name + n).c_str(), fn))
+                ->Arg(which)
+                ->Iterations(1)
+                ->Unit(benchmark::kMillisecond);
+        }
+    }
     with_min_max(benchmark::RegisterBenchmark("BM_UpdateEmbreeRebuildLow", BM_UpdateEmbreeRebuild))
+        ->Arg(0)
         ->Iterations(1)
         ->Unit(benchmark::kMillisecond);
     with_min_max(benchmark::RegisterBenchmark("BM_UpdateEmbreeRefit", BM_UpdateEmbreeRefit))
+        ->Arg(0)
         ->Iterations(1)
         ->Unit(benchmark::kMillisecond);
     with_min_max(benchmark::RegisterBenchmark("BM_UpdateEmbree64Chunks", BM_UpdateEmbreeChunks))
+        ->Arg(0)
         ->Iterations(1)
         ->Unit(benchmark::kMillisecond);
 }

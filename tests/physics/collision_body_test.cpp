@@ -181,6 +181,41 @@ TEST(CollisionBody, BadMeshesAreRefusedNamingTheProblem) {
     EXPECT_EQ(to_string(MeshError::kEmpty), "mesh has no triangle");
 }
 
+// update() checks only the blocks that differ from the previous mesh; what it refuses, and how it
+// names the problem, must be validate_mesh's answer on the whole mesh.
+TEST(CollisionBody, UpdateRefusesWhatValidateMeshRefusesWithTheSameAnswer) {
+    const TestMesh before = test::make_sphere({}, 0.02, 4);  // 5120 triangles, 2562 vertices
+    const auto body = build(before, {.chunk_triangles = 512, .leaf_triangles = 4});
+    ASSERT_TRUE(body);
+    const auto vertices = static_cast<std::uint32_t>(before.positions.size() / 3);
+    std::vector<std::pair<const char*, TestMesh>> cases;
+    TestMesh m = before;  // an appended vertex that is not finite, used by a new triangle
+    m.add_triangle(m.add_vertex({0, 0, 0.03}), 1, 2, Material::kCutSurface);
+    m.positions[m.positions.size() - 2] = std::nanf("");
+    cases.emplace_back("appended NaN", m);
+    m = before;  // an existing vertex moved beyond 10 m
+    m.positions[3 * 1500 + 2] = 11.0f;
+    cases.emplace_back("moved too far", m);
+    m = before;  // a triangle rewritten in place with an index out of range
+    m.indices[3 * 4000 + 1] = vertices + 5;
+    cases.emplace_back("changed index", m);
+    m = before;  // the last vertex removed, the triangles that use it left unchanged
+    m.positions.resize(m.positions.size() - 3);
+    cases.emplace_back("removed vertex", m);
+    m = before;  // an appended triangle with a material outside the enum
+    m.add_triangle(0, 1, 2, static_cast<Material>(7));
+    cases.emplace_back("bad material", m);
+    for (const auto& [what, bad] : cases) {
+        const MeshProblem expected = validate_mesh(bad.view());
+        ASSERT_NE(expected.error, MeshError::kNone) << what;
+        const auto updated = CollisionBody::update(*body, bad.view());
+        ASSERT_FALSE(updated) << what;
+        EXPECT_EQ(updated.error().error, expected.error) << what;
+        EXPECT_EQ(updated.error().index, expected.index) << what;
+    }
+    EXPECT_TRUE(CollisionBody::update(*body, before.view()));
+}
+
 TEST(CollisionBody, UpdateAfterACutRebuildsOnlyTouchedChunks) {
     const TestMesh before = test::make_sphere({}, 0.02, 5);  // 20480 triangles
     const auto body = build(before, {.chunk_triangles = 1024, .leaf_triangles = 4});
