@@ -1,9 +1,10 @@
 #include "display/mesh/indexed_mesh.hpp"
 
-#include <OpenMesh/Core/System/omstream.hh>
 #include <algorithm>
 #include <bit>
 #include <utility>
+
+#include "display/mesh/detail/halfedge_build.hpp"
 
 namespace kerf::mesh {
 namespace {
@@ -11,25 +12,6 @@ namespace {
 std::uint64_t coordinate_bits(double v) noexcept {
     return std::bit_cast<std::uint64_t>(v == 0.0 ? 0.0 : v);  // -0 welds with +0
 }
-
-// OpenMesh reports refused faces on omerr(); Kerf counts them instead. Restores the stream's
-// previous state on scope exit.
-class QuietOmerr {
-public:
-    QuietOmerr() : was_enabled_(omerr().is_enabled()) { omerr().disable(); }
-    ~QuietOmerr() {
-        if (was_enabled_) omerr().enable();
-    }
-    QuietOmerr(const QuietOmerr&) = delete;
-    QuietOmerr& operator=(const QuietOmerr&) = delete;
-
-private:
-    bool was_enabled_;
-};
-
-}  // namespace
-
-namespace {
 
 struct WeldKey {
     std::uint64_t x, y, z;
@@ -102,33 +84,39 @@ BuiltMesh build_tri_mesh(const IndexedMesh& in) {
 }
 
 std::size_t build_tri_mesh_into(const IndexedMesh& in, TriMesh& m) {
+    // The connectivity OpenMesh's add_face would build, face by face, on flat arrays
+    // (detail/halfedge_build.hpp), then written into the mesh in one pass.
     std::size_t detached = 0;
-    m.reserve(in.positions_m.size(), in.triangles.size() * 3 / 2, in.triangles.size());
-    const bool has_materials = in.materials.size() == in.positions_m.size();
-    for (std::size_t i = 0; i < in.positions_m.size(); ++i) {
-        const VertexHandle v = m.add_vertex(in.positions_m[i]);
-        clear_attributes(m, v);
-        if (has_materials) m.data(v).set_material(in.materials[i]);
-    }
-    const QuietOmerr quiet;
+    const std::size_t n_in = in.positions_m.size();
+    m.reserve(n_in, in.triangles.size() * 3 / 2, in.triangles.size());
+    detail::HalfedgeBuilder builder;
+    builder.reserve(n_in, in.triangles.size() * 3 / 2, in.triangles.size());
+    for (std::size_t i = 0; i < n_in; ++i) builder.add_vertex();
+    std::vector<std::uint32_t> copied_from;  // the source vertex of each detached copy
     for (const Triangle& t : in.triangles) {
-        const VertexHandle a(static_cast<int>(t[0]));
-        const VertexHandle b(static_cast<int>(t[1]));
-        const VertexHandle c(static_cast<int>(t[2]));
+        const auto a = static_cast<std::int32_t>(t[0]);
+        const auto b = static_cast<std::int32_t>(t[1]);
+        const auto c = static_cast<std::int32_t>(t[2]);
         const bool distinct = a != b && b != c && a != c;
-        if (distinct && m.add_face(a, b, c).is_valid()) continue;
+        if (distinct && builder.add_face(a, b, c) >= 0) continue;
         ++detached;
-        VertexHandle copies[3];
-        for (int k = 0; k < 3; ++k) {
-            const VertexHandle src(static_cast<int>(t[static_cast<std::size_t>(k)]));
-            const Point p = m.point(src);  // a copy: add_vertex may reallocate the points
-            const Material material = m.data(src).material();
-            copies[k] = m.add_vertex(p);
-            clear_attributes(m, copies[k]);
-            m.data(copies[k]).set_material(material);
+        std::int32_t copies[3];
+        for (std::size_t k = 0; k < 3; ++k) {
+            copies[k] = builder.add_vertex();
+            copied_from.push_back(t[k]);
         }
-        m.add_face(copies[0], copies[1], copies[2]);
+        builder.add_face(copies[0], copies[1], copies[2]);
     }
+    builder.write_into(m);
+    const bool has_materials = in.materials.size() == n_in;
+    const auto set_vertex = [&](std::size_t v, std::size_t src) {
+        const VertexHandle vh(static_cast<int>(v));
+        m.set_point(vh, in.positions_m[src]);
+        clear_attributes(m, vh);
+        if (has_materials) m.data(vh).set_material(in.materials[src]);
+    };
+    for (std::size_t v = 0; v < n_in; ++v) set_vertex(v, v);
+    for (std::size_t k = 0; k < copied_from.size(); ++k) set_vertex(n_in + k, copied_from[k]);
     m.update_normals();
     return detached;
 }
