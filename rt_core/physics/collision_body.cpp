@@ -242,7 +242,7 @@ void split_long(const float* v, double max_extent, const Piece& piece) {
         below.n = above.n = 0;
         for (int k = 0; k < part.n; ++k) {
             const double* a = part.c[k];
-            const double* b = part.c[(k + 1) % part.n];
+            const double* b = part.c[k + 1 == part.n ? 0 : k + 1];  // no division
             if (a[axis] <= cut) std::copy(a, a + 3, below.c[below.n++]);
             if (a[axis] >= cut) std::copy(a, a + 3, above.c[above.n++]);
             if ((a[axis] < cut && b[axis] > cut) || (a[axis] > cut && b[axis] < cut)) {

@@ -74,9 +74,9 @@ std::size_t first_failing(std::span<const T> values, const Fails& fails) noexcep
     return values.size();
 }
 
-}  // namespace
-
-MeshProblem validate_mesh(const CollisionMeshView& mesh) noexcept {
+/// validate_mesh's checks in its order; the elements' (positions, indices, materials) only when
+/// `elements` is set (validate_mesh_shape leaves them out).
+MeshProblem validate(const CollisionMeshView& mesh, bool elements) noexcept {
     if (mesh.positions_m.size() % 3 != 0)
         return {MeshError::kPositionsNotTriples, mesh.positions_m.size()};
     if (mesh.indices.size() % 3 != 0) return {MeshError::kIndicesNotTriples, mesh.indices.size()};
@@ -84,14 +84,15 @@ MeshProblem validate_mesh(const CollisionMeshView& mesh) noexcept {
     if (mesh.triangle_count() > kMaxTriangles) return {MeshError::kTooLarge, mesh.triangle_count()};
     const std::span<const float> positions = mesh.positions_m;
     const std::size_t bad_position =
-        first_failing(positions, [](float c) { return !position_ok(c); });
+        elements ? first_failing(positions, [](float c) { return !position_ok(c); })
+                 : positions.size();
     if (bad_position < positions.size()) {
         return {std::isfinite(positions[bad_position]) ? MeshError::kCoordinateTooLarge
                                                        : MeshError::kNonFinitePosition,
                 bad_position};
     }
     const std::size_t vertices = mesh.vertex_count();
-    if (vertices <= std::numeric_limits<std::uint32_t>::max()) {
+    if (elements && vertices <= std::numeric_limits<std::uint32_t>::max()) {
         const auto limit = static_cast<std::uint32_t>(vertices);
         const std::size_t bad_index =
             first_failing(mesh.indices, [limit](std::uint32_t i) { return i >= limit; });
@@ -102,7 +103,8 @@ MeshProblem validate_mesh(const CollisionMeshView& mesh) noexcept {
             return {MeshError::kMaterialCount, mesh.materials.size()};
         }
         const std::size_t bad_material =
-            first_failing(mesh.materials, [](Material m) { return !material_ok(m); });
+            elements ? first_failing(mesh.materials, [](Material m) { return !material_ok(m); })
+                     : mesh.materials.size();
         if (bad_material < mesh.materials.size()) return {MeshError::kBadMaterial, bad_material};
     }
     if (!is_rotation(mesh.world_from_body.rotation) ||
@@ -112,20 +114,12 @@ MeshProblem validate_mesh(const CollisionMeshView& mesh) noexcept {
     return {};
 }
 
+}  // namespace
+
+MeshProblem validate_mesh(const CollisionMeshView& mesh) noexcept { return validate(mesh, true); }
+
 MeshProblem validate_mesh_shape(const CollisionMeshView& mesh) noexcept {
-    if (mesh.positions_m.size() % 3 != 0)
-        return {MeshError::kPositionsNotTriples, mesh.positions_m.size()};
-    if (mesh.indices.size() % 3 != 0) return {MeshError::kIndicesNotTriples, mesh.indices.size()};
-    if (mesh.indices.empty()) return {MeshError::kEmpty, 0};
-    if (mesh.triangle_count() > kMaxTriangles) return {MeshError::kTooLarge, mesh.triangle_count()};
-    if (!mesh.materials.empty() && mesh.materials.size() != mesh.triangle_count()) {
-        return {MeshError::kMaterialCount, mesh.materials.size()};
-    }
-    if (!is_rotation(mesh.world_from_body.rotation) ||
-        !is_finite(mesh.world_from_body.translation)) {
-        return {MeshError::kBadTransform, 0};
-    }
-    return {};
+    return validate(mesh, false);
 }
 
 }  // namespace kerf::physics
