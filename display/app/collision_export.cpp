@@ -1,5 +1,6 @@
 #include "display/app/collision_export.hpp"
 
+#include <map>
 #include <vector>
 
 #include "display/cut/cross_section.hpp"
@@ -15,6 +16,97 @@ ipc::TriangleMaterial material_of(const mesh::TriMesh& m, mesh::FaceHandle f,
             return ipc::TriangleMaterial::kCortical;
     }
     return ipc::TriangleMaterial::kCancellous;
+}
+
+/// Union-find root of `x` in `parent` (path halving).
+std::uint32_t root(std::map<std::uint32_t, std::uint32_t>& parent, std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+}
+
+/// Closes the withdrawn and aborted cuts (see the header): every vertex of a cap face within
+/// half a kerf (and a margin) of such a cut's plane and inside the box of its rim goes onto the
+/// plane (a later cut that crossed the opened caps left its own rim points there, off the plane),
+/// then both copies of each rim point (the session's withdrawn_rim_pairs(), chained where a rim
+/// vertex of one cut is a rim vertex of another) go to their mean, written as one float triple,
+/// so the two caps coincide and the sides meet edge to edge. Pairs whose copies ended in
+/// different bodies (a piece partial cuts severed together) stay apart. `at_out` is each vertex's
+/// index in `out`. O(F + cap vertices x withdrawn cuts + pairs).
+void close_withdrawn(const cut::CutSession& session, const std::vector<std::uint32_t>& at_out,
+                     ipc::CollisionMesh& out) {
+    const auto cuts = session.withdrawn_cuts();
+    const auto pairs = session.withdrawn_rim_pairs();
+    if (cuts.empty()) return;
+    const mesh::TriMesh& m = session.mesh();
+    const std::size_t n = session.bodies().size();
+    const auto usable = [&](mesh::VertexHandle v) {
+        return v.is_valid() && static_cast<std::size_t>(v.idx()) < m.n_vertices() &&
+               !m.status(v).deleted() && session.body_of(v) < n;
+    };
+    // Positions as exported, in double (every vertex a cap face uses).
+    std::map<std::uint32_t, mesh::Point> moved;
+    OpenMesh::FPropHandleT<std::uint8_t> cap;
+    if (m.get_property_handle(cap, cut::kCapFaceProperty)) {
+        for (const auto f : m.faces()) {
+            if (m.property(cap, f) == cut::kCapNone || session.body_of(f) >= n) continue;
+            for (const auto v : m.fv_range(f))
+                moved.try_emplace(std::uint32_t(v.idx()), m.point(v));
+        }
+    }
+    for (const cut::WithdrawnCut& c : cuts) {
+        mesh::Point lo(1e30, 1e30, 1e30), hi(-1e30, -1e30, -1e30);
+        for (std::size_t k = c.first_pair; k < c.first_pair + c.pair_count; ++k) {
+            for (const auto v : {pairs[k].a, pairs[k].b}) {
+                if (!usable(v)) continue;
+                lo.minimize(m.point(v));
+                hi.maximize(m.point(v));
+            }
+        }
+        const double band = 0.5 * c.kerf_m + 1e-6;
+        const mesh::Point grow(band, band, band);
+        lo -= grow;
+        hi += grow;
+        const mesh::Point normal = c.plane.normal();
+        for (auto& [v, p] : moved) {
+            const double d = c.plane.signed_distance(p);
+            if (std::abs(d) > band) continue;
+            bool inside = true;
+            for (int k = 0; k < 3; ++k) inside = inside && p[k] >= lo[k] && p[k] <= hi[k];
+            if (inside) p -= normal * d;
+        }
+    }
+    // Rim pairs: one position per chain of copies.
+    std::map<std::uint32_t, std::uint32_t> parent;
+    for (const cut::Glue& g : pairs) {
+        if (!usable(g.a) || !usable(g.b) || session.body_of(g.a) != session.body_of(g.b)) continue;
+        const auto a = static_cast<std::uint32_t>(g.a.idx());
+        const auto b = static_cast<std::uint32_t>(g.b.idx());
+        parent.try_emplace(a, a);
+        parent.try_emplace(b, b);
+        parent[root(parent, a)] = root(parent, b);
+    }
+    const auto position = [&](std::uint32_t v) {
+        const auto it = moved.find(v);
+        return it != moved.end() ? it->second : m.point(mesh::VertexHandle(static_cast<int>(v)));
+    };
+    struct Sum {
+        mesh::Point p{0, 0, 0};
+        double count = 0;
+    };
+    std::map<std::uint32_t, Sum> mean;
+    for (const auto& [v, up] : parent) {
+        Sum& s = mean[root(parent, v)];
+        s.p += position(v);
+        s.count += 1;
+    }
+    for (const auto& [v, up] : parent) {
+        const Sum& s = mean[root(parent, v)];
+        moved[v] = s.p / s.count;
+    }
+    for (const auto& [v, p] : moved) {
+        const std::size_t at = 3 * std::size_t{at_out[v]};
+        for (std::size_t k = 0; k < 3; ++k) out.vertices_m[at + k] = float(p[k]);
+    }
 }
 
 }  // namespace
@@ -62,15 +154,17 @@ Status<std::string> export_collision(const cut::CutSession& session, ipc::Collis
         const auto world = bodies[b].pose.matrix();
         std::copy(world.begin(), world.end(), entry.world_from_body);
     }
-    std::vector<std::uint32_t> local(m.n_vertices(), 0);
+    std::vector<std::uint32_t> local(m.n_vertices(), 0), at_out(m.n_vertices(), 0);
     for (const auto v : m.vertices()) {
         const auto b = session.body_of(v);
         if (b >= n) continue;
         const std::uint32_t at = vertex_next[b]++;
+        at_out[static_cast<std::size_t>(v.idx())] = at;
         local[static_cast<std::size_t>(v.idx())] = at - out.bodies[b].vertex_offset;
         const auto p = m.point(v);
         for (std::size_t k = 0; k < 3; ++k) out.vertices_m[3 * std::size_t{at} + k] = float(p[k]);
     }
+    close_withdrawn(session, at_out, out);
     for (const auto f : m.faces()) {
         const auto b = session.body_of(f);
         if (b >= n) continue;

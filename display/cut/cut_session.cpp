@@ -65,6 +65,7 @@ struct OpenCut {
     CrossSection section;
     std::optional<Separator> separator;
     std::vector<std::uint8_t> rim_swept;  ///< per rim point (loops concatenated): blade went there
+    double kerf_m = 0;                    ///< the blade's kerf width (CutBegin)
 };
 
 namespace {
@@ -109,6 +110,10 @@ struct CutSession::State {
     // Rim vertex pairs of partial cuts where the blade never went: the material there is whole,
     // so the pieces on both sides are one (sorted, both ways; see PieceFinder).
     std::vector<Glue> glue;
+    // Withdrawn or aborted cuts and both copies of each of their rim points, swept or not (one
+    // way, in cut order): what the collision export closes (withdrawn_cuts()).
+    std::vector<WithdrawnCut> withdrawn;
+    std::vector<Glue> withdrawn_pairs;
 
     // Body-local triangle numbering (what the collision mesh publishes), built when needed.
     std::vector<std::vector<mesh::FaceHandle>> body_faces;
@@ -249,6 +254,13 @@ void CutSession::State::close_open_cut(CutEndKind kind, ApplyReport& report) {
         ++counters.cuts_completed;
     } else {
         glue_unswept(cut);  // withdrawn or aborted: where the blade never went, the bone is whole
+        const CrossSection& cs = cut.section;
+        WithdrawnCut closed{cs.plane, cut.kerf_m, cut.body, withdrawn_pairs.size(), 0};
+        for (std::size_t i = 0; i < cs.positive.loops.size(); ++i)
+            for (std::size_t j = 0; j < cs.positive.loops[i].size(); ++j)
+                withdrawn_pairs.push_back(Glue{cs.positive.loops[i][j], cs.negative.loops[i][j]});
+        closed.pair_count = withdrawn_pairs.size() - closed.first_pair;
+        withdrawn.push_back(closed);
     }
     // Pieces bounded by this cut and earlier partial ones (a chevron's two limbs) come free too.
     report.bodies_created = sever(cut);
@@ -290,7 +302,7 @@ ApplyReport CutSession::begin(const CutBegin& e) {
 
     const std::int64_t t0 = now_ns();
     const std::size_t old_vertices = s.mesh.n_vertices(), old_faces = s.mesh.n_faces();
-    OpenCut cut{e.cut_id, e.body_id, {}, std::nullopt, {}};
+    OpenCut cut{e.cut_id, e.body_id, {}, std::nullopt, {}, e.kerf_width_m};
     const Seed seed{pose.to_body(e.seed_m), s.hinted_face(e.body_id, e.triangle_hint), -1.0};
     const CutResult r = slice_by_plane(*s.ctx, *plane, seed, cut.section);
     if (!r.ok()) return ++s.counters.refused, refused("slice refused", r.status);
@@ -440,6 +452,10 @@ mesh::TriMesh CutSession::release() && { return *std::move(*this).release_owned(
 bool CutSession::cut_open() const noexcept { return s_->open.has_value(); }
 std::uint32_t CutSession::open_cut_id() const noexcept { return s_->open ? s_->open->id : 0; }
 const SessionCounters& CutSession::counters() const noexcept { return s_->counters; }
+std::span<const WithdrawnCut> CutSession::withdrawn_cuts() const noexcept { return s_->withdrawn; }
+std::span<const Glue> CutSession::withdrawn_rim_pairs() const noexcept {
+    return s_->withdrawn_pairs;
+}
 
 bool CutSession::has_changes() const noexcept {
     const State& s = *s_;

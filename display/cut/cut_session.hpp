@@ -36,7 +36,9 @@
 #include <string_view>
 #include <vector>
 
+#include "display/cut/components.hpp"
 #include "display/cut/cut_result.hpp"
+#include "display/cut/plane.hpp"
 #include "display/cut/session_changes.hpp"
 #include "display/cut/session_events.hpp"
 #include "display/mesh/tri_mesh.hpp"
@@ -54,6 +56,15 @@ struct SessionBody {
     RigidPose pose;                    ///< world from body
     std::uint32_t parent = kNoBody;    ///< body it was severed from (kNoBody for scene bodies)
     std::uint32_t severed_by_cut = 0;  ///< cut id that severed it (0 for scene bodies)
+};
+
+/// A cut that ended withdrawn or aborted, as it was when it ended.
+struct WithdrawnCut {
+    Plane plane;                 ///< its plane, mesh coordinates (the cut body's frame)
+    double kerf_m = 0;           ///< the blade's kerf width (CutBegin)
+    std::uint32_t body = 0;      ///< the body it cut
+    std::size_t first_pair = 0;  ///< its first rim pair in CutSession::withdrawn_rim_pairs()
+    std::size_t pair_count = 0;  ///< its rim pairs
 };
 
 /// What one event did.
@@ -119,6 +130,13 @@ public:
     bool cut_open() const noexcept;
     std::uint32_t open_cut_id() const noexcept;  ///< valid when cut_open()
     const SessionCounters& counters() const noexcept;
+    /// The withdrawn and aborted cuts so far, in order. Their caps stay separated where the blade
+    /// swept, and with rim-only caps that opening runs as thin wedges across the whole section:
+    /// the collision export closes them (see collision_export.hpp).
+    std::span<const WithdrawnCut> withdrawn_cuts() const noexcept;
+    /// The two copies of every rim point of those cuts, swept or not (a = positive side,
+    /// b = negative side), each cut's as WithdrawnCut::first_pair, pair_count say.
+    std::span<const Glue> withdrawn_rim_pairs() const noexcept;
 
     /// True when something changed since the last take_changes().
     bool has_changes() const noexcept;

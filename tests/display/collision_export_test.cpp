@@ -35,6 +35,43 @@ TEST(CollisionExport, EveryBodyWithItsPoseAndCapsAsCutSurface) {
     EXPECT_EQ(ipc::validate_mesh(*out, where), ipc::MeshFault::kNone) << where;
 }
 
+TEST(CollisionExport, AWithdrawnCutIsClosedWhereTheRenderedMeshKeepsItOpen) {
+    // Half the rim swept, then withdrawn: the rendered mesh keeps that half open by the kerf (and
+    // its caps as wedges across the tube); the collision mesh has both copies of every rim point
+    // at one position on the plane, and every cap corner on it.
+    cut::CutSession s(cut::test::tube());
+    ASSERT_EQ(s.begin(cut::test::begin_across(3)).outcome, cut::EventOutcome::kApplied);
+    const cut::CutProgress half{3, cut::test::blade_across(0.0), {-1.0, 0.0, -1.0, 1.0}};
+    ASSERT_EQ(s.progress(half).outcome, cut::EventOutcome::kApplied);
+    ASSERT_EQ(s.end({3, cut::CutEndKind::kWithdrawn}).outcome, cut::EventOutcome::kApplied);
+    ASSERT_EQ(s.withdrawn_cuts().size(), 1u);
+    auto out = std::make_unique<ipc::CollisionMesh>();
+    ASSERT_TRUE(export_collision(s, *out).has_value());
+    EXPECT_EQ(out->index_count, 3 * s.mesh().n_faces());  // triangle hints still index them
+    const auto at = [&](mesh::VertexHandle v, int k) {    // one body: vertex index = export index
+        return out->vertices_m[3 * std::size_t(v.idx()) + std::size_t(k)];
+    };
+    std::size_t opened = 0;
+    for (const cut::Glue& pair : s.withdrawn_rim_pairs()) {
+        opened += (s.mesh().point(pair.a) - s.mesh().point(pair.b)).norm() > 0.5 * cut::test::kKerf;
+        for (int k = 0; k < 3; ++k) EXPECT_EQ(at(pair.a, k), at(pair.b, k));
+        EXPECT_NEAR(at(pair.a, 2), cut::test::kCutZ, 1e-7);
+    }
+    EXPECT_GT(opened, 10u);  // the rendered mesh is open there
+    std::size_t caps = 0;
+    for (std::uint32_t t = 0; t < out->index_count / 3; ++t) {
+        if (out->materials[t] != std::uint8_t(ipc::TriangleMaterial::kCutSurface)) continue;
+        ++caps;
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_NEAR(out->vertices_m[3 * std::size_t(out->indices[3 * t + c]) + 2],
+                        cut::test::kCutZ, 1e-7);
+        }
+    }
+    EXPECT_GT(caps, 0u);
+    std::string where;
+    EXPECT_EQ(ipc::validate_mesh(*out, where), ipc::MeshFault::kNone) << where;
+}
+
 TEST(CollisionExport, TheOneMillionTriangleFootFitsAndLargerCountsAreRefused) {
     // The built-in foot at 1M triangles (499,909 vertices, 999,666 triangles, 19 bones) fits
     // with room for cuts; a mesh past either capacity, or with too many bodies, is named.

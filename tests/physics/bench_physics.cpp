@@ -20,22 +20,23 @@
 // The tick after many cuts (BM_TickAfterCuts/N): the calcaneus as scanned, cut N times (10, 30)
 // the way a session cuts it — each a localised withdrawn saw cut (a 0.8 mm kerf 10 mm long and
 // 4 mm deep across the walk, from the surface inwards) applied by the display's own code
-// (CutSession through apply_record), exported as kerf-display publishes it after every CutEnd
-// (export_collision), and each published mesh turned into the collision structure as kerf-rt's
-// WorldBuilder does (body_view, CollisionBody::update from the previous body: the cut's new
-// triangles in new chunks overlapping the old ones, touched chunks refitted). The walk is
-// BM_Tick's and crosses every kerf; the reference in the same run is the same walk on the uncut
-// bone (BM_TickAfterCuts/0), and the last cut mesh built from scratch (.._last_built_fresh/-1:
-// what no update history can beat). Counters as BM_Tick, plus chunks (count), triangles, and one
-// closest-point query per walk point on the same world (cp_p50_us, cp_p99_us: the structure's
-// cost alone, whatever the contact state).
+// (CutSession through apply_record; tests/physics/withdrawn_cuts.hpp), exported as kerf-display
+// publishes it after every CutEnd (export_collision), and each published mesh turned into the
+// collision structure as kerf-rt's WorldBuilder does (body_view, CollisionBody::update from the
+// previous body: the cut's new triangles in new chunks overlapping the old ones, touched chunks
+// refitted). The walk is BM_Tick's and crosses every kerf; the reference in the same run is the
+// same walk on the uncut bone (BM_TickAfterCuts/0), and the last cut mesh built from scratch
+// (.._last_built_fresh/-1: what no update history can beat). Counters as BM_Tick, plus chunks
+// (count), triangles, and one closest-point query per walk point on the same world (cp_p50_us,
+// cp_p99_us: the structure's cost alone, whatever the contact state). Untimed, the same walk once
+// more says where the proxy went: proxy_depth_max_mm (deepest inside the uncut bone, outside the
+// kerfs sawn), proxy_deep_ticks (ticks deeper than 4.5 mm there) and proxy_trail_max_mm (largest
+// proxy-tool distance).
 //   build/bin/bench_physics --benchmark_repetitions=5 --benchmark_counters_tabular=true
-#include "display/app/collision_export.hpp"
-#include "display/app/session_events_ipc.hpp"
 #include "display/mesh/mesh_io.hpp"
-#include "rt_core/loop/world_builder.hpp"
 #include "rt_core/physics/force_model.hpp"
 #include "tests/physics/bench_support.hpp"
+#include "tests/physics/withdrawn_cuts.hpp"
 
 namespace kerf::physics::bench {
 namespace {
@@ -232,25 +233,10 @@ struct CutFixture {
     std::map<int, std::vector<std::shared_ptr<const CollisionBody>>> bodies;  // by cut count
     std::map<int, CollisionWorld> worlds;
     std::vector<Vec3> walk;
+    std::vector<test::WithdrawnCutSpec> sawn;  // every cut, in order
 };
 
-cut::Vec3 to_cut(const Vec3& p) { return cut::Vec3(p.x, p.y, p.z); }
-
-/// Publishes the session as kerf-display does and updates `bodies` as kerf-rt's WorldBuilder does.
-void publish(const cut::CutSession& session, ipc::CollisionMesh& mesh,
-             std::vector<std::shared_ptr<const CollisionBody>>& bodies) {
-    if (auto ok = display::export_collision(session, mesh); !ok) std::abort();
-    std::vector<Material> materials;
-    std::vector<std::shared_ptr<const CollisionBody>> next;
-    for (std::uint32_t b = 0; b < mesh.body_count; ++b) {
-        const CollisionMeshView view = rt::body_view(mesh, b, materials);
-        auto body = b < bodies.size() ? CollisionBody::update(*bodies[b], view)
-                                      : CollisionBody::build(view);
-        if (!body) std::abort();
-        next.push_back(std::move(*body));
-    }
-    bodies = std::move(next);
-}
+using test::publish;
 
 CutFixture* cut_fixture() {
     static std::unique_ptr<CutFixture> f;
@@ -285,27 +271,10 @@ CutFixture* cut_fixture() {
             }
             break;
         }
-        // Cut k across the walk at its point i: the blade's plane holds the surface normal and
-        // is across the walk's direction; the blade (u) lies along the surface, v outwards.
-        const std::size_t i = (2 * std::size_t(k) + 1) * (f->walk.size() - 1) / (2 * cuts);
-        const SurfaceHit at = bodies[0]->closest_point(f->walk[i], 0.05);
-        const Vec3 n = at.normal;
-        Vec3 along = f->walk[std::min(i + 1, f->walk.size() - 1)] - f->walk[i > 0 ? i - 1 : 0];
-        along = normalized(along - n * dot(along, n));
-        cut::CutBegin begin;
-        begin.cut_id = std::uint32_t(k + 1);
-        begin.blade = {to_cut(at.point), to_cut(along), to_cut(cross(n, along))};
-        begin.seed_m = to_cut(at.point);
-        begin.kerf_width_m = 0.0008;
-        display::apply_record(session, display::make_record(begin));
-        cut::CutProgress progress{begin.cut_id, begin.blade, {-0.005, 0.005, 0, 0.002}};
-        for (int step = 1; step <= 20; ++step) {  // every 0.2 mm, as kerf-rt sends them
-            progress.swept.v_min_m = -0.0002 * step;
-            display::apply_record(session, display::make_record(progress, begin));
-        }
-        const cut::CutEnd end{begin.cut_id, cut::CutEndKind::kWithdrawn};
-        display::apply_record(session, display::make_record(end, begin));
-        session.idle();
+        // Cut k across the walk: the blade's plane holds the surface normal and is across the
+        // walk's direction; the blade lies along the surface.
+        f->sawn.push_back(test::cut_across_walk(*bodies[0], f->walk, k, cuts));
+        test::apply_withdrawn_cut(session, f->sawn.back(), std::uint32_t(k + 1));
         publish(session, *mesh, bodies);
     }
     return f.get();
@@ -357,6 +326,16 @@ void BM_TickAfterCuts(benchmark::State& state) {
     state.counters["cp_p99_us"] = cp.percentile(0.99) / 1e3;
     state.counters["contact_share"] =
         double(touching) / double(f->walk.size() * state.iterations());
+    // Where the proxy went (untimed): into bone the blade never separated, and behind the tool.
+    const std::vector<test::WithdrawnCutSpec> sawn(
+        f->sawn.begin(),
+        f->sawn.begin() + std::min<std::ptrdiff_t>(cuts < 0 ? std::ptrdiff_t(f->sawn.size()) : cuts,
+                                                   std::ptrdiff_t(f->sawn.size())));
+    const test::ProxyStray stray =
+        test::walk_proxy(world, f->worlds.at(0), f->walk, sawn, 0.0045, 0.0002);
+    state.counters["proxy_depth_max_mm"] = stray.depth_max_m * 1e3;
+    state.counters["proxy_deep_ticks"] = double(stray.deep_ticks);
+    state.counters["proxy_trail_max_mm"] = stray.trail_max_m * 1e3;
 }
 
 void register_all() {

@@ -14,6 +14,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "rt_core/physics/collision_body.hpp"
 #include "rt_core/physics/collision_mesh.hpp"
 #include "rt_core/physics/triangle_geometry.hpp"
 
@@ -172,6 +173,29 @@ inline double winding_number(const TestMesh& m, const Vec3& p) {
         total += 2 * std::atan2(num, den);
     }
     return total / (4 * M_PI);
+}
+
+/// A slow walk over the surface: `ticks` points circling the body's centre, each projected onto
+/// the surface and offset along the surface normal by `offset_min_m..offset_max_m` (negative:
+/// inside), varying slowly. About 5-30 mm/s along the surface: what a hand does.
+inline std::vector<Vec3> surface_walk(const CollisionBody& body, int ticks, double offset_min_m,
+                                      double offset_max_m) {
+    Vec3 lo, hi;
+    body.bounds(lo, hi);
+    const Vec3 centre = (lo + hi) * 0.5;
+    const double radius = 0.5 * norm(hi - lo);
+    std::vector<Vec3> path;
+    path.reserve(std::size_t(ticks));
+    for (int i = 0; i < ticks; ++i) {
+        const double a = 2 * M_PI * i / 40000.0, b = 0.7 * std::sin(2 * M_PI * i / 23000.0);
+        const Vec3 far =
+            centre +
+            Vec3{std::cos(a) * std::cos(b), std::sin(a) * std::cos(b), std::sin(b)} * radius;
+        const SurfaceHit hit = body.closest_point(far, 10 * radius);
+        const double s = 0.5 + 0.5 * std::sin(2 * M_PI * i / 1700.0);
+        path.push_back(hit.point + hit.normal * (offset_min_m + s * (offset_max_m - offset_min_m)));
+    }
+    return path;
 }
 
 }  // namespace kerf::physics::test
