@@ -7,6 +7,10 @@
 #include <cstdint>
 #include <limits>
 
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
+
 namespace kerf::cut::detail {
 
 namespace {
@@ -26,18 +30,21 @@ float next_up(float f) {
     return std::bit_cast<float>(f > 0.0f ? bits + 1 : bits - 1);
 }
 
-// A float not above x / not below x (float rounding must never shrink a box). Only a finite
-// float is stepped (NaN and infinities stay as std::nextafter leaves them).
-float round_down(double x) {
+}  // namespace
+
+// Only a finite float is stepped (NaN and infinities stay as std::nextafter leaves them).
+float round_down_float(double x) {
     const auto f = static_cast<float>(x);
     if (!(static_cast<double>(f) > x)) return f;
     return std::isfinite(f) ? next_down(f) : std::nextafter(f, -kInf);
 }
-float round_up(double x) {
+float round_up_float(double x) {
     const auto f = static_cast<float>(x);
     if (!(static_cast<double>(f) < x)) return f;
     return std::isfinite(f) ? next_up(f) : std::nextafter(f, kInf);
 }
+
+namespace {
 
 // Spreads the low 21 bits of x to every third bit.
 std::uint64_t spread_bits(std::uint64_t x) {
@@ -75,12 +82,6 @@ void radix_sort(std::vector<Keyed>& v) {
     }
 }
 
-FaceTree::Box empty_box() {
-    FaceTree::Box b;
-    for (int a = 0; a < 3; ++a) b.lo[a] = kInf, b.hi[a] = -kInf;
-    return b;
-}
-
 }  // namespace
 
 FaceTree::Item FaceTree::item_of(const mesh::TriMesh& mesh, mesh::FaceHandle f) {
@@ -98,7 +99,8 @@ FaceTree::Item FaceTree::item_of(const mesh::TriMesh& mesh, mesh::FaceHandle f) 
     hi.maximize(p2);
     Item e;
     e.face = f.idx();
-    for (int a = 0; a < 3; ++a) e.box.lo[a] = round_down(lo[a]), e.box.hi[a] = round_up(hi[a]);
+    for (int a = 0; a < 3; ++a)
+        e.box.lo[a] = round_down_float(lo[a]), e.box.hi[a] = round_up_float(hi[a]);
     return e;
 }
 
@@ -131,10 +133,120 @@ bool FaceTree::enlarge(Box& b, const Box& by) noexcept {
     return grew;
 }
 
+bool FaceTree::enlarge(Group& g, std::uint32_t lane, const Box& by) noexcept {
+    bool grew = false;
+    for (int a = 0; a < 3; ++a) {
+        grew |= by.lo[a] < g.lo[a][lane] || by.hi[a] > g.hi[a][lane];
+        g.lo[a][lane] = std::min(g.lo[a][lane], by.lo[a]);
+        g.hi[a][lane] = std::max(g.hi[a][lane], by.hi[a]);
+    }
+    return grew;
+}
+
+namespace {
+
+// The largest |coordinate| of a box (infinite for a box with a NaN or infinite coordinate, which
+// makes every group test pass: a float bound cannot hold there).
+double max_abs_of(const FaceTree::Box& b) {
+    double m = 0.0;
+    for (int a = 0; a < 3; ++a) {
+        const double lo = std::abs(double(b.lo[a])), hi = std::abs(double(b.hi[a]));
+        if (!(lo <= m)) m = std::isnan(lo) ? std::numeric_limits<double>::infinity() : lo;
+        if (!(hi <= m)) m = std::isnan(hi) ? std::numeric_limits<double>::infinity() : hi;
+    }
+    return m;
+}
+
+}  // namespace
+
+double FaceTree::float_error_m(double query_abs) const noexcept {
+    // Each group test sums three products of float sums of coordinates up to max_abs_ (and the
+    // query's own up to query_abs): a few roundings of relative 2^-24 each, bounded generously.
+    return 16.0 * std::numeric_limits<float>::epsilon() * (max_abs_ + query_abs);
+}
+
+// The group tests: four lanes at a time with SSE (every x86-64 has it), one at a time elsewhere.
+// Comparisons are written so that a NaN passes: a test may keep a box it need not, never drop one.
+#if defined(__SSE2__)
+
+std::uint32_t FaceTree::plane_mask(const Group& g, const PlaneLanes& q) noexcept {
+    const __m128 abs_bits = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+    std::uint32_t mask = 0;
+    for (std::uint32_t h = 0; h < kLanes; h += 4) {
+        __m128 keep = _mm_castsi128_ps(_mm_set1_epi32(-1));
+        __m128 centre = _mm_setzero_ps(), extent = _mm_setzero_ps();
+        for (int a = 0; a < 3; ++a) {
+            const __m128 lo = _mm_load_ps(&g.lo[a][h]), hi = _mm_load_ps(&g.hi[a][h]);
+            keep = _mm_and_ps(keep, _mm_cmpngt_ps(lo, _mm_set1_ps(q.hi[a])));
+            keep = _mm_and_ps(keep, _mm_cmpnlt_ps(hi, _mm_set1_ps(q.lo[a])));
+            centre = _mm_add_ps(centre, _mm_mul_ps(_mm_set1_ps(q.n[a]), _mm_add_ps(lo, hi)));
+            extent = _mm_add_ps(extent, _mm_mul_ps(_mm_set1_ps(q.abs_n[a]), _mm_sub_ps(hi, lo)));
+        }
+        const __m128 off = _mm_and_ps(_mm_sub_ps(centre, _mm_set1_ps(q.twice_c0)), abs_bits);
+        keep = _mm_and_ps(keep, _mm_cmpngt_ps(off, _mm_add_ps(extent, _mm_set1_ps(q.twice_slack))));
+        mask |= static_cast<std::uint32_t>(_mm_movemask_ps(keep)) << h;
+    }
+    return mask;
+}
+
+std::uint32_t FaceTree::point_mask(const Group& g, const PointLanes& q) noexcept {
+    std::uint32_t mask = 0;
+    for (std::uint32_t h = 0; h < kLanes; h += 4) {
+        __m128 d2 = _mm_setzero_ps();
+        for (int a = 0; a < 3; ++a) {
+            const __m128 p = _mm_set1_ps(q.p[a]);
+            const __m128 below = _mm_sub_ps(_mm_load_ps(&g.lo[a][h]), p);
+            const __m128 above = _mm_sub_ps(p, _mm_load_ps(&g.hi[a][h]));
+            const __m128 d = _mm_max_ps(_mm_max_ps(below, above), _mm_setzero_ps());
+            d2 = _mm_add_ps(d2, _mm_mul_ps(d, d));
+        }
+        const __m128 keep = _mm_cmpngt_ps(d2, _mm_set1_ps(q.r2));
+        mask |= static_cast<std::uint32_t>(_mm_movemask_ps(keep)) << h;
+    }
+    return mask;
+}
+
+#else
+
+std::uint32_t FaceTree::plane_mask(const Group& g, const PlaneLanes& q) noexcept {
+    std::uint32_t mask = 0;
+    for (std::uint32_t k = 0; k < kLanes; ++k) {
+        bool keep = true;
+        float centre = 0.0f, extent = 0.0f;
+        for (int a = 0; a < 3; ++a) {
+            const float lo = g.lo[a][k], hi = g.hi[a][k];
+            keep &= !(lo > q.hi[a]) && !(hi < q.lo[a]);
+            centre += q.n[a] * (lo + hi);
+            extent += q.abs_n[a] * (hi - lo);
+        }
+        keep &= !(std::abs(centre - q.twice_c0) > extent + q.twice_slack);
+        mask |= static_cast<std::uint32_t>(keep) << k;
+    }
+    return mask;
+}
+
+std::uint32_t FaceTree::point_mask(const Group& g, const PointLanes& q) noexcept {
+    std::uint32_t mask = 0;
+    for (std::uint32_t k = 0; k < kLanes; ++k) {
+        float d2 = 0.0f;
+        for (int a = 0; a < 3; ++a) {
+            const float below = g.lo[a][k] - q.p[a], above = q.p[a] - g.hi[a][k];
+            const float d = std::max(std::max(below, above), 0.0f);
+            d2 += d * d;
+        }
+        mask |= static_cast<std::uint32_t>(!(d2 > q.r2)) << k;
+    }
+    return mask;
+}
+
+#endif
+
 void FaceTree::build(const mesh::TriMesh& mesh) {
     margin_m_ = 0.0;
     items_.clear();
-    nodes_.clear();
+    groups_.clear();
+    level_first_.clear();
+    max_abs_ = 0.0;
     leaf_codes_.clear();
     coarse_codes_.clear();
     extra_head_.clear();
@@ -170,14 +282,37 @@ void FaceTree::build(const mesh::TriMesh& mesh) {
     for (std::uint32_t j = 0; j < leaves_; j += kCoarseStride)
         coarse_codes_.push_back(leaf_codes_[j]);
     padded_leaves_ = 1;
-    while (padded_leaves_ < leaves_) padded_leaves_ *= 2;
-    nodes_.assign(2 * std::size_t{padded_leaves_} - 1, empty_box());
-    const std::uint32_t first = first_leaf_node();
-    for (std::size_t k = 0; k < items_.size(); ++k)
-        enlarge(nodes_[first + k / kLeafItems], items_[k].box);
-    for (std::uint32_t i = first; i-- > 0;) {
-        nodes_[i] = nodes_[2 * i + 1];
-        enlarge(nodes_[i], nodes_[2 * i + 2]);
+    int depth = 0;  // of the leaves in the binary tree
+    while (padded_leaves_ < leaves_) padded_leaves_ *= 2, ++depth;
+    // Stored levels: depth % 3, then every third level down to the leaves.
+    std::size_t total = 0;
+    for (int d = depth % kLevelStep; d <= depth; d += kLevelStep) {
+        level_first_.push_back(total);
+        total += std::max<std::size_t>(1, (std::size_t{1} << d) / kLanes);
+    }
+    Group empty;
+    for (int a = 0; a < 3; ++a)
+        for (std::uint32_t k = 0; k < kLanes; ++k) empty.lo[a][k] = kInf, empty.hi[a][k] = -kInf;
+    groups_.assign(total, empty);
+    const int leaves_level = last_level();
+    for (std::size_t k = 0; k < items_.size(); ++k) {
+        const auto leaf = static_cast<std::uint32_t>(k / kLeafItems);
+        enlarge(group_of(leaves_level, leaf), leaf % kLanes, items_[k].box);
+        max_abs_ = std::max(max_abs_, max_abs_of(items_[k].box));
+    }
+    // Each stored node holds the kLanes nodes of the level below that form its group.
+    for (int level = leaves_level; level-- > 0;) {
+        const std::size_t nodes = std::size_t{1} << (depth % kLevelStep + kLevelStep * level);
+        for (std::size_t k = 0; k < nodes; ++k) {
+            const Group& below = groups_[level_first_[static_cast<std::size_t>(level) + 1] + k];
+            Group& g = group_of(level, static_cast<std::uint32_t>(k));
+            const auto lane = static_cast<std::uint32_t>(k % kLanes);
+            for (std::uint32_t c = 0; c < kLanes; ++c) {
+                Box b;
+                for (int a = 0; a < 3; ++a) b.lo[a] = below.lo[a][c], b.hi[a] = below.hi[a][c];
+                enlarge(g, lane, b);
+            }
+        }
     }
     extra_head_.assign(leaves_, -1);
 }
@@ -230,13 +365,16 @@ void FaceTree::hang(const Item& item) {
     }
     extra_.push_back(Extra{item, extra_head_[leaf]});
     extra_head_[leaf] = static_cast<std::int32_t>(extra_.size() - 1);
-    // Up the path while the box grows (a parent holds its child's box).
-    for (std::uint32_t i = first_leaf_node() + leaf; enlarge(nodes_[i], item.box) && i > 0;)
-        i = (i - 1) / 2;
+    max_abs_ = std::max(max_abs_, max_abs_of(item.box));
+    // Up the stored levels while the box grows (a node holds its descendants' boxes).
+    std::uint32_t node = leaf;
+    for (int level = last_level(); level >= 0; --level, node /= kLanes)
+        if (!enlarge(group_of(level, node), node % kLanes, item.box)) break;
 }
 
 std::size_t FaceTree::memory_bytes() const noexcept {
-    return items_.capacity() * sizeof(Item) + nodes_.capacity() * sizeof(Box) +
+    return items_.capacity() * sizeof(Item) + groups_.capacity() * sizeof(Group) +
+           level_first_.capacity() * sizeof(std::size_t) +
            (leaf_codes_.capacity() + coarse_codes_.capacity()) * sizeof(std::uint64_t) +
            extra_head_.capacity() * sizeof(std::int32_t) + extra_.capacity() * sizeof(Extra) +
            pending_.capacity() * sizeof(Item);

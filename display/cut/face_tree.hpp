@@ -11,20 +11,33 @@
 // 4M-triangle tube of such triangles cost 36x the same cut at 100k (issue 10, item 7).
 //
 // Storage: the faces as items {face, float bounding box} in Morton order of their centroids,
-// kLeafItems per leaf; an implicit complete binary tree of boxes over the leaves (node i has
-// children 2i+1, 2i+2); a face inserted by a cut hangs on the leaf its centroid's Morton code
-// falls in (one flat node pool) and enlarges the boxes on its path. About 36 bytes per face.
+// kLeafItems per leaf, over an implicit complete binary tree of the leaves of which only every
+// third level is stored (the leaves, their ancestors 3, 6, ... levels up, and a top level of 1, 2
+// or 4 nodes): each stored node's kLanes descendants three levels down lie together as one
+// Group of float boxes (192 bytes, three cache lines, struct of arrays), so a query descends
+// three levels per memory access and tests the eight boxes at once. Queries go level by level
+// over the nodes still near (in order, in chunks), prefetching the next nodes' groups, so the
+// cache misses of the many paths a plane query follows (64 columns of long thin faces on a
+// 4M-triangle tube, issue 10 item 7) overlap instead of following one another. A face inserted
+// by a cut hangs on the leaf its centroid's Morton code falls in (one flat node pool) and
+// enlarges the boxes on its path. About 33 bytes per face.
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <vector>
 
+#include "display/cut/huge_page_allocator.hpp"
 #include "display/cut/plane.hpp"
 #include "display/mesh/tri_mesh.hpp"
 
 namespace kerf::cut::detail {
+
+/// A float not above x / not below x (rounding must never shrink a box or a query).
+float round_down_float(double x);
+float round_up_float(double x);
 
 class FaceTree {
 public:
@@ -79,6 +92,13 @@ public:
 private:
     static constexpr std::uint32_t kLeafItems = 8;
     static constexpr std::uint32_t kCoarseStride = 64;
+    /// Stored nodes three binary levels apart: a node's kLanes descendants there form a Group.
+    static constexpr std::uint32_t kLanes = 8;
+    static constexpr int kLevelStep = 3;
+    /// Nodes a query holds per level before it descends (a chunk on the stack, 1 KiB).
+    static constexpr std::size_t kChunk = 256;
+    /// How many nodes ahead a query prefetches the groups (or leaf items) it will test.
+    static constexpr std::size_t kPrefetchAhead = 16;
     struct Item {
         std::int32_t face;
         Box box;
@@ -87,31 +107,72 @@ private:
         Item item;
         std::int32_t next;
     };
+    /// kLanes boxes, m: lo[axis][lane], hi[axis][lane]; empty lanes hold lo = +inf, hi = -inf.
+    struct alignas(64) Group {
+        float lo[3][kLanes];
+        float hi[3][kLanes];
+    };
+    /// A plane query as a group test takes it, in float, rounded so that it never rejects a box
+    /// the double test near() of for_each_near_plane would keep.
+    struct PlaneLanes {
+        float lo[3], hi[3];  ///< the patch's box, thickened
+        float n[3], abs_n[3];
+        float twice_c0;     ///< 2 n . point
+        float twice_slack;  ///< 2 x slack, plus the bound on float rounding
+    };
+    /// A point query as a group test takes it (squared radius enlarged by the float rounding).
+    struct PointLanes {
+        float p[3];
+        float r2;
+    };
+    static std::uint32_t plane_mask(const Group& g, const PlaneLanes& q) noexcept;
+    static std::uint32_t point_mask(const Group& g, const PointLanes& q) noexcept;
+    /// A bound on the float rounding of a group test's sums over coordinates of magnitude up to
+    /// max_abs_, m.
+    double float_error_m(double query_abs) const noexcept;
+
     static Item item_of(const mesh::TriMesh& mesh, mesh::FaceHandle f);
     // Hangs `item` on its leaf and enlarges the boxes up its path.
     void hang(const Item& item);
     // Grows b to hold `by`; whether it grew.
     static bool enlarge(Box& b, const Box& by) noexcept;
+    // Grows lane `lane` of g to hold `by`; whether it grew.
+    static bool enlarge(Group& g, std::uint32_t lane, const Box& by) noexcept;
     // Morton code of a point in the quantisation of the last build.
     std::uint64_t code_of(const float* point) const noexcept;
 
     std::uint32_t leaf_count() const noexcept { return leaves_; }
-    std::uint32_t first_leaf_node() const noexcept { return padded_leaves_ - 1; }
+    // The group holding node k of stored level `level` (level 0 is the top).
+    const Group& group_of(int level, std::uint32_t k) const noexcept {
+        return groups_[level_first_[static_cast<std::size_t>(level)] + k / kLanes];
+    }
+    Group& group_of(int level, std::uint32_t k) noexcept {
+        return groups_[level_first_[static_cast<std::size_t>(level)] + k / kLanes];
+    }
+    int last_level() const noexcept { return static_cast<int>(level_first_.size()) - 1; }
 
-    // Visits the subtree nodes whose box passes `near(box)`; at each leaf, every item passing
-    // `accept(item)`.
-    template <class Near, class Accept, class Visit>
-    void walk(const Near& near, const Accept& accept, Visit& visit) const;
+    // Tests the children groups of nodes[0, count) of stored level `level` with
+    // `mask(group)`, in order, and descends into the children near; at the leaves, every item
+    // (then every hung extra) of a leaf passing `accept(item)` is visited.
+    template <class Mask, class Accept, class Visit>
+    void descend(int level, const std::uint32_t* nodes, std::size_t count, const Mask& mask,
+                 const Accept& accept, Visit& visit) const;
+    // Visits, in leaf order (so in the same order whatever the stored levels), the items whose
+    // boxes pass `accept` in the leaves whose boxes pass `mask`, then the pending items.
+    template <class Mask, class Accept, class Visit>
+    void walk(const Mask& mask, const Accept& accept, Visit& visit) const;
 
     double margin_m_ = 0.0;
     double code_lo_[3] = {0, 0, 0};  // quantisation of centroids for Morton codes
     double code_scale_ = 0.0;
-    std::uint32_t leaves_ = 0;                 // leaves holding built items
-    std::uint32_t padded_leaves_ = 0;          // power of two >= leaves_
-    std::uint32_t last_leaf_ = 0;              // leaf of the last insert
-    std::vector<Item> items_;                  // Morton order; leaf j holds [j*kLeafItems, ...)
-    std::vector<Box> nodes_;                   // 2 * padded_leaves_ - 1, empty boxes where no faces
-    std::vector<std::uint64_t> leaf_codes_;    // Morton code of each leaf's first item
+    double max_abs_ = 0.0;                              // largest finite |coordinate| of any box, m
+    std::uint32_t leaves_ = 0;                          // leaves holding built items
+    std::uint32_t padded_leaves_ = 0;                   // power of two >= leaves_
+    std::uint32_t last_leaf_ = 0;                       // leaf of the last insert
+    std::vector<Item, HugePageAllocator<Item>> items_;  // Morton order; leaf j: [j*kLeafItems, ...)
+    std::vector<Group, HugePageAllocator<Group>> groups_;  // every stored level, top first
+    std::vector<std::size_t> level_first_;                 // first group of each stored level
+    std::vector<std::uint64_t> leaf_codes_;                // Morton code of each leaf's first item
     std::vector<std::uint64_t> coarse_codes_;  // every kCoarseStride-th of leaf_codes_ (cache-
                                                // resident first step of an insert's search)
     std::vector<std::int32_t> extra_head_;     // per leaf, -1 = none
@@ -119,28 +180,58 @@ private:
     std::vector<Item> pending_;  // inserted, not yet hung on a leaf (scanned by every query)
 };
 
-template <class Near, class Accept, class Visit>
-void FaceTree::walk(const Near& near, const Accept& accept, Visit& visit) const {
-    if (nodes_.empty()) return;
-    std::uint32_t stack[64];
-    int top = 0;
-    stack[top++] = 0;
-    const std::uint32_t first_leaf = first_leaf_node();
-    while (top > 0) {
-        const std::uint32_t i = stack[--top];
-        if (!near(nodes_[i])) continue;
-        if (i < first_leaf) {
-            stack[top++] = 2 * i + 2;
-            stack[top++] = 2 * i + 1;
-            continue;
+template <class Mask, class Accept, class Visit>
+void FaceTree::descend(int level, const std::uint32_t* nodes, std::size_t count, const Mask& mask,
+                       const Accept& accept, Visit& visit) const {
+    if (level == last_level()) {
+        // nodes are leaves: their items, prefetched a few leaves ahead.
+        for (std::size_t i = 0; i < count; ++i) {
+            if (i + kPrefetchAhead < count) {
+                const std::uint32_t ahead = nodes[i + kPrefetchAhead];
+                if (ahead < leaves_) {
+                    const char* p =
+                        reinterpret_cast<const char*>(items_.data() + ahead * kLeafItems);
+                    for (std::size_t b = 0; b < kLeafItems * sizeof(Item); b += 64)
+                        __builtin_prefetch(p + b);
+                    __builtin_prefetch(&extra_head_[ahead]);
+                }
+            }
+            const std::uint32_t leaf = nodes[i];
+            if (leaf >= leaves_) continue;
+            const std::size_t end = std::min<std::size_t>(items_.size(), (leaf + 1) * kLeafItems);
+            for (std::size_t k = leaf * std::size_t{kLeafItems}; k < end; ++k)
+                if (accept(items_[k])) visit(items_[k].face);
+            for (std::int32_t n = extra_head_[leaf]; n >= 0; n = extra_[n].next)
+                if (accept(extra_[n].item)) visit(extra_[n].item.face);
         }
-        const std::uint32_t leaf = i - first_leaf;
-        if (leaf >= leaves_) continue;
-        const std::size_t end = std::min<std::size_t>(items_.size(), (leaf + 1) * kLeafItems);
-        for (std::size_t k = leaf * std::size_t{kLeafItems}; k < end; ++k)
-            if (accept(items_[k])) visit(items_[k].face);
-        for (std::int32_t n = extra_head_[leaf]; n >= 0; n = extra_[n].next)
-            if (accept(extra_[n].item)) visit(extra_[n].item.face);
+        return;
+    }
+    std::uint32_t children[kChunk];
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+        if (i + kPrefetchAhead < count) {
+            const char* p = reinterpret_cast<const char*>(
+                &group_of(level + 1, nodes[i + kPrefetchAhead] * kLanes));
+            for (std::size_t b = 0; b < sizeof(Group); b += 64) __builtin_prefetch(p + b);
+        }
+        for (std::uint32_t m = mask(group_of(level + 1, nodes[i] * kLanes)); m != 0; m &= m - 1)
+            children[n++] = nodes[i] * kLanes + static_cast<std::uint32_t>(std::countr_zero(m));
+        if (n + kLanes > kChunk) {
+            descend(level + 1, children, n, mask, accept, visit);
+            n = 0;
+        }
+    }
+    if (n > 0) descend(level + 1, children, n, mask, accept, visit);
+}
+
+template <class Mask, class Accept, class Visit>
+void FaceTree::walk(const Mask& mask, const Accept& accept, Visit& visit) const {
+    if (!groups_.empty()) {
+        std::uint32_t top[kLanes];
+        std::size_t n = 0;
+        for (std::uint32_t m = mask(groups_[0]); m != 0; m &= m - 1)
+            top[n++] = static_cast<std::uint32_t>(std::countr_zero(m));
+        descend(0, top, n, mask, accept, visit);
     }
     for (const Item& e : pending_)
         if (accept(e)) visit(e.face);
@@ -158,8 +249,14 @@ void FaceTree::for_each_near_point(const Vec3& p, double radius_m, Visit&& visit
         }
         return d2 <= r * r;
     };
+    PointLanes q;
+    for (int a = 0; a < 3; ++a) q.p[a] = static_cast<float>(p[a]);
+    const double padded =
+        r + float_error_m(std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}));
+    q.r2 = static_cast<float>(padded * padded * (1.0 + 1e-6));
+    auto mask = [&](const Group& g) { return point_mask(g, q); };
     auto accept = [&](const Item& e) { return near(e.box); };
-    walk(near, accept, visit);
+    walk(mask, accept, visit);
 }
 
 template <class Visit>
@@ -186,8 +283,18 @@ void FaceTree::for_each_near_plane(const Plane& plane, const Vec2& lo2, const Ve
         }
         return std::abs(centre - c0) <= extent + s;
     };
+    PlaneLanes q;
+    for (int a = 0; a < 3; ++a) {
+        q.lo[a] = round_down_float(bl[a]);
+        q.hi[a] = round_up_float(bh[a]);
+        q.n[a] = static_cast<float>(n[a]);
+        q.abs_n[a] = std::abs(q.n[a]);
+    }
+    q.twice_c0 = static_cast<float>(2.0 * c0);
+    q.twice_slack = static_cast<float>(2.0 * (s + float_error_m(std::abs(c0))) * (1.0 + 1e-6));
+    auto mask = [&](const Group& g) { return plane_mask(g, q); };
     auto accept = [&](const Item& e) { return near(e.box); };
-    walk(near, accept, visit);
+    walk(mask, accept, visit);
 }
 
 }  // namespace kerf::cut::detail

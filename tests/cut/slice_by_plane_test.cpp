@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <random>
+#include <vector>
 
 #include "display/cut/context_state.hpp"
 #include "display/cut/face_tree.hpp"
@@ -364,6 +366,97 @@ TEST(FaceTree, InsertedFacesAreFoundPendingFlushedAndBeyondThePendingRoom) {
     tree.for_each_near_plane(z0, lo, hi, 1e-9,
                              [&](std::int32_t g) { on_plane += g >= added.front().idx(); });
     EXPECT_EQ(on_plane, static_cast<int>(n));
+}
+
+// The float box of face f as the tree stores it (rounded outwards from the double corners).
+kerf::cut::detail::FaceTree::Box float_box(const mesh::TriMesh& m, mesh::FaceHandle f) {
+    Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
+    for (auto v : m.fv_range(f)) lo.minimize(m.point(v)), hi.maximize(m.point(v));
+    kerf::cut::detail::FaceTree::Box b;
+    for (int a = 0; a < 3; ++a)
+        b.lo[a] = kerf::cut::detail::round_down_float(lo[a]),
+        b.hi[a] = kerf::cut::detail::round_up_float(hi[a]);
+    return b;
+}
+
+// The stored levels' float group tests only prune: a query reports exactly the faces whose own
+// boxes pass the double test, each once, built or hung on a leaf by a cut, on long thin faces
+// (a dense 32-segment tube) and away from the origin (float rounding of the group sums).
+TEST(FaceTree, QueriesReportExactlyTheFacesABruteForceTestFinds) {
+    for (const double offset : {0.0, 0.7}) {
+        auto m = mesh::make_hollow_tube(0.05, 0.006, 0.003, 32, 700);
+        for (auto v : m.vertices()) m.set_point(v, m.point(v) + Vec3(offset, -offset, offset));
+        const auto tube_vertices = static_cast<int>(m.n_vertices());
+        kerf::cut::detail::FaceTree tree;
+        tree.build(m);
+        tree.reserve_resident(4096);
+        // Some faces hung on leaves (a cut's inserts): small triangles on the outer wall.
+        for (int i = 0; i < 2000; ++i) {
+            const double z = 0.05 * (i + 0.5) / 2000, t = 0.37 * i;
+            const Vec3 c =
+                Vec3(0.006 * std::cos(t), 0.006 * std::sin(t), z) + Vec3(offset, -offset, offset);
+            const auto a = m.add_vertex(c), b = m.add_vertex(c + Vec3(0, 0, 1e-5)),
+                       d = m.add_vertex(c + Vec3(1e-5 * -std::sin(t), 1e-5 * std::cos(t), 0));
+            tree.insert(m, m.add_face(a, b, d));
+        }
+        tree.flush_pending(kerf::cut::detail::FaceTree::kPendingFaces);
+        std::vector<kerf::cut::detail::FaceTree::Box> boxes;
+        for (auto f : m.faces()) boxes.push_back(float_box(m, f));
+        std::mt19937_64 rng(7);
+        std::uniform_real_distribution<double> u(-1.0, 1.0);
+        int found = 0;  // faces near the planes: the queries are not all empty
+        for (int q = 0; q < 40; ++q) {
+            // Through a vertex: boxes touch the plane, where rounding would drop them.
+            const int v = std::uniform_int_distribution<int>(0, tube_vertices - 1)(rng);
+            const Vec3 p = m.point(mesh::VertexHandle(v));
+            const Vec3 n = q % 2 ? Vec3(0, 0, 1) : Vec3(u(rng), u(rng), u(rng) + 2.0);
+            const double slack = q % 3 ? 0.0 : 1e-5;
+            const Plane plane = *Plane::make(p, n);
+            const Vec2 lo(-0.004 + 0.002 * u(rng), -0.004 + 0.002 * u(rng));
+            const Vec2 hi = lo + Vec2(0.008, 0.008);
+            std::vector<int> seen(m.n_faces(), 0);
+            tree.for_each_near_plane(plane, lo, hi, slack, [&](std::int32_t f) { ++seen[f]; });
+            // The double test of for_each_near_plane, on every face's box.
+            Vec3 bl(1e300, 1e300, 1e300), bh(-1e300, -1e300, -1e300);
+            for (int c = 0; c < 4; ++c) {
+                const Vec3 k = plane.to_3d(Vec2((c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1]));
+                bl.minimize(k), bh.maximize(k);
+            }
+            bl -= Vec3(slack, slack, slack), bh += Vec3(slack, slack, slack);
+            const double c0 = OpenMesh::dot(plane.normal(), plane.point());
+            int expected = 0;
+            for (std::size_t f = 0; f < boxes.size(); ++f) {
+                const auto& b = boxes[f];
+                bool near = true;
+                double centre = 0.0, extent = 0.0;
+                for (int a = 0; a < 3; ++a) {
+                    near &= !(b.lo[a] > bh[a] || b.hi[a] < bl[a]);
+                    centre += plane.normal()[a] * 0.5 * (double(b.lo[a]) + b.hi[a]);
+                    extent += std::abs(plane.normal()[a]) * 0.5 * (double(b.hi[a]) - b.lo[a]);
+                }
+                near &= std::abs(centre - c0) <= extent + slack;
+                expected += near;
+                ASSERT_EQ(seen[f], near ? 1 : 0) << "face " << f << ", query " << q;
+            }
+            found += expected;
+            // Points: every face within the radius of a point on the tube, as a box distance (at
+            // or a radius away from the vertex: boxes at the radius's end).
+            const double r = q % 2 ? 1e-6 : 1e-4;
+            std::fill(seen.begin(), seen.end(), 0);
+            const Vec3 at = p + Vec3(0.0, 0.0, q % 2 ? 0.0 : r);
+            tree.for_each_near_point(at, r, [&](std::int32_t f) { ++seen[f]; });
+            for (std::size_t f = 0; f < boxes.size(); ++f) {
+                double d2 = 0.0;
+                for (int a = 0; a < 3; ++a) {
+                    const double below = boxes[f].lo[a] - at[a], above = at[a] - boxes[f].hi[a];
+                    const double d = below > 0 ? below : (above > 0 ? above : 0.0);
+                    d2 += d * d;
+                }
+                ASSERT_EQ(seen[f], d2 <= r * r ? 1 : 0) << "face " << f << ", point " << q;
+            }
+        }
+        EXPECT_GT(found, 1000);
+    }
 }
 
 }  // namespace
