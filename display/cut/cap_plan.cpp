@@ -433,7 +433,7 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
         const Vec3& b = plan.points[t.b].position;
         const Vec3& c = plan.points[t.c].position;
         const Vec3 n = OpenMesh::cross(b - a, c - a);
-        return !s.too_small(a, b, c) && OpenMesh::dot(n, normal) > cosine * n.norm();
+        return !s.too_small(a, b, c, n.sqrnorm()) && OpenMesh::dot(n, normal) > cosine * n.norm();
     };
     auto good = [&](const Triangle& t) { return facing(t, 0.5); };
     auto acceptable = [&](const Triangle& t) { return facing(t, kMinCapCosine); };

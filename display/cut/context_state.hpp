@@ -53,14 +53,22 @@ struct ContextState {
     /// triangle with two corners within the tolerance is left to merge_close_points, which
     /// collapses them (a file may well merge them). No square root on the common path.
     bool too_small(const Vec3& a, const Vec3& b, const Vec3& c) const {
-        const double twice2 = OpenMesh::cross(b - a, c - a).sqrnorm();
+        return too_small(a, b, c, OpenMesh::cross(b - a, c - a).sqrnorm());
+    }
+    /// The same, given twice2 = |(b - a) x (c - a)|² as computed above (callers that need the
+    /// cross product anyway pass it: same value, same answer).
+    bool too_small(const Vec3& a, const Vec3& b, const Vec3& c, double twice2) const {
         const double floor = kMinTriangleRelativeArea * scale_m * scale_m;
         if (!(twice2 > 4.0 * floor * floor)) return true;
-        const double ab = (b - a).sqrnorm(), bc = (c - b).sqrnorm(), ca = (a - c).sqrnorm();
-        const double longest2 = std::max({ab, bc, ca});
         const double loss = 4.0 * std::sqrt(3.0) * float_rounding_m;  // per metre of edge
         const double kept = kFileMargin * floor;
-        // (kept + loss L)² <= 2 kept² + 2 loss² L²: enough room without a square root.
+        // (kept + loss L)² <= 2 kept² + 2 loss² L²: enough room without a square root. First
+        // with 2.000000001 (ab + ca), which bounds the longest edge² (bc <= 2 (ab + ca), with room
+        // for rounding), so the common case skips the third edge: the same answer either way.
+        const double ab = (b - a).sqrnorm(), ca = (a - c).sqrnorm();
+        if (twice2 > 2.0 * (kept * kept + loss * loss * (2.000000001 * (ab + ca)))) return false;
+        const double bc = (c - b).sqrnorm();
+        const double longest2 = std::max({ab, bc, ca});
         if (twice2 > 2.0 * (kept * kept + loss * loss * longest2)) return false;
         if (std::sqrt(twice2) - loss * std::sqrt(longest2) > kept) return false;
         if (std::min({ab, bc, ca}) <= tolerance_m * tolerance_m) return false;

@@ -30,19 +30,23 @@ float next_up(float f) {
     return std::bit_cast<float>(f > 0.0f ? bits + 1 : bits - 1);
 }
 
-}  // namespace
-
-// Only a finite float is stepped (NaN and infinities stay as std::nextafter leaves them).
-float round_down_float(double x) {
+// A float not above x / not below x (float rounding must never shrink a box). Only a finite
+// float is stepped (NaN and infinities stay as std::nextafter leaves them).
+float round_down(double x) {
     const auto f = static_cast<float>(x);
     if (!(static_cast<double>(f) > x)) return f;
     return std::isfinite(f) ? next_down(f) : std::nextafter(f, -kInf);
 }
-float round_up_float(double x) {
+float round_up(double x) {
     const auto f = static_cast<float>(x);
     if (!(static_cast<double>(f) < x)) return f;
     return std::isfinite(f) ? next_up(f) : std::nextafter(f, kInf);
 }
+
+}  // namespace
+
+float round_down_float(double x) { return round_down(x); }
+float round_up_float(double x) { return round_up(x); }
 
 namespace {
 
@@ -99,8 +103,7 @@ FaceTree::Item FaceTree::item_of(const mesh::TriMesh& mesh, mesh::FaceHandle f) 
     hi.maximize(p2);
     Item e;
     e.face = f.idx();
-    for (int a = 0; a < 3; ++a)
-        e.box.lo[a] = round_down_float(lo[a]), e.box.hi[a] = round_up_float(hi[a]);
+    for (int a = 0; a < 3; ++a) e.box.lo[a] = round_down(lo[a]), e.box.hi[a] = round_up(hi[a]);
     return e;
 }
 
