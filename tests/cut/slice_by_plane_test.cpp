@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -377,6 +378,54 @@ kerf::cut::detail::FaceTree::Box float_box(const mesh::TriMesh& m, mesh::FaceHan
         b.lo[a] = kerf::cut::detail::round_down_float(lo[a]),
         b.hi[a] = kerf::cut::detail::round_up_float(hi[a]);
     return b;
+}
+
+// The branch-free float rounding of face boxes gives std::nextafter's values: x rounded to float,
+// stepped once the other way when the rounding went past x (zeros, infinities and NaN included).
+TEST(FaceTree, BoxRoundingMatchesNextafter) {
+    auto reference_down = [](double x) {
+        const auto f = static_cast<float>(x);
+        return static_cast<double>(f) > x
+                   ? std::nextafter(f, -std::numeric_limits<float>::infinity())
+                   : f;
+    };
+    auto reference_up = [](double x) {
+        const auto f = static_cast<float>(x);
+        return static_cast<double>(f) < x
+                   ? std::nextafter(f, std::numeric_limits<float>::infinity())
+                   : f;
+    };
+    std::vector<double> xs = {0.0,
+                              -0.0,
+                              1e-300,
+                              -1e-300,
+                              1e-45,
+                              -1e-45,
+                              3.4028235e38,
+                              -3.4e38,
+                              3.5e38,
+                              -3.5e38,
+                              1e300,
+                              -1e300,
+                              0.1,
+                              -0.1,
+                              std::numeric_limits<double>::infinity(),
+                              -std::numeric_limits<double>::infinity(),
+                              std::numeric_limits<double>::quiet_NaN()};
+    std::mt19937_64 rng(11);
+    for (int i = 0; i < 200000; ++i) {
+        xs.push_back(std::bit_cast<double>(rng()));
+        xs.push_back(std::ldexp(static_cast<double>(rng() >> 11) * 0x1p-53 - 0.5,
+                                static_cast<int>(rng() % 300) - 150));
+    }
+    for (const double x : xs) {
+        ASSERT_EQ(std::bit_cast<std::uint32_t>(kerf::cut::detail::round_down_float(x)),
+                  std::bit_cast<std::uint32_t>(reference_down(x)))
+            << x;
+        ASSERT_EQ(std::bit_cast<std::uint32_t>(kerf::cut::detail::round_up_float(x)),
+                  std::bit_cast<std::uint32_t>(reference_up(x)))
+            << x;
+    }
 }
 
 // The stored levels' float group tests only prune: a query reports exactly the faces whose own
