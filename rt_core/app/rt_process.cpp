@@ -229,6 +229,7 @@ int run_rt_process(const RtOptions& o) {
     }
     auto loop =
         std::make_unique<HapticLoop>(*loop_device, *producer, log, settings, physics, safety);
+    if (world_sync) loop->keep_in_front(*world_sync);  // a re-opened device goes behind it
     // Every tick, lost device and re-opened ones included, recorded from inside the loop.
     if (recorder) loop->record_to(recorder.get());
     if (replay_device) loop->replay_from(replay_device.get());  // recorded stalls and re-opens
@@ -304,10 +305,9 @@ int run_rt_process(const RtOptions& o) {
     reconnector.stop();
     reloader.stop();
     builder.stop();
-    // The loop's device, or the one a lockstep sync wraps.
-    auto* hid = dynamic_cast<firmware_host::KerfHidDevice*>(&loop->device());
-    if (!hid && &loop->device() == loop_device)
-        hid = dynamic_cast<firmware_host::KerfHidDevice*>(device.get());
+    // The loop's device, or the one behind a lockstep sync (the first or a re-opened one).
+    auto* hid = dynamic_cast<firmware_host::KerfHidDevice*>(world_sync ? &world_sync->inner()
+                                                                       : &loop->device());
     if (hid) {
         if (!loop->waiting_for_device()) hid->shutdown(200);
     }

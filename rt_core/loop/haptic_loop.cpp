@@ -149,7 +149,11 @@ void HapticLoop::record_tick() noexcept {
 void HapticLoop::install_device(DeviceSlot* slot) noexcept {
     device_handoff_.retire(device_slot_);  // closed and freed by the reconnector's thread
     device_slot_ = slot;
-    device_ = slot->device.get();
+    if (front_) {
+        front_->set_inner(*slot->device);
+    } else {
+        device_ = slot->device.get();
+    }
     restart_device(slot->generation);
 }
 

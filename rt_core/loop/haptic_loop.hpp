@@ -25,6 +25,7 @@
 #include "rt_core/ipc/producer.hpp"
 #include "rt_core/loop/blade_pose.hpp"
 #include "rt_core/loop/body_grab.hpp"
+#include "rt_core/loop/device_front.hpp"
 #include "rt_core/loop/device_reconnector.hpp"
 #include "rt_core/loop/handoff.hpp"
 #include "rt_core/loop/latency_histogram.hpp"
@@ -173,8 +174,12 @@ public:
     Handoff<DeviceSlot>& device_handoff() noexcept { return device_handoff_; }
     /// Whether the device is lost, and which one is installed (DeviceReconnector reads it).
     const DeviceLink& device_link() const noexcept { return device_link_; }
-    /// The device in use (the one given at construction until a re-open replaced it). Read it
-    /// from another thread only while the loop is stopped.
+    /// Before the loop runs: the loop reads and writes through `front`, and a re-opened device
+    /// goes behind it (DeviceFront::set_inner) instead of replacing it. @pre `front` outlives
+    /// the loop
+    void keep_in_front(DeviceFront& front) noexcept { front_ = &front, device_ = &front; }
+    /// The device in use (the one given at construction until a re-open replaced it; the front
+    /// when there is one). Read it from another thread only while the loop is stopped.
     firmware_host::Device& device() noexcept { return *device_; }
     /// True from the tick a read found the device gone until a new one is installed.
     bool waiting_for_device() const noexcept { return device_lost_; }
@@ -222,6 +227,7 @@ private:
     void publish_event(ipc::EventRecord& record) noexcept;
 
     firmware_host::Device* device_;
+    DeviceFront* front_ = nullptr;  ///< keep_in_front()
     ipc::Producer& producer_;
     RtLog& log_;
     LoopSettings settings_;

@@ -33,7 +33,7 @@ firmware_host::DeviceStatus LockstepWorldSync::try_read(firmware_host::DeviceSam
             cut_ended = cut_ended || saw.events[i].type == physics::CutEventType::kEnd;
         if (cut_ended) wait_for(loop_->world_generation() + 1);
     }
-    return inner_.try_read(out, timeout_us);
+    return inner_->try_read(out, timeout_us);
 }
 
 }  // namespace kerf::rt

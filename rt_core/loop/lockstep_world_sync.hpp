@@ -10,23 +10,26 @@
 // is coming: without it, the display's first world stayed gated until the first cut ended and
 // every later world came one cut late (cut 1 applied to the scene's single body, cut 2 to the
 // world before cut 1). Lockstep only: the real-time loop never waits for another process.
+// It is a DeviceFront: give it to HapticLoop::keep_in_front, so a device re-opened after an
+// unplug goes behind it (before, the re-opened device replaced it and world sync stopped).
 #pragma once
 
 #include <atomic>
 #include <cstdint>
 
 #include "firmware_host/device/device.hpp"
+#include "rt_core/loop/device_front.hpp"
 
 namespace kerf::rt {
 
 class HapticLoop;
 
-class LockstepWorldSync final : public firmware_host::Device {
+class LockstepWorldSync final : public DeviceFront {
 public:
-    /// @pre `inner` outlives this device
+    /// @pre `inner` outlives its use here (until set_inner() replaces it)
     explicit LockstepWorldSync(firmware_host::Device& inner,
                                std::uint32_t wait_limit_ms = 10'000) noexcept
-        : inner_(inner), wait_limit_ms_(wait_limit_ms) {}
+        : inner_(&inner), wait_limit_ms_(wait_limit_ms) {}
     /// Before the loop runs: the first read waits for the display's first world.
     void await_first_world(bool on) noexcept { await_first_ = on; }
     /// Before the loop runs: the loop followed, the builder's gate (`release`, which this
@@ -42,11 +45,13 @@ public:
                                          std::uint32_t timeout_us) noexcept override;
     firmware_host::DeviceStatus try_write(
         const firmware_host::DeviceCommand& command) noexcept override {
-        return inner_.try_write(command);
+        return inner_->try_write(command);
     }
     const firmware_host::DeviceCounters& counters() const noexcept override {
-        return inner_.counters();
+        return inner_->counters();
     }
+    void set_inner(firmware_host::Device& inner) noexcept override { inner_ = &inner; }
+    firmware_host::Device& inner() noexcept override { return *inner_; }
     /// Before the loop runs: a wait ends at once when `stop` is set (kerf-rt's SIGINT/SIGTERM),
     /// so a stop request never sits out the wait limit. `stop` outlives this device.
     void stop_waiting_when(const std::atomic<bool>& stop) noexcept { stop_ = &stop; }
@@ -55,7 +60,7 @@ public:
     std::uint64_t timed_out() const noexcept { return timed_out_; }
 
 private:
-    firmware_host::Device& inner_;
+    firmware_host::Device* inner_;
     std::uint32_t wait_limit_ms_;
     std::atomic<std::uint64_t>* release_ = nullptr;
     const std::atomic<std::uint64_t>* offered_ = nullptr;

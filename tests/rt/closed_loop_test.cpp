@@ -16,6 +16,7 @@
 #include "config/force_profile.hpp"
 #include "firmware_host/open/open_device.hpp"
 #include "rt_core/loop/collision_mesh_builder.hpp"
+#include "rt_core/loop/lockstep_world_sync.hpp"
 #include "rt_core/physics/physics_params_from_profile.hpp"
 #include "tests/physics/physics_test_shapes.hpp"
 #include "tests/rt/rt_rig.hpp"
@@ -252,6 +253,36 @@ TEST(RtClosedLoop, ASlowFeedIsOneStableCutUntilTheBladeIsPulledOut) {
         EXPECT_EQ(let_go, 0) << feed_mm_s << " mm/s";
         EXPECT_EQ(front_back, 0) << feed_mm_s << " mm/s";
     }
+}
+
+// kerf-rt --lockstep reads through a LockstepWorldSync (cut meshes swapped at fixed ticks). A
+// device re-opened after an unplug used to replace it in the loop, so world sync stopped for the
+// rest of the run; now the new device goes behind it.
+TEST(RtLockstepWorldSync, AReopenedDeviceGoesBehindTheSyncInsteadOfReplacingIt) {
+    const std::string file = test::calcaneus_path();
+    if (!std::filesystem::exists(file)) GTEST_SKIP() << "no " << file;
+    ClosedLoop rig(file, "hold,1.0\n");
+    ASSERT_TRUE(rig.ok);
+    LockstepWorldSync sync(*rig.device);
+    rig.loop->keep_in_front(sync);
+    for (int t = 0; t < 50; ++t) rig.tick();
+    EXPECT_GE(rig.device->counters().samples, 50u);
+
+    std::string error;
+    auto reopened = test::SimHandDevice::create("hold,1.0\n", error);
+    ASSERT_TRUE(reopened) << error;
+    test::SimHandDevice* second = reopened.get();
+    auto slot = std::make_unique<DeviceSlot>();
+    slot->device = std::move(reopened);
+    slot->generation = 1;
+    rig.loop->device_handoff().offer(std::move(slot));
+    const std::uint64_t first_samples = rig.device->counters().samples;
+    for (int t = 0; t < 50; ++t) rig.tick();
+    EXPECT_EQ(rig.loop->stats().devices_reopened, 1u);
+    EXPECT_EQ(&rig.loop->device(), static_cast<firmware_host::Device*>(&sync));
+    EXPECT_EQ(&sync.inner(), static_cast<firmware_host::Device*>(second));
+    EXPECT_GE(second->counters().samples, 49u) << "the loop does not read the new device";
+    EXPECT_EQ(rig.device->counters().samples, first_samples) << "still reading the old one";
 }
 
 }  // namespace
