@@ -33,7 +33,7 @@ std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t i) {
 Body make_body(const mesh::TriMesh& m, std::vector<mesh::FaceHandle> faces,
                std::vector<std::uint32_t>& vertex_seen, std::uint32_t stamp) {
     Body b;
-    std::sort(faces.begin(), faces.end());
+    if (!std::is_sorted(faces.begin(), faces.end())) std::sort(faces.begin(), faces.end());
     b.faces = std::move(faces);
     b.bbox_min_m = mesh::Point(1e300, 1e300, 1e300);
     b.bbox_max_m = mesh::Point(-1e300, -1e300, -1e300);
@@ -56,26 +56,42 @@ Body make_body(const mesh::TriMesh& m, std::vector<mesh::FaceHandle> faces,
 }
 
 std::vector<Body> find_components(const mesh::TriMesh& m) {
-    std::vector<std::uint8_t> seen(m.n_faces(), 0);
+    // Faces joined through shared edges by union-find over the edge array (one pass in memory
+    // order; a breadth-first search through circulators was most of this function on a 1M mesh),
+    // each component's root its lowest face.
+    const std::size_t nf = m.n_faces();
+    std::vector<std::uint32_t> parent(nf);
+    std::iota(parent.begin(), parent.end(), 0u);
+    for (std::size_t e = 0; e < m.n_edges(); ++e) {
+        if (m.has_edge_status() && m.status(mesh::EdgeHandle(static_cast<int>(e))).deleted())
+            continue;
+        const auto h = mesh::HalfedgeHandle(static_cast<int>(2 * e));
+        const auto f0 = m.face_handle(h), f1 = m.face_handle(m.opposite_halfedge_handle(h));
+        if (!live(m, f0) || !live(m, f1)) continue;
+        const auto a = find_root(parent, static_cast<std::uint32_t>(f0.idx()));
+        const auto b = find_root(parent, static_cast<std::uint32_t>(f1.idx()));
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+    // Bodies in the order of their lowest face, each with its faces in index order.
+    constexpr std::uint32_t kNone = 0xFFFFFFFFu;
+    std::vector<std::uint32_t> body_of_root(nf, kNone);
+    std::vector<std::vector<mesh::FaceHandle>> faces;
+    for (std::size_t i = 0; i < nf; ++i) {
+        const mesh::FaceHandle f(static_cast<int>(i));
+        if (!live(m, f)) continue;
+        const std::uint32_t root = find_root(parent, static_cast<std::uint32_t>(i));
+        if (body_of_root[root] == kNone) {
+            body_of_root[root] = static_cast<std::uint32_t>(faces.size());
+            faces.emplace_back();
+        }
+        faces[body_of_root[root]].push_back(f);
+    }
     std::vector<std::uint32_t> vertex_seen(m.n_vertices(), 0);
     std::vector<Body> bodies;
-    std::vector<mesh::FaceHandle> queue;
-    for (std::size_t i = 0; i < m.n_faces(); ++i) {
-        const mesh::FaceHandle start(static_cast<int>(i));
-        if (seen[i] != 0 || !live(m, start)) continue;
-        queue.assign(1, start);
-        seen[i] = 1;
-        for (std::size_t head = 0; head < queue.size(); ++head) {
-            for_each_neighbour(m, queue[head], [&](mesh::FaceHandle g) {
-                auto& s = seen[static_cast<std::size_t>(g.idx())];
-                if (s == 0) {
-                    s = 1;
-                    queue.push_back(g);
-                }
-            });
-        }
+    bodies.reserve(faces.size());
+    for (auto& body_faces : faces) {
         const auto stamp = static_cast<std::uint32_t>(bodies.size() + 1);
-        bodies.push_back(make_body(m, queue, vertex_seen, stamp));
+        bodies.push_back(make_body(m, std::move(body_faces), vertex_seen, stamp));
     }
     return bodies;
 }

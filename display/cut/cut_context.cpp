@@ -9,15 +9,13 @@
 #include "config/base/length_unit.hpp"
 #include "display/cut/context_state.hpp"
 #include "display/cut/cross_section.hpp"
+#include "display/mesh/indexed_mesh.hpp"
 
 namespace kerf::cut {
 
 namespace detail {
 
 namespace {
-
-/// Faces of headroom at least (a localised cut on a bone adds a few thousand).
-constexpr std::size_t kMinHeadroomFaces = std::size_t{1} << 16;
 
 /// Pending face-tree inserts hung on their leaves per idle step (all of them: a few ms at most).
 constexpr std::size_t kFlushStep = FaceTree::kPendingFaces;
@@ -105,7 +103,8 @@ void ContextState::rebuild() {
 }
 
 std::size_t ContextState::headroom_faces(std::size_t min_spare_faces) const {
-    return std::max({min_spare_faces, mesh.n_faces() / 8, kMinHeadroomFaces});
+    // What mesh::load_mesh_owned() reserves, so growing into it copies nothing.
+    return std::max(min_spare_faces, mesh::edit_headroom_faces(mesh.n_faces()));
 }
 
 bool ContextState::grow_step(std::size_t min_spare_faces) {

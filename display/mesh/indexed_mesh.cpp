@@ -83,12 +83,17 @@ BuiltMesh build_tri_mesh(const IndexedMesh& in) {
     return out;
 }
 
-std::size_t build_tri_mesh_into(const IndexedMesh& in, TriMesh& m) {
+std::size_t edit_headroom_faces(std::size_t faces) noexcept {
+    return std::max(faces / 8, std::size_t{1} << 16);
+}
+
+std::size_t build_tri_mesh_into(const IndexedMesh& in, TriMesh& m, std::size_t spare_faces) {
     // The connectivity OpenMesh's add_face would build, face by face, on flat arrays
     // (detail/halfedge_build.hpp), then written into the mesh in one pass.
     std::size_t detached = 0;
     const std::size_t n_in = in.positions_m.size();
-    m.reserve(n_in, in.triangles.size() * 3 / 2, in.triangles.size());
+    m.reserve(n_in + spare_faces / 2, in.triangles.size() * 3 / 2 + 2 * spare_faces,
+              in.triangles.size() + spare_faces);
     detail::HalfedgeBuilder builder;
     builder.reserve(n_in, in.triangles.size() * 3 / 2, in.triangles.size());
     for (std::size_t i = 0; i < n_in; ++i) builder.add_vertex();

@@ -57,9 +57,17 @@ struct BuiltMesh {
 /// @pre every index in `in.triangles` is < in.positions_m.size()
 BuiltMesh build_tri_mesh(const IndexedMesh& in);
 /// The same, into `out` where it lives (no copy of the mesh: OpenMesh meshes have no move
-/// constructor, so moving a TriMesh copies it). Returns the detached triangles.
+/// constructor, so moving a TriMesh copies it). Returns the detached triangles. With
+/// `spare_faces`, room for that many more faces, half as many vertices and twice as many edges is
+/// reserved (address space only: no page of it is touched), so that the headroom a CutContext
+/// keeps costs no copy of the mesh.
 /// @pre `out` is empty (make_mesh())
-std::size_t build_tri_mesh_into(const IndexedMesh& in, TriMesh& out);
+std::size_t build_tri_mesh_into(const IndexedMesh& in, TriMesh& out, std::size_t spare_faces = 0);
+
+/// Faces of room an edited mesh keeps beyond its own: an eighth of `faces`, at least 65,536
+/// (cut::CutContext keeps this much headroom resident, with half as many vertices and twice as
+/// many edges, so that no cut grows an array).
+std::size_t edit_headroom_faces(std::size_t faces) noexcept;
 
 /// The indexed form of a TriMesh (deleted elements skipped, indices compacted in order).
 IndexedMesh to_indexed(const TriMesh& mesh);

@@ -116,7 +116,7 @@ Result<std::unique_ptr<TriMesh>, MeshError> load_mesh_owned(const std::filesyste
         indexed = std::move(*parsed);
     }  // the file's bytes are freed here
     auto mesh = std::make_unique<TriMesh>();
-    build_tri_mesh_into(indexed, *mesh);
+    build_tri_mesh_into(indexed, *mesh, edit_headroom_faces(indexed.triangles.size()));
     return mesh;
 }
 

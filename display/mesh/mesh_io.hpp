@@ -66,7 +66,8 @@ Result<TriMesh, MeshError> load_mesh(const std::filesystem::path& path, LengthUn
 
 /// The same on the heap, built where it stays: no copy of the mesh at all, and the file's bytes
 /// are freed before the half-edge mesh is built (`kerf cut` of a 1M-triangle file peaked at
-/// four meshes' worth of memory through load_mesh and CutSession's copies).
+/// four meshes' worth of memory through load_mesh and CutSession's copies). Room for edits is
+/// reserved (edit_headroom_faces(), address space only), so a CutContext on it copies nothing.
 Result<std::unique_ptr<TriMesh>, MeshError> load_mesh_owned(const std::filesystem::path& path,
                                                             LengthUnit units);
 

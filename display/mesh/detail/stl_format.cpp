@@ -1,9 +1,11 @@
 // STL, ASCII and binary. Binary is recognised by its size (84 + 50 · count bytes), not by the
 // first five bytes, because many binary STLs begin with "solid".
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <string_view>
 
 #include "display/mesh/detail/formats.hpp"
 
@@ -155,10 +157,15 @@ Result<IndexedMesh, MeshError> AsciiStl::parse() {
     return std::move(out_);
 }
 
-void put_f32(std::string& out, float f) {
+// Little-endian at `w`, which moves past it.
+void put_u32(char*& w, std::uint32_t bits) {
+    for (int i = 0; i < 4; ++i) *w++ = static_cast<char>((bits >> (8 * i)) & 0xFFu);
+}
+
+void put_f32(char*& w, float f) {
     std::uint32_t bits = 0;
     std::memcpy(&bits, &f, sizeof bits);
-    for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((bits >> (8 * i)) & 0xFFu));
+    put_u32(w, bits);
 }
 
 Point facet_normal(const IndexedMesh& m, const Triangle& t) {
@@ -197,20 +204,21 @@ Result<IndexedMesh, MeshError> parse_stl(std::span<const std::byte> bytes,
 std::string write_stl(const IndexedMesh& m, double metres_per_unit, bool binary) {
     std::string out;
     if (binary) {
-        std::string header = "kerf binary STL";
-        header.resize(80, ' ');
-        out = header;
-        const auto n = static_cast<std::uint32_t>(m.triangles.size());
-        for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((n >> (8 * i)) & 0xFFu));
-        out.reserve(kHeaderBytes + m.triangles.size() * kFacetBytes);
+        // Sized once and written in place (a push_back per byte was a tenth of `kerf cut`);
+        // the zeros resize writes are each facet's attribute bytes.
+        out.resize(kHeaderBytes + m.triangles.size() * kFacetBytes, '\0');
+        const std::string_view header = "kerf binary STL";
+        std::fill(std::copy(header.begin(), header.end(), out.begin()), out.begin() + 80, ' ');
+        char* w = out.data() + 80;
+        put_u32(w, static_cast<std::uint32_t>(m.triangles.size()));
         for (const Triangle& t : m.triangles) {
             const Point nrm = facet_normal(m, t);
-            for (int i = 0; i < 3; ++i) put_f32(out, static_cast<float>(nrm[i]));
+            for (int i = 0; i < 3; ++i) put_f32(w, static_cast<float>(nrm[i]));
             for (std::uint32_t v : t) {
                 for (int i = 0; i < 3; ++i)
-                    put_f32(out, static_cast<float>(m.positions_m[v][i] / metres_per_unit));
+                    put_f32(w, static_cast<float>(m.positions_m[v][i] / metres_per_unit));
             }
-            out += std::string(2, '\0');
+            w += 2;  // attribute byte count: 0
         }
         return out;
     }
