@@ -122,7 +122,7 @@ std::size_t build_tri_mesh_into(const IndexedMesh& in, TriMesh& m, std::size_t s
     };
     for (std::size_t v = 0; v < n_in; ++v) set_vertex(v, v);
     for (std::size_t k = 0; k < copied_from.size(); ++k) set_vertex(n_in + k, copied_from[k]);
-    m.update_normals();
+    builder.write_normals(m);  // m.update_normals(), bit for bit
     return detached;
 }
 

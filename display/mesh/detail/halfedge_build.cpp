@@ -192,4 +192,34 @@ void HalfedgeBuilder::write_into(TriMesh& m) const {
         m.set_halfedge_handle(FaceHandle(static_cast<int>(f)), HalfedgeHandle(face_halfedge_[f]));
 }
 
+void HalfedgeBuilder::write_normals(TriMesh& m) const {
+    // TriMeshT::calc_face_normal(f): the corners from the face's half-edge on, through
+    // PolyMeshT's three-point form (which TriMeshT hides).
+    const TriMesh::PolyMesh& poly = m;
+    for (std::size_t f = 0; f < face_halfedge_.size(); ++f) {
+        const Halfedge& h0 = halfedges_[static_cast<std::size_t>(face_halfedge_[f])];
+        const Halfedge& h1 = halfedges_[static_cast<std::size_t>(h0.next)];
+        const Halfedge& h2 = halfedges_[static_cast<std::size_t>(h1.next)];
+        m.set_normal(
+            FaceHandle(static_cast<int>(f)),
+            poly.calc_face_normal(m.point(VertexHandle(h0.to)), m.point(VertexHandle(h1.to)),
+                                  m.point(VertexHandle(h2.to))));
+    }
+    // PolyMeshT::calc_vertex_normal(v): the faces around v summed from zero, clockwise from its
+    // half-edge (as ConstVertexFaceIter visits them), then scaled to unit length unless zero.
+    for (std::size_t v = 0; v < vertex_out_.size(); ++v) {
+        TriMesh::Normal n(0.0, 0.0, 0.0);
+        const std::int32_t start = vertex_out_[v];
+        for (std::int32_t h = start; h != kNone;) {
+            const std::int32_t f = halfedges_[static_cast<std::size_t>(h)].face;
+            if (f != kNone) n += m.normal(FaceHandle(f));
+            h = halfedges_[static_cast<std::size_t>(h ^ 1)].next;
+            if (h == start) break;
+        }
+        const double length = OpenMesh::norm(n);
+        if (length != 0.0) n *= (1.0 / length);
+        m.set_normal(VertexHandle(static_cast<int>(v)), n);
+    }
+}
+
 }  // namespace kerf::mesh::detail

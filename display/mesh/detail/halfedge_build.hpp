@@ -40,6 +40,10 @@ public:
     /// caller's to set.
     /// @pre `mesh` is empty
     void write_into(TriMesh& mesh) const;
+    /// Sets every face's and vertex's normal as OpenMesh's update_normals() does, in the same
+    /// order of operations (bit for bit), from these arrays instead of the mesh's circulators.
+    /// @pre write_into(mesh) and the mesh's points set
+    void write_normals(TriMesh& mesh) const;
 
 private:
     struct Halfedge {
