@@ -55,7 +55,9 @@ struct WallFaces {
 
 // Breadth-first over the faces overlapping the slab (some vertex above lower + tol, some vertex
 // not above upper + tol) from `frontier`: the surface of the slab component(s) it touches.
-// Appends the faces that touch either plane with material on both sides of it.
+// Appends the faces that touch either plane with material on both sides of it. The search starts
+// from the frontier's uncapped faces, then from its caps of earlier cuts not reached yet (where
+// such caps alone bound the slab, the walls cross them). `frontier` holds none of this cut's caps.
 void band_walls(detail::ContextState& s, const Plane& lower, const Plane& upper,
                 const std::vector<FaceHandle>& frontier, WallFaces& out) {
     TriMesh& m = s.mesh;
@@ -74,17 +76,22 @@ void band_walls(detail::ContextState& s, const Plane& lower, const Plane& upper,
         return lo_max > tol && up_min < tol;
     };
     std::vector<FaceHandle> queue;
-    for (FaceHandle f : frontier)
-        if (f.is_valid() && !s.face_marked(f) && m.property(s.cap, f) == kCapNone) {
-            s.mark_face(f);
-            if (in_band(f)) queue.push_back(f);
-        }
-    for (std::size_t i = 0; i < queue.size(); ++i)
-        for (auto g : m.ff_range(queue[i]))
-            if (!s.face_marked(g)) {
-                s.mark_face(g);
-                if (in_band(g)) queue.push_back(g);
+    std::size_t next = 0;
+    auto search = [&](bool caps) {
+        for (FaceHandle f : frontier)
+            if (f.is_valid() && !s.face_marked(f) && (m.property(s.cap, f) != kCapNone) == caps) {
+                s.mark_face(f);
+                if (in_band(f)) queue.push_back(f);
             }
+        for (; next < queue.size(); ++next)
+            for (auto g : m.ff_range(queue[next]))
+                if (!s.face_marked(g)) {
+                    s.mark_face(g);
+                    if (in_band(g)) queue.push_back(g);
+                }
+    };
+    search(false);
+    search(true);
 }
 
 // Finds every loop bounding the slab component that holds the seed, on both walls, on the
@@ -174,11 +181,15 @@ CutResult subtract_slab(CutContext& ctx, const Plane& plane, double kerf_width_m
     st = detail::apply_plan(s, lower, out.lower, r.stats);
     if (st != CutStatus::kOk) return done(CutStatus::kInternalError);
     // Upper wall: the loops found above; faces the lower cut split are reached again through the
-    // slab from the lower wall's positive side.
+    // slab from the lower wall's positive side (not through the lower wall's own caps).
+    s.next_generation();
+    for (FaceHandle f : out.lower.positive.cap_faces) s.mark_face(f);
+    for (FaceHandle f : out.lower.negative.cap_faces) s.mark_face(f);
     std::vector<FaceHandle> frontier;
     for (const auto& loop : out.lower.positive.loops)
         for (VertexHandle v : loop)
-            for (auto f : s.mesh.vf_range(v)) frontier.push_back(f);
+            for (auto f : s.mesh.vf_range(v))
+                if (!s.face_marked(f)) frontier.push_back(f);
     WallFaces after;
     band_walls(s, lower, upper, frontier, after);
     after.upper.insert(after.upper.end(), walls.upper.begin(), walls.upper.end());
