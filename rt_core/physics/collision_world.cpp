@@ -113,7 +113,7 @@ SegmentHit CollisionWorld::first_hit(const Vec3& from, const Vec3& to,
 }
 
 CollisionWorld::WayOut CollisionWorld::way_out(const Vec3& from, const Vec3& towards,
-                                               double length_m) const noexcept {
+                                               double length_m, double min_gap_m) const noexcept {
     WayOut out;
     Vec3 d = normalized(towards - from);
     if (norm2(d) == 0) d = Vec3{0, 1, 0};
@@ -141,15 +141,26 @@ CollisionWorld::WayOut CollisionWorld::way_out(const Vec3& from, const Vec3& tow
     out.known = true;
     out.depth = std::max(depth, 0);
     out.exit = from;
+    // The first crossing after which the ray is in no shell for at least min_gap_m (the next
+    // crossing enters again); if none is that wide, the first after which it is in none at all.
     int inside = depth;
-    for (std::size_t k = 0; k < count && inside > 0; ++k) {
+    std::size_t exit = count;
+    for (std::size_t k = 0; k < count && depth > 0; ++k) {
         inside -= crossings[k].sign;
-        if (inside <= 0) {
-            const SegmentCrossing& c = crossings[k];
-            const TriangleCorners t = slots_[c.body].body->corners(c.triangle);
-            out.exit = from + d * (c.t * length_m);
-            out.normal = slots_[c.body].pose.rotate(normalized(cross(t.b - t.a, t.c - t.a)));
+        if (inside > 0) continue;
+        if (exit == count) exit = k;
+        const double free_m =
+            k + 1 < count ? (crossings[k + 1].t - crossings[k].t) * length_m : length_m;
+        if (free_m >= min_gap_m) {
+            exit = k;
+            break;
         }
+    }
+    if (exit < count) {
+        const SegmentCrossing& c = crossings[exit];
+        const TriangleCorners t = slots_[c.body].body->corners(c.triangle);
+        out.exit = from + d * (c.t * length_m);
+        out.normal = slots_[c.body].pose.rotate(normalized(cross(t.b - t.a, t.c - t.a)));
     }
     return out;
 }

@@ -54,7 +54,11 @@ public:
     /// shell. One traversal per body collects every crossing (CollisionBody::crossings, watertight
     /// through shared edges and vertices) into a fixed array of kMaxWayOutCrossings. Bounded,
     /// noexcept, no allocation.
-    WayOut way_out(const Vec3& from, const Vec3& towards, double length_m) const noexcept;
+    /// `min_gap_m`: a stretch in no shell shorter than this before the ray enters one again is
+    /// no way out (a withdrawn cut's coincident caps, closed in the collision mesh: leaving one
+    /// side and entering the other at the same point).
+    WayOut way_out(const Vec3& from, const Vec3& towards, double length_m,
+                   double min_gap_m = 0) const noexcept;
     /// Triangle crossings way_out() collects at most; more: the result is unknown.
     static constexpr int kMaxWayOutCrossings = 96;
 

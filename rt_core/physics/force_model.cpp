@@ -32,7 +32,8 @@ void ForceModel::place_proxy_outside(const CollisionWorld& world, const Vec3& to
     const SurfaceHit near = world.closest_point(tool_position_m, reach_m, kBoneSurfaces);
     const double gap = 4 * params_.contact.skin_m;
     const Vec3 towards = near.found ? near.point : tool_position_m + Vec3{0, 1, 0};
-    const CollisionWorld::WayOut out = world.way_out(tool_position_m, towards, 1.0);
+    // The proxy goes `gap` past the exit, so an exit into less than twice that is no room.
+    const CollisionWorld::WayOut out = world.way_out(tool_position_m, towards, 1.0, 2 * gap);
     if (out.known) {
         contact_.reset(out.depth > 0 ? out.exit + out.normal * gap : tool_position_m);
     } else if (near.found && dot(tool_position_m - near.point, near.normal) < 0) {

@@ -368,6 +368,31 @@ TEST(CollisionWorld, WayOutCountsASharedEdgeOnceAndAGrazedEdgeNotAtAll) {
     EXPECT_EQ(outside.exit, (Vec3{1.5 * h, 0.5 * h, 0}));
 }
 
+// Two boxes sharing a face (a withdrawn cut closed in the collision mesh: its caps coincide): a
+// ray from inside A leaves A and enters B at the same point. That is no way out for a proxy;
+// with a minimum gap the exit is B's far face.
+TEST(CollisionWorld, WayOutThroughCoincidentOppositeFacesIsNoExitGivenAMinimumGap) {
+    constexpr double h = 1.0 / 128;
+    TestMesh mesh = test::make_box({-h, -h, -h}, {h, h, h});
+    const TestMesh b = test::make_box({h, -h, -h}, {3 * h, h, h});
+    const auto base = std::uint32_t(mesh.positions.size() / 3);
+    mesh.positions.insert(mesh.positions.end(), b.positions.begin(), b.positions.end());
+    for (std::uint32_t i : b.indices) mesh.indices.push_back(base + i);
+    mesh.materials.insert(mesh.materials.end(), b.materials.begin(), b.materials.end());
+    const auto body = build(mesh);
+    CollisionWorld world;
+    world.set_body(0, body.get());
+    const Vec3 tool{0.25 * h, 0.125 * h, 0.0625 * h};
+    const CollisionWorld::WayOut out = world.way_out(tool, tool + Vec3{1, 0, 0}, 1.0, 1e-6);
+    ASSERT_TRUE(out.known);
+    EXPECT_EQ(out.depth, 1);
+    EXPECT_NEAR(out.exit.x, 3 * h, 1e-12);
+    EXPECT_NEAR(out.normal.x, 1, 1e-12);
+    // From inside B, leaving through its far face: an exit at once, whatever the gap asked.
+    const Vec3 in_b{2 * h, 0.125 * h, 0.0625 * h};
+    EXPECT_NEAR(world.way_out(in_b, in_b + Vec3{1, 0, 0}, 1.0, 1e-6).exit.x, 3 * h, 1e-12);
+}
+
 TEST(CollisionWorld, PerTickQueriesAllocateNothing) {
     const auto body = build(test::make_sphere({}, 0.01, 4));
     CollisionWorld world;
