@@ -1,12 +1,16 @@
 // STL, ASCII and binary. Binary is recognised by its size (84 + 50 · count bytes), not by the
 // first five bytes, because many binary STLs begin with "solid".
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <string_view>
+#include <utility>
+#include <vector>
 
+#include "config/base/length_unit.hpp"
 #include "display/mesh/detail/formats.hpp"
 
 namespace kerf::mesh::detail {
@@ -37,28 +41,116 @@ bool has_nul(std::string_view text) {
     return text.substr(0, 1024).find('\0') != std::string_view::npos;
 }
 
+/// Welds binary STL corners on the file's float bits, with the bits kept in the table so that a
+/// lookup never reads a point back. For a scale s with 2^-800 <= |s| <= 2^800 (every LengthUnit's,
+/// checked below) this welds exactly what VertexWelder welds on the points in metres: a finite
+/// float x maps to x · s one to one (two floats differ by more than 2^-24 relative, the product is
+/// rounded by at most 2^-53 and neither underflows nor overflows), and only ±0 maps to 0, so -0 is
+/// taken as +0 here as there.
+class FloatBitsWelder {
+public:
+    struct Key {
+        std::uint32_t x, y, z;
+    };
+
+    /// Room for `vertices` distinct corners before the table regrows.
+    explicit FloatBitsWelder(std::size_t vertices)
+        : slots_(std::max<std::size_t>(64, std::bit_ceil(2 * vertices))) {}
+
+    /// The index of the corner with bits `k` (no -0), or `next` after recording it as new.
+    std::uint32_t find_or_add(const Key& k, std::uint32_t next, bool& added) {
+        if (2 * (used_ + 1) > slots_.size()) grow();
+        const std::size_t mask = slots_.size() - 1;
+        for (std::size_t i = hash(k) & mask;; i = (i + 1) & mask) {
+            Slot& s = slots_[i];
+            if (s.index_plus_one == 0) {
+                s = {k, next + 1};
+                ++used_;
+                added = true;
+                return next;
+            }
+            if (s.key.x == k.x && s.key.y == k.y && s.key.z == k.z) {
+                added = false;
+                return s.index_plus_one - 1;
+            }
+        }
+    }
+
+private:
+    struct Slot {
+        Key key;
+        std::uint32_t index_plus_one;  ///< 0: empty
+    };
+
+    static std::uint64_t hash(const Key& k) noexcept {
+        std::uint64_t h = ((std::uint64_t{k.x} << 32) | k.y) * 0x9E3779B97F4A7C15ull;
+        h ^= (std::uint64_t{k.z} + (h >> 29)) * 0xBF58476D1CE4E5B9ull;
+        return h ^ (h >> 32);
+    }
+
+    void grow() {
+        std::vector<Slot> old = std::exchange(slots_, std::vector<Slot>(2 * slots_.size()));
+        const std::size_t mask = slots_.size() - 1;
+        for (const Slot& s : old) {
+            if (s.index_plus_one == 0) continue;
+            std::size_t i = hash(s.key) & mask;
+            while (slots_[i].index_plus_one != 0) i = (i + 1) & mask;
+            slots_[i] = s;
+        }
+    }
+
+    std::vector<Slot> slots_;
+    std::size_t used_ = 0;
+};
+
+constexpr bool float_bits_weld_exactly(double metres_per_unit) {
+    const double s = metres_per_unit < 0 ? -metres_per_unit : metres_per_unit;
+    return s >= 0x1p-800 && s <= 0x1p800;
+}
+static_assert(std::ranges::all_of(kLengthUnits,
+                                  [](LengthUnit u) {
+                                      return float_bits_weld_exactly(metres_per_unit(u));
+                                  }),
+              "a unit whose scale could merge or split float coordinates: weld on the points");
+
+std::uint32_t zero_as_plus(std::uint32_t float_bits) noexcept {
+    return float_bits == 0x80000000u ? 0u : float_bits;
+}
+
+bool finite_bits(std::uint32_t float_bits) noexcept {
+    return (float_bits & 0x7F800000u) != 0x7F800000u;
+}
+
+MeshError non_finite(const ParseContext& ctx, std::uint32_t f, std::size_t offset) {
+    return ctx.error(MeshErrc::kNonFinite, 0, offset,
+                     "triangle " + std::to_string(f) + " has a NaN or infinite coordinate");
+}
+
 Result<IndexedMesh, MeshError> parse_binary(std::span<const std::byte> bytes,
                                             const ParseContext& ctx) {
     const std::uint32_t count = read_u32_le(bytes.data() + 80);
     if (count == 0) return Err{ctx.error(MeshErrc::kEmpty, 0, 80, "binary STL with 0 triangles")};
     IndexedMesh out;
     out.triangles.reserve(count);
-    VertexWelder welder;
-    welder.reserve(count / 2 + 2);  // a closed mesh: V = F/2 + 2 - 2*genus per shell
-    out.positions_m.reserve(count / 2 + 2);
+    const std::size_t expected = count / 2 + 2;  // a closed mesh: V = F/2 + 2 - 2*genus per shell
+    out.positions_m.reserve(expected);
+    FloatBitsWelder welder(expected);
     for (std::uint32_t f = 0; f < count; ++f) {
         const std::size_t base = kHeaderBytes + std::size_t{f} * kFacetBytes;
         Triangle t{};
         for (std::size_t k = 0; k < 3; ++k) {
             const std::byte* v = bytes.data() + base + 12 + 12 * k;
-            const auto p = to_metres(read_f32_le(v), read_f32_le(v + 4), read_f32_le(v + 8),
-                                     ctx.metres_per_unit);
-            if (!p) {
-                return Err{ctx.error(
-                    MeshErrc::kNonFinite, 0, base + 12 + 12 * k,
-                    "triangle " + std::to_string(f) + " has a NaN or infinite coordinate")};
+            const FloatBitsWelder::Key key{read_u32_le(v), read_u32_le(v + 4), read_u32_le(v + 8)};
+            if (!finite_bits(key.x) || !finite_bits(key.y) || !finite_bits(key.z))
+                return Err{non_finite(ctx, f, base + 12 + 12 * k)};
+            bool added = false;
+            const auto next = static_cast<std::uint32_t>(out.positions_m.size());
+            t[k] = welder.find_or_add(
+                {zero_as_plus(key.x), zero_as_plus(key.y), zero_as_plus(key.z)}, next, added);
+            if (added) {
+                out.positions_m.push_back(*to_metres(read_f32_le(v), read_f32_le(v + 4),
+                                                     read_f32_le(v + 8), ctx.metres_per_unit));
             }
-            t[k] = welder.weld(*p, out);
         }
         out.triangles.push_back(t);
     }
