@@ -140,6 +140,66 @@ std::vector<FaceHandle> slab_faces(detail::ContextState& s, const std::vector<Fa
     return out;
 }
 
+// Trades diagonal e of the quad its two faces form for the other diagonal, when OpenMesh allows
+// it and both new triangles keep the first face's orientation and are not too small; otherwise
+// the mesh is left as it was.
+bool try_flip(detail::ContextState& s, mesh::EdgeHandle e) {
+    TriMesh& m = s.mesh;
+    if (!m.is_flip_ok(e)) return false;
+    const mesh::HalfedgeHandle h = m.halfedge_handle(e, 0);
+    const FaceHandle f = m.face_handle(h), g = m.face_handle(m.opposite_halfedge_handle(h));
+    const Vec3 n = m.normal(f);
+    m.flip(e);
+    auto fine = [&](FaceHandle t) {
+        auto it = m.cfv_iter(t);
+        const Vec3 a = m.point(*it++), b = m.point(*it++), c = m.point(*it);
+        const Vec3 x = OpenMesh::cross(b - a, c - a);
+        return OpenMesh::dot(x, n) > 0 && !s.too_small(a, b, c, x.sqrnorm());
+    };
+    if (fine(f) && fine(g)) return true;
+    m.flip(e);
+    return false;
+}
+
+// A needle the lower wall's split can leave on the slab side: a face (x, a, b) with a, b
+// consecutive rim vertices of the lower wall (a few tolerances apart) and x above the upper plane,
+// made where a crossed face (often a thin cap triangle of an earlier cut) was split with its quad
+// part's diagonal from x. Where the upper plane crosses such a face more than kSnapTolerances
+// tolerances from x, the corner it cuts off is a sliver no snap mends, though the quad's other
+// diagonal leaves none (the dry run, on the unsplit face, saw none). Flips that diagonal (an edge
+// x-a or x-b whose other face is a piece of the same original face: the same cap tag and normal)
+// for every such face, when both new triangles keep the orientation and are not too small, and
+// returns how many it flipped; the flipped faces go into the face tree again (their boxes
+// changed; queries skip a face met twice). Geometry and volume are unchanged: the two triangles
+// still tile the same planar quad. O(rim vertices of the lower wall).
+int flip_rim_needles(detail::ContextState& s, const Plane& upper, const CrossSection& lower_cut) {
+    TriMesh& m = s.mesh;
+    const double tol = s.tolerance_m;
+    int flipped = 0;
+    for (const auto& loop : lower_cut.positive.loops)
+        for (std::size_t i = 0; i < loop.size(); ++i) {
+            const VertexHandle a = loop[i], b = loop[(i + 1) % loop.size()];
+            for (mesh::HalfedgeHandle h : {m.find_halfedge(a, b), m.find_halfedge(b, a)}) {
+                if (!h.is_valid()) continue;
+                const FaceHandle f = m.face_handle(h);
+                if (!f.is_valid()) continue;
+                const mesh::HalfedgeHandle hx = m.next_halfedge_handle(h);  // to x
+                if (!(upper.signed_distance(m.point(m.to_vertex_handle(hx))) > tol)) continue;
+                for (mesh::HalfedgeHandle d : {hx, m.next_halfedge_handle(hx)}) {
+                    const FaceHandle g = m.opposite_face_handle(d);
+                    if (!g.is_valid() || m.property(s.cap, g) != m.property(s.cap, f) ||
+                        m.normal(g) != m.normal(f) || !try_flip(s, m.edge_handle(d)))
+                        continue;
+                    s.tree.insert(m, f);
+                    s.tree.insert(m, g);
+                    ++flipped;
+                    break;
+                }
+            }
+        }
+    return flipped;
+}
+
 void add(CutStats& into, const CutStats& a) {
     into.faces_split += a.faces_split;
     into.vertices_added += a.vertices_added;
@@ -199,6 +259,11 @@ CutResult subtract_slab(CutContext& ctx, const Plane& plane, double kerf_width_m
         CutStats upper_stats;
         st = detail::plan_snapped(s, upper, upper_snapped,
                                   [&] { return detail::plan_wall(s, upper, after.upper); });
+        // A sliver on a needle the lower wall's split left: take the quads' other diagonals.
+        if ((st == CutStatus::kSliverSplit || st == CutStatus::kCapTriangulationFailed) &&
+            flip_rim_needles(s, upper, out.lower) > 0)
+            st = detail::plan_snapped(s, upper, upper_snapped,
+                                      [&] { return detail::plan_wall(s, upper, after.upper); });
         upper_stats.vertices_snapped = static_cast<std::uint32_t>(upper_snapped.size());
         if (st == CutStatus::kOk) st = detail::apply_plan(s, upper, out.upper, upper_stats);
         if (st != CutStatus::kOk && st != CutStatus::kPlaneMissesMesh)
