@@ -37,19 +37,40 @@ Body make_body(const mesh::TriMesh& m, std::vector<mesh::FaceHandle> faces,
     b.faces = std::move(faces);
     b.bbox_min_m = mesh::Point(1e300, 1e300, 1e300);
     b.bbox_max_m = mesh::Point(-1e300, -1e300, -1e300);
+    std::size_t lo = vertex_seen.size(), hi = 0;  // the range of the vertices stamped here
     for (const auto f : b.faces) {
         mesh::Point p[3];
         int k = 0;
         for (const auto v : m.fv_range(f)) {
             if (k < 3) p[k++] = m.point(v);
-            auto& seen = vertex_seen[static_cast<std::size_t>(v.idx())];
+            const auto vi = static_cast<std::size_t>(v.idx());
+            auto& seen = vertex_seen[vi];
             if (seen == stamp) continue;
             seen = stamp;
+            lo = std::min(lo, vi);
+            hi = std::max(hi, vi);
             b.vertices.push_back(v);
             b.bbox_min_m.minimize(m.point(v));
             b.bbox_max_m.maximize(m.point(v));
         }
         b.volume_m3 += OpenMesh::dot(p[0], OpenMesh::cross(p[1], p[2])) / 6.0;
+    }
+    // The vertices in index order. A body's vertices usually lie together (a bone's in its
+    // file): when their range is at most kScanWidth times their number, scan the stamps over it
+    // instead of sorting, and keep the scan only if it found exactly the vertices stamped here
+    // (a caller may have used the same stamp before).
+    constexpr std::size_t kScanWidth = 4;
+    const std::size_t n = b.vertices.size();
+    if (n > 0 && hi - lo < kScanWidth * n) {
+        std::vector<mesh::VertexHandle> in_order;
+        in_order.reserve(n);
+        for (std::size_t i = lo; i <= hi; ++i) {
+            if (vertex_seen[i] == stamp) in_order.emplace_back(static_cast<int>(i));
+        }
+        if (in_order.size() == n) {
+            b.vertices = std::move(in_order);
+            return b;
+        }
     }
     std::sort(b.vertices.begin(), b.vertices.end());
     return b;

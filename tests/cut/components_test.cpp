@@ -63,6 +63,36 @@ TEST(Components, SeparateShellsAreSeparateBodiesInFaceOrder) {
     EXPECT_NEAR(bodies[1].bbox_min_m[0], 0.1, 1e-15);
 }
 
+TEST(Components, MakeBodyListsVerticesInIndexOrderWhateverTheStampsHold) {
+    // Two tetrahedra with interleaved vertices (A: 0 2 4 6, B: 1 3 5 7), faces listing them out
+    // of order. A's stamps are scanned over 0..6; B, given the same stamp, finds A's 2 4 6 in
+    // its range too and must still list only its own four (the sorted way).
+    TriMesh m = mesh::make_mesh();
+    for (int i = 0; i < 8; ++i) {
+        const double x = (i % 2 == 0) ? 0.0 : 1.0;
+        const int k = i / 2;
+        m.add_vertex(mesh::Point(x + (k == 1 ? 0.1 : 0.0), k == 2 ? 0.1 : 0.0, k == 3 ? 0.1 : 0.0));
+    }
+    const auto tet = [&](int off) {
+        const auto v = [&](int k) { return mesh::VertexHandle(2 * k + off); };
+        std::vector<mesh::FaceHandle> faces = {
+            m.add_face(v(3), v(1), v(0)), m.add_face(v(0), v(2), v(3)),
+            m.add_face(v(1), v(3), v(2)), m.add_face(v(0), v(1), v(2))};
+        return faces;
+    };
+    const auto a = tet(0), b = tet(1);
+    std::vector<std::uint32_t> seen(m.n_vertices(), 0);
+    const Body body_a = make_body(m, a, seen, 1);
+    const Body body_b = make_body(m, b, seen, 1);
+    const std::vector<mesh::VertexHandle> want_a = {mesh::VertexHandle(0), mesh::VertexHandle(2),
+                                                    mesh::VertexHandle(4), mesh::VertexHandle(6)};
+    const std::vector<mesh::VertexHandle> want_b = {mesh::VertexHandle(1), mesh::VertexHandle(3),
+                                                    mesh::VertexHandle(5), mesh::VertexHandle(7)};
+    EXPECT_EQ(body_a.vertices, want_a);
+    EXPECT_EQ(body_b.vertices, want_b);
+    EXPECT_EQ(body_b.faces.size(), 4u);
+}
+
 TEST(Components, DeletedFacesBelongToNoBody) {
     TriMesh m = mesh::make_uv_sphere(0.01, 500);
     append(m, mesh::make_box({0.1, 0, 0}, {0.2, 0.1, 0.1}));
