@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <utility>
 
 namespace kerf::cut {
 namespace {
@@ -129,11 +130,15 @@ bool box_holds(const Body& outer, const Body& inner) {
     return true;
 }
 
+/// Appends `cavity` to `into`; both lists are sorted (make_body), so a merge keeps them sorted.
 void absorb(Body& into, const Body& cavity) {
-    into.faces.insert(into.faces.end(), cavity.faces.begin(), cavity.faces.end());
-    std::sort(into.faces.begin(), into.faces.end());
-    into.vertices.insert(into.vertices.end(), cavity.vertices.begin(), cavity.vertices.end());
-    std::sort(into.vertices.begin(), into.vertices.end());
+    const auto merge = [](auto& into_list, const auto& from) {
+        const auto middle = static_cast<std::ptrdiff_t>(into_list.size());
+        into_list.insert(into_list.end(), from.begin(), from.end());
+        std::inplace_merge(into_list.begin(), into_list.begin() + middle, into_list.end());
+    };
+    merge(into.faces, cavity.faces);
+    merge(into.vertices, cavity.vertices);
     into.volume_m3 += cavity.volume_m3;
 }
 
@@ -142,10 +147,10 @@ void absorb(Body& into, const Body& cavity) {
 std::vector<Body> group_cavities(std::vector<Body> shells) {
     std::vector<Body> bodies;
     std::vector<double> shell_volume;  // each body's own shell volume, before cavities
-    for (const Body& s : shells) {
+    for (Body& s : shells) {
         if (s.volume_m3 < 0) continue;
-        bodies.push_back(s);
         shell_volume.push_back(s.volume_m3);
+        bodies.push_back(std::move(s));  // its volume stays readable below (a double)
     }
     for (const Body& cavity : shells) {
         if (cavity.volume_m3 >= 0) continue;

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -192,6 +193,10 @@ TEST(Components, CavityShellsJoinTheBoneAroundThem) {
     const auto bodies = group_cavities(shells);
     ASSERT_EQ(bodies.size(), 2u);
     EXPECT_EQ(bodies[0].faces.size(), shells[0].faces.size() + shells[1].faces.size());
+    EXPECT_EQ(bodies[0].vertices.size(), shells[0].vertices.size() + shells[1].vertices.size());
+    // The cavity's faces and vertices merged in: both lists still in index order.
+    EXPECT_TRUE(std::is_sorted(bodies[0].faces.begin(), bodies[0].faces.end()));
+    EXPECT_TRUE(std::is_sorted(bodies[0].vertices.begin(), bodies[0].vertices.end()));
     EXPECT_NEAR(bodies[0].volume_m3, shells[0].volume_m3 + shells[1].volume_m3, 1e-18);
     EXPECT_LT(bodies[0].volume_m3, shells[0].volume_m3);
     EXPECT_NEAR(bodies[1].volume_m3, 1e-3, 1e-15);
