@@ -94,10 +94,13 @@ Result<std::vector<std::byte>, FileError> read_regular_file(const std::filesyste
     std::size_t got = 0;
     for (;;) {
         if (got == bytes.size()) {
-            // The file may have grown since fstat: read on, within the cap.
+            // The file may have grown since fstat: one byte tells, before the buffer grows (the
+            // common case, a file read whole at its stat size, then neither copies nor zero-fills
+            // a second buffer twice its size). Beyond the cap: refused; else read on, within it.
+            std::byte probe{};
+            ssize_t more = ::read(fd, &probe, 1);
+            while (more < 0 && errno == EINTR) more = ::read(fd, &probe, 1);
             if (bytes.size() >= max_bytes) {
-                char probe;
-                const ssize_t more = ::read(fd, &probe, 1);
                 ::close(fd);
                 if (more > 0) {
                     return Err{FileError{FileErrc::kTooLarge, p,
@@ -106,7 +109,15 @@ Result<std::vector<std::byte>, FileError> read_regular_file(const std::filesyste
                 }
                 return bytes;
             }
+            if (more < 0) {
+                const int e = errno;
+                ::close(fd);
+                return Err{FileError{FileErrc::kIo, p, "read failed: " + errno_text(e)}};
+            }
+            if (more == 0) break;
             bytes.resize(std::min<std::uint64_t>(max_bytes, bytes.size() * 2 + 4096));
+            bytes[got++] = probe;
+            continue;
         }
         const ssize_t n = ::read(fd, bytes.data() + got, bytes.size() - got);
         if (n < 0 && errno == EINTR) continue;

@@ -1,6 +1,7 @@
 // STL, ASCII and binary. Binary is recognised by its size (84 + 50 · count bytes), not by the
 // first five bytes, because many binary STLs begin with "solid".
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -303,13 +304,17 @@ std::string write_stl(const IndexedMesh& m, double metres_per_unit, bool binary)
         std::fill(std::copy(header.begin(), header.end(), out.begin()), out.begin() + 80, ' ');
         char* w = out.data() + 80;
         put_u32(w, static_cast<std::uint32_t>(m.triangles.size()));
+        // Each vertex in file units once (a vertex is a corner of about six facets): the same
+        // division and rounding per coordinate as per corner, a sixth of the divisions.
+        std::vector<std::array<float, 3>> corner(m.positions_m.size());
+        for (std::size_t v = 0; v < corner.size(); ++v)
+            for (int i = 0; i < 3; ++i)
+                corner[v][i] = static_cast<float>(m.positions_m[v][i] / metres_per_unit);
         for (const Triangle& t : m.triangles) {
             const Point nrm = facet_normal(m, t);
             for (int i = 0; i < 3; ++i) put_f32(w, static_cast<float>(nrm[i]));
-            for (std::uint32_t v : t) {
-                for (int i = 0; i < 3; ++i)
-                    put_f32(w, static_cast<float>(m.positions_m[v][i] / metres_per_unit));
-            }
+            for (std::uint32_t v : t)
+                for (int i = 0; i < 3; ++i) put_f32(w, corner[v][i]);
             w += 2;  // attribute byte count: 0
         }
         return out;
