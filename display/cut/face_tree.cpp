@@ -357,6 +357,14 @@ void FaceTree::insert(const mesh::TriMesh& mesh, mesh::FaceHandle f) {
         hang(item_of(mesh, f));
 }
 
+void FaceTree::drop_inserts(std::size_t pending, std::size_t hung) noexcept {
+    if (pending < pending_.size()) pending_.resize(pending);
+    for (std::size_t k = hung; k < extra_.size(); ++k)
+        for (int a = 0; a < 3; ++a)
+            extra_[k].item.box.lo[a] = std::numeric_limits<float>::infinity(),
+            extra_[k].item.box.hi[a] = -std::numeric_limits<float>::infinity();
+}
+
 void FaceTree::flush_pending(std::size_t max_faces) {
     const std::size_t n = std::min(max_faces, pending_.size());
     for (std::size_t k = 0; k < n; ++k) hang(pending_[k]);

@@ -69,6 +69,14 @@ public:
     /// Faces inserted since the last flush.
     std::size_t pending() const noexcept { return pending_.size(); }
 
+    /// Faces hung on leaves since the build (flushed, or inserted when the pending list was full).
+    std::size_t hung() const noexcept { return extra_.size(); }
+
+    /// Forgets the inserts made since pending() was `pending` and hung() was `hung`, with no
+    /// flush in between (an undone edit: their faces no longer exist). Pending ones are dropped;
+    /// ones hung since stay on their leaves with an empty box, so no query reports them.
+    void drop_inserts(std::size_t pending, std::size_t hung) noexcept;
+
     /// For idle time: hangs up to `max_faces` pending faces on the leaves their centres' Morton
     /// codes fall in, enlarging the boxes on their paths. O(faces x tree depth).
     void flush_pending(std::size_t max_faces);

@@ -6,6 +6,7 @@
 
 #include "display/cut/apply_plan.hpp"
 #include "display/cut/context_state.hpp"
+#include "display/cut/edit_undo.hpp"
 #include "display/cut/section_plan.hpp"
 
 namespace kerf::cut {
@@ -237,9 +238,20 @@ CutResult subtract_slab(CutContext& ctx, const Plane& plane, double kerf_width_m
                                   [&] { return detail::plan_wall(s, lower, walls.lower); });
     if (st != CutStatus::kOk) return done(st);
     r.stats.vertices_snapped = static_cast<std::uint32_t>(lower_snapped.size());
-    // Lower wall (planned last, so the plan is current).
+    // Lower wall (planned last, so the plan is current). The upper wall is planned again on the
+    // edited mesh and may still refuse there: every edit from here on can be undone, so any
+    // refusal leaves the mesh as it was.
+    detail::EditUndo undo;
+    auto refuse = [&](CutStatus why) {
+        undo.restore(s);
+        out.lower.clear();
+        out.upper.clear();
+        r.stats = CutStats{};
+        return done(why);
+    };
+    undo.record(s);
     st = detail::apply_plan(s, lower, out.lower, r.stats);
-    if (st != CutStatus::kOk) return done(CutStatus::kInternalError);
+    if (st != CutStatus::kOk) return refuse(CutStatus::kInternalError);
     // Upper wall: the loops found above; faces the lower cut split are reached again through the
     // slab from the lower wall's positive side (not through the lower wall's own caps).
     s.next_generation();
@@ -265,9 +277,12 @@ CutResult subtract_slab(CutContext& ctx, const Plane& plane, double kerf_width_m
             st = detail::plan_snapped(s, upper, upper_snapped,
                                       [&] { return detail::plan_wall(s, upper, after.upper); });
         upper_stats.vertices_snapped = static_cast<std::uint32_t>(upper_snapped.size());
-        if (st == CutStatus::kOk) st = detail::apply_plan(s, upper, out.upper, upper_stats);
-        if (st != CutStatus::kOk && st != CutStatus::kPlaneMissesMesh)
-            return done(CutStatus::kInternalError);
+        if (st != CutStatus::kOk && st != CutStatus::kPlaneMissesMesh) return refuse(st);
+        if (st == CutStatus::kOk) {
+            undo.record(s);
+            st = detail::apply_plan(s, upper, out.upper, upper_stats);
+            if (st != CutStatus::kOk) return refuse(CutStatus::kInternalError);
+        }
         add(r.stats, upper_stats);
         r.stats.cap_triangles += upper_stats.cap_triangles;
     }
@@ -281,7 +296,7 @@ CutResult subtract_slab(CutContext& ctx, const Plane& plane, double kerf_width_m
         for (auto v : s.mesh.fv_range(f))
             if (upper.signed_distance(s.mesh.point(v)) > reach ||
                 lower.signed_distance(s.mesh.point(v)) < -reach)
-                return done(CutStatus::kInternalError);
+                return refuse(CutStatus::kInternalError);
     for (FaceHandle f : slab) s.mesh.delete_face(f, true);
     r.stats.triangles_removed = static_cast<std::uint32_t>(slab.size());
     r.stats.cap_triangles /= 2;  // only one cap of each slice remains

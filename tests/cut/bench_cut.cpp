@@ -35,6 +35,7 @@
 #include "display/cut/cut_context.hpp"
 #include "display/cut/separate.hpp"
 #include "display/cut/slice_by_plane.hpp"
+#include "display/cut/subtract_slab.hpp"
 #include "display/cut/triangulate.hpp"
 #include "display/mesh/foot_generator.hpp"
 #include "display/mesh/mesh_io.hpp"
@@ -161,6 +162,35 @@ BENCHMARK(BM_LocalisedSliceCaps_ThinTube)
     ->Arg(4'000'000)
     ->Iterations(40)
     ->Unit(benchmark::kMicrosecond);
+
+// ---- biplanar slab, localised ------------------------------------------------------------------
+
+// A 0.5 mm slab across the regular tube in the middle of each cut's own ring band (1 mm apart
+// for 40 cuts): both walls found, planned and capped, the slab removed. Its cost is the walls'
+// (2 x 2,048 split faces) plus the walk over the slab's surface between them.
+void BM_SlabCut(benchmark::State& state) {
+    TriMesh m = tube_with(static_cast<std::size_t>(state.range(0)));
+    CutContext ctx(m);
+    kerf::cut::SlabCut slab;
+    int i = 0;
+    int refused = 0;
+    double faces_split = 0;
+    const int n = static_cast<int>(state.max_iterations);
+    for (auto _ : state) {
+        idle_between_cuts(ctx, state);
+        const Plane p = tube_plane(i++, n);
+        const Seed seed{Vec3(kTubeOuter, 0, p.point()[2]), kerf::mesh::FaceHandle(), -1.0};
+        const auto r = kerf::cut::subtract_slab(ctx, p, 0.5e-3, seed, slab);
+        refused += r.ok() ? 0 : 1;
+        faces_split += r.stats.faces_split;
+        benchmark::DoNotOptimize(slab.lower.negative.cap_faces.data());
+    }
+    state.counters["growths_in_cuts"] = static_cast<double>(ctx.growths_in_cuts());
+    state.counters["refused"] = refused;
+    state.counters["faces_split"] = faces_split / static_cast<double>(state.iterations());
+    state.counters["triangles"] = static_cast<double>(state.range(0));
+}
+BENCHMARK(BM_SlabCut)->Arg(100'000)->Arg(1'000'000)->Iterations(40)->Unit(benchmark::kMicrosecond);
 
 // ---- full-plane slice + caps of a 1M sphere, its peers and the floor ----------------------------
 

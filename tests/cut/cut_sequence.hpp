@@ -3,11 +3,16 @@
 // (slab_cap_wall_regression_test, slab_rim_needle_regression_test) list them as hex floats.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cstddef>
 #include <span>
+#include <vector>
 
+#include "display/cut/components.hpp"
 #include "display/cut/slice_by_plane.hpp"
 #include "display/cut/subtract_slab.hpp"
+#include "tests/cut/slice_sweep.hpp"
 
 namespace kerf::cut::testing {
 
@@ -35,6 +40,88 @@ inline std::size_t replay_cuts(CutContext& ctx, std::span<const SequenceCut> cut
         if (r.status == CutStatus::kInternalError) return i;
     }
     return cuts.size();
+}
+
+// Flux of max(s - c, 0) n through the faces of `m` in `faces` (s: signed distance to `lower`, n
+// its normal): clipped to s >= c, fanned, each piece's vector area times its mean of s - c.
+inline double positive_part_flux(const mesh::TriMesh& m, const std::vector<mesh::FaceHandle>& faces,
+                                 const Plane& lower, double c) {
+    double sum = 0;
+    for (mesh::FaceHandle f : faces) {
+        Vec3 poly[4];
+        double val[4];
+        int k = 0;
+        Vec3 p[3];
+        double v[3];
+        int i = 0;
+        for (auto vh : m.fv_range(f))
+            p[i] = m.point(vh), v[i] = lower.signed_distance(p[i]) - c, ++i;
+        for (int a = 0; a < 3; ++a) {
+            const int b = (a + 1) % 3;
+            if (v[a] >= 0) poly[k] = p[a], val[k++] = v[a];
+            if ((v[a] >= 0) != (v[b] >= 0)) {
+                const double t = v[a] / (v[a] - v[b]);
+                poly[k] = p[a] + (p[b] - p[a]) * t, val[k++] = 0;
+            }
+        }
+        for (int j = 1; j + 1 < k; ++j) {
+            const Vec3 area = OpenMesh::cross(poly[j] - poly[0], poly[j + 1] - poly[0]) * 0.5;
+            sum += OpenMesh::dot(area, lower.normal()) * (val[0] + val[j] + val[j + 1]) / 3;
+        }
+    }
+    return sum;
+}
+
+/// The volume a slab cut of `plane` kerf_m wide should have removed from `before` (the mesh just
+/// before it; `after` with `slab` the result): the material of the seed's body between the
+/// planes, found independently of any cut as the flux of clamp(s, 0, kerf) n through the body's
+/// surface before the cut (s the signed distance to the lower plane: the divergence is 1 inside
+/// the slab, 0 outside). The body is the one nearest a point of the remaining lower cap.
+inline double seed_body_band_volume(const mesh::TriMesh& before, const mesh::TriMesh& after,
+                                    const SlabCut& slab, const Plane& plane, double kerf_m) {
+    if (slab.lower.negative.cap_faces.empty()) return 0.0;
+    const Vec3 on_lower_cap = face_centroid(after, slab.lower.negative.cap_faces.front());
+    const std::vector<Body> bodies = find_components(before);
+    double nearest = 1e300;
+    std::size_t seed_body = 0;
+    for (std::size_t k = 0; k < bodies.size(); ++k)
+        for (mesh::FaceHandle f : bodies[k].faces) {
+            const double d = (face_centroid(before, f) - on_lower_cap).norm();
+            if (d < nearest) nearest = d, seed_body = k;
+        }
+    const Plane lower = plane.offset(-0.5 * kerf_m);
+    const std::vector<mesh::FaceHandle>& faces = bodies[seed_body].faces;
+    return positive_part_flux(before, faces, lower, 0.0) -
+           positive_part_flux(before, faces, lower, kerf_m);
+}
+
+/// Expects `after` to be `before` element for element: the array sizes, every vertex's point,
+/// outgoing halfedge and deleted flag, every halfedge's vertex, next, previous and face, every
+/// face's halfedge and deleted flag (a refusal leaves the mesh unchanged, not just its hash).
+inline void expect_same_mesh(const mesh::TriMesh& before, const mesh::TriMesh& after) {
+    ASSERT_EQ(before.n_vertices(), after.n_vertices());
+    ASSERT_EQ(before.n_edges(), after.n_edges());
+    ASSERT_EQ(before.n_faces(), after.n_faces());
+    int differ = 0;
+    for (int i = 0; i < static_cast<int>(before.n_vertices()); ++i) {
+        const mesh::VertexHandle v(i);
+        differ += before.point(v) != after.point(v) ||
+                  before.halfedge_handle(v) != after.halfedge_handle(v) ||
+                  before.status(v).deleted() != after.status(v).deleted();
+    }
+    for (int i = 0; i < static_cast<int>(before.n_halfedges()); ++i) {
+        const mesh::HalfedgeHandle h(i);
+        differ += before.to_vertex_handle(h) != after.to_vertex_handle(h) ||
+                  before.next_halfedge_handle(h) != after.next_halfedge_handle(h) ||
+                  before.prev_halfedge_handle(h) != after.prev_halfedge_handle(h) ||
+                  before.face_handle(h) != after.face_handle(h);
+    }
+    for (int i = 0; i < static_cast<int>(before.n_faces()); ++i) {
+        const mesh::FaceHandle f(i);
+        differ += before.halfedge_handle(f) != after.halfedge_handle(f) ||
+                  before.status(f).deleted() != after.status(f).deleted();
+    }
+    EXPECT_EQ(differ, 0) << "elements changed";
 }
 
 }  // namespace kerf::cut::testing

@@ -178,36 +178,6 @@ const SequenceCut kCalcaneusCuts[] = {
      {-0x1.6d05f848a1261p-1, -0x1.5152abb51b49cp-1, 0x1.40c8178a66b3p-1}},
 };
 
-// Flux of max(s - c, 0) n through the faces of `m` in `faces` (s: signed distance to `lower`, n
-// its normal): clipped to s >= c, fanned, each piece's vector area times its mean of s - c.
-double positive_part_flux(const TriMesh& m, const std::vector<FaceHandle>& faces,
-                          const Plane& lower, double c) {
-    double sum = 0;
-    for (FaceHandle f : faces) {
-        Vec3 poly[4];
-        double val[4];
-        int k = 0;
-        Vec3 p[3];
-        double v[3];
-        int i = 0;
-        for (auto vh : m.fv_range(f))
-            p[i] = m.point(vh), v[i] = lower.signed_distance(p[i]) - c, ++i;
-        for (int a = 0; a < 3; ++a) {
-            const int b = (a + 1) % 3;
-            if (v[a] >= 0) poly[k] = p[a], val[k++] = v[a];
-            if ((v[a] >= 0) != (v[b] >= 0)) {
-                const double t = v[a] / (v[a] - v[b]);
-                poly[k] = p[a] + (p[b] - p[a]) * t, val[k++] = 0;
-            }
-        }
-        for (int j = 1; j + 1 < k; ++j) {
-            const Vec3 area = OpenMesh::cross(poly[j] - poly[0], poly[j + 1] - poly[0]) * 0.5;
-            sum += OpenMesh::dot(area, lower.normal()) * (val[0] + val[j] + val[j + 1]) / 3;
-        }
-    }
-    return sum;
-}
-
 TEST(SlabRimNeedleRegression, CalcaneusSlabWhoseUpperWallMeetsALowerWallNeedleIsCut) {
     const auto path = std::filesystem::path(KERF_SHARED_MESHES) / "jma_norm01_calcaneus_right.stl";
     if (!std::filesystem::exists(path)) GTEST_SKIP() << "real meshes absent: " << path;
@@ -236,19 +206,7 @@ TEST(SlabRimNeedleRegression, CalcaneusSlabWhoseUpperWallMeetsALowerWallNeedleIs
     // the same needle. The body is the one nearest a point of the remaining lower cap.
     ASSERT_FALSE(slab.lower.negative.cap_faces.empty());
     EXPECT_FALSE(slab.upper.positive.cap_faces.empty());
-    const Vec3 on_lower_cap = testing::face_centroid(m, slab.lower.negative.cap_faces.front());
-    const std::vector<Body> bodies = find_components(before);
-    double nearest = 1e300;
-    std::size_t seed_body = 0;
-    for (std::size_t k = 0; k < bodies.size(); ++k)
-        for (FaceHandle f : bodies[k].faces) {
-            const double d = (testing::face_centroid(before, f) - on_lower_cap).norm();
-            if (d < nearest) nearest = d, seed_body = k;
-        }
-    const Plane lower = plane.offset(-0.5 * kerf_m);
-    const std::vector<FaceHandle>& faces = bodies[seed_body].faces;
-    const double removed = positive_part_flux(before, faces, lower, 0.0) -
-                           positive_part_flux(before, faces, lower, kerf_m);
+    const double removed = testing::seed_body_band_volume(before, m, slab, plane, kerf_m);
     ASSERT_GT(removed, 0.0);
     const auto rep = testing::expect_closed_2_manifold(m);
     EXPECT_NEAR(rep.total_volume_m3, v0 - removed, 1e-9 * v0);
