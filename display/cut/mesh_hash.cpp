@@ -94,11 +94,16 @@ std::uint64_t mesh_hash(const mesh::TriMesh& m) {
     for (std::size_t i = 0; i < m.n_faces(); ++i) {
         const mesh::FaceHandle f(static_cast<int>(i));
         if (is_deleted(m, f)) continue;
+        // The corners as fv_range() gives them (from the face's half-edge, following next, until
+        // back at it; none without a half-edge), straight from the half-edge arrays.
         std::uint32_t ids[3] = {kGone, kGone, kGone};
         int k = 0;
-        for (const auto v : m.fv_range(f)) {
-            if (k < 3) ids[k] = dense[static_cast<std::size_t>(v.idx())];
+        const mesh::HalfedgeHandle first_halfedge = m.halfedge_handle(f);
+        for (mesh::HalfedgeHandle he = first_halfedge; he.is_valid();) {
+            if (k < 3) ids[k] = dense[static_cast<std::size_t>(m.to_vertex_handle(he).idx())];
             ++k;
+            he = m.next_halfedge_handle(he);
+            if (he == first_halfedge) break;
         }
         int first = 0;  // rotate so the lowest number leads; the winding stays
         for (int j = 1; j < 3; ++j) first = ids[j] < ids[first] ? j : first;

@@ -246,11 +246,16 @@ mesh::IndexedMesh extract_piece(const mesh::TriMesh& m, const cut::Body& piece) 
     }
     out.triangles.reserve(piece.faces.size());
     for (const auto f : piece.faces) {
+        // The corners as fv_range() gives them (from the face's half-edge, following next, until
+        // back at it; none without a half-edge), straight from the half-edge arrays.
         mesh::Triangle t{};
         std::size_t k = 0;
-        for (const auto v : m.fv_range(f)) {
-            if (k < 3) t[k] = renumber[static_cast<std::size_t>(v.idx())];
+        const mesh::HalfedgeHandle first = m.halfedge_handle(f);
+        for (mesh::HalfedgeHandle h = first; h.is_valid();) {
+            if (k < 3) t[k] = renumber[static_cast<std::size_t>(m.to_vertex_handle(h).idx())];
             ++k;
+            h = m.next_halfedge_handle(h);
+            if (h == first) break;
         }
         if (k == 3) out.triangles.push_back(t);
     }
