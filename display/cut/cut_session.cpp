@@ -11,6 +11,7 @@
 #include "display/cut/cross_section.hpp"
 #include "display/cut/cut_context.hpp"
 #include "display/cut/mesh_hash.hpp"
+#include "display/cut/seed.hpp"
 #include "display/cut/separate.hpp"
 #include "display/cut/slice_by_plane.hpp"
 
@@ -114,6 +115,7 @@ struct CutSession::State {
     // way, in cut order): what the collision export closes (withdrawn_cuts()).
     std::vector<WithdrawnCut> withdrawn;
     std::vector<Glue> withdrawn_pairs;
+    double withdrawn_kerf_max_m = 0;  // the widest kerf among them
 
     // Body-local triangle numbering (what the collision mesh publishes), built when needed.
     std::vector<std::vector<mesh::FaceHandle>> body_faces;
@@ -261,6 +263,7 @@ void CutSession::State::close_open_cut(CutEndKind kind, ApplyReport& report) {
                 withdrawn_pairs.push_back(Glue{cs.positive.loops[i][j], cs.negative.loops[i][j]});
         closed.pair_count = withdrawn_pairs.size() - closed.first_pair;
         withdrawn.push_back(closed);
+        withdrawn_kerf_max_m = std::max(withdrawn_kerf_max_m, cut.kerf_m);
     }
     // Pieces bounded by this cut and earlier partial ones (a chevron's two limbs) come free too.
     report.bodies_created = sever(cut);
@@ -303,7 +306,18 @@ ApplyReport CutSession::begin(const CutBegin& e) {
     const std::int64_t t0 = now_ns();
     const std::size_t old_vertices = s.mesh.n_vertices(), old_faces = s.mesh.n_faces();
     OpenCut cut{e.cut_id, e.body_id, {}, std::nullopt, {}, e.kerf_width_m};
-    const Seed seed{pose.to_body(e.seed_m), s.hinted_face(e.body_id, e.triangle_hint), -1.0};
+    // kerf-rt finds the seed on the collision mesh, where the export closes withdrawn cuts: it
+    // moves vertices by up to half a kerf from where this mesh has them (the opened kerf), so a
+    // blade entering an earlier withdrawn kerf touches a point up to that far from this surface.
+    const double seed_tolerance_m =
+        kSeedRelativeTolerance * s.ctx->scale_m() + 0.5 * s.withdrawn_kerf_max_m;
+    Seed seed{
+        pose.to_body(e.seed_m), s.hinted_face(e.body_id, e.triangle_hint), seed_tolerance_m, {}};
+    // The seed lies on the body being cut: a piece freed nearby (in the kerf) may be nearer.
+    if (s.bodies.size() > 1)
+        seed.accepts = [&s, body = e.body_id](mesh::FaceHandle f) {
+            return s.mesh.property(s.face_body, f) == body;
+        };
     const CutResult r = slice_by_plane(*s.ctx, *plane, seed, cut.section);
     if (!r.ok()) return ++s.counters.refused, refused("slice refused", r.status);
 

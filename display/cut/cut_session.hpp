@@ -15,6 +15,10 @@
 // frame, and maps the blade's (u, v) frame (events: u = blade length axis) onto the frame Plane
 // derives from the normal by converting the swept rectangle's corners point by point.
 //
+// Seeds. A CutBegin's seed lies on the named body (a piece nearer to it is not cut), within the
+// library's seed tolerance plus half the widest withdrawn kerf so far: kerf-rt finds it on the
+// collision mesh, which has withdrawn kerfs closed where this mesh has them open.
+//
 // Rules. One cut is open at a time: a CutBegin while one is open first ends that one as withdrawn.
 // A refused slice (a CutStatus) leaves the mesh unchanged and no cut open; progress or end for a
 // cut that is not open is ignored. Both are counted, never fatal. Completed: the separation is

@@ -16,7 +16,6 @@ using mesh::TriMesh;
 using mesh::VertexHandle;
 
 constexpr std::size_t kMaxSeedSearchFaces = 20000;
-constexpr double kSeedRelativeTolerance = 1e-3;
 
 // Walks cross-section loops on the unedited mesh.
 class Walker {
@@ -269,15 +268,16 @@ FaceHandle find_seed_face(ContextState& s, const Seed& seed) {
     const double tol =
         seed.tolerance_m >= 0 ? seed.tolerance_m : kSeedRelativeTolerance * s.scale_m;
     const auto n = static_cast<int>(m.n_faces());
+    const auto accepted = [&](FaceHandle f) { return !seed.accepts || seed.accepts(f); };
     if (seed.face_hint.is_valid() && seed.face_hint.idx() < n &&
-        !m.status(seed.face_hint).deleted() &&
+        !m.status(seed.face_hint).deleted() && accepted(seed.face_hint) &&
         distance_to_face(m, seed.face_hint, seed.point_m) <= tol)
         return seed.face_hint;
     FaceHandle best;
     double best_d = tol;
     auto consider = [&](std::int32_t fi) {
         const FaceHandle f(fi);
-        if (fi >= n || m.status(f).deleted() || s.face_marked(f)) return;
+        if (fi >= n || m.status(f).deleted() || s.face_marked(f) || !accepted(f)) return;
         s.mark_face(f);
         const double d = distance_to_face(m, f, seed.point_m);
         if (d <= best_d) best_d = d, best = f;

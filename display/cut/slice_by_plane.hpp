@@ -40,12 +40,12 @@
 //    refused (kCapTriangulationFailed; rare, bounded by the sweeps, never on generated shapes).
 //  Every check runs before the first edit, so any failure leaves the mesh unchanged.
 //
-// Localised statuses: kSeedNotOnSurface (no triangle within the seed tolerance), kSeedFarFromCut
-// (no crossing reached within 20,000 triangles of the seed, nearest-to-plane first),
-// kSeedOnInnerBoundary (the seed's loop is a hole with no outer loop around it). A seed on a hole
-// (the canal wall, or the inner loop where the plane meets a concavity) touches the material
-// between that hole and the innermost outer loop around it: that outer loop is cut, as if the
-// seed were on it.
+// Localised statuses: kSeedNotOnSurface (no triangle within the seed tolerance that
+// Seed::accepts), kSeedFarFromCut (no crossing reached within 20,000 triangles of the seed,
+// nearest-to-plane first), kSeedOnInnerBoundary (the seed's loop is a hole with no outer loop
+// around it). A seed on a hole (the canal wall, or the inner loop where the plane meets a
+// concavity) touches the material between that hole and the innermost outer loop around it: that
+// outer loop is cut, as if the seed were on it.
 #pragma once
 
 #include "display/cut/cross_section.hpp"
