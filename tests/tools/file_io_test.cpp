@@ -66,6 +66,23 @@ TEST_F(FileIo, AFileAboveTheCapIsAClearError) {
     EXPECT_TRUE(read_regular_file(dir_ / "big", 1000));
 }
 
+// A file longer than fstat said (one that grew, or a /proc file, whose size reads 0) is read
+// past its stated size, byte for byte, and one that runs past the cap that way is refused.
+TEST_F(FileIo, AFileLongerThanItsStatedSizeIsReadWholeWithinTheCap) {
+    const fs::path proc = "/proc/self/cmdline";  // regular, size 0, this process's arguments
+    const std::string expected = get(proc);
+    ASSERT_GT(expected.size(), 4u);
+    auto bytes = read_regular_file(proc, kDefaultMaxInputBytes);
+    ASSERT_TRUE(bytes) << bytes.error().message();
+    EXPECT_EQ(std::string(reinterpret_cast<const char*>(bytes->data()), bytes->size()), expected);
+    auto capped = read_regular_file(proc, 4);
+    ASSERT_FALSE(capped);
+    EXPECT_EQ(capped.error().code, FileErrc::kTooLarge);
+    EXPECT_NE(capped.error().what.find("grew past the 4-byte limit while being read"),
+              std::string::npos)
+        << capped.error().what;
+}
+
 TEST_F(FileIo, AMultiFileSetAppearsWholeOrNotAtAll) {
     put(dir_ / "out_1.txt", "old 1");
     fs::create_directory(dir_ / "out_2.txt");  // the second target cannot be written
