@@ -183,7 +183,10 @@ int run_rt_process(const RtOptions& o) {
     }
     std::unique_ptr<InputRecorder> recorder;
     if (!o.record_path.empty()) {
-        auto started = InputRecorder::start(o.record_path, std::uint64_t(rts.period_ns));
+        // Lockstep is paced by the emulator, not the clock: a full ring waits for the drain
+        // (a loaded machine starved it: "ticks dropped" and no recording) instead of dropping.
+        auto started = InputRecorder::start(o.record_path, std::uint64_t(rts.period_ns),
+                                            o.lockstep ? WhenFull::kWait : WhenFull::kDrop);
         if (!started) return fail(started.error());
         recorder = std::move(*started);
     }

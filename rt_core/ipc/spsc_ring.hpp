@@ -87,6 +87,13 @@ public:
         return true;
     }
 
+    /// True when a try_push now would drop (re-reads the consumer's index). Never blocks.
+    bool full() noexcept {
+        if (write_ - cached_read_ < N) return false;
+        cached_read_ = control_->read_index.value.load(std::memory_order_acquire);
+        return write_ - cached_read_ >= N || cached_read_ > write_;
+    }
+
     std::uint64_t dropped() const noexcept { return dropped_; }
     std::uint64_t pushed() const noexcept { return pushed_; }
 

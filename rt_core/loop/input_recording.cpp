@@ -40,8 +40,10 @@ bool finite(const double* v, int n) noexcept {
 }  // namespace
 
 Result<std::unique_ptr<InputRecorder>, std::string> InputRecorder::start(const std::string& path,
-                                                                         std::uint64_t period_ns) {
+                                                                         std::uint64_t period_ns,
+                                                                         WhenFull when_full) {
     std::unique_ptr<InputRecorder> r(new InputRecorder());
+    r->when_full_ = when_full;
     r->ring_ = std::make_unique<Ring>();
     r->producer_ =
         ipc::SpscProducerEnd<RecordedInput, kCapacity>(&r->ring_->control, r->ring_->slots);
@@ -118,7 +120,17 @@ void InputRecorder::record(const TickSeen& seen) noexcept {
     r.overran_last = seen.timing.overran_last ? 1 : 0;
     r.missed_deadlines =
         std::uint32_t(std::min<std::uint64_t>(seen.timing.missed_deadlines, kMaxMissed));
-    try_push(r);
+    if (when_full_ == WhenFull::kWait)
+        push_waiting(r);
+    else
+        try_push(r);
+}
+
+bool InputRecorder::push_waiting(const RecordedInput& input) noexcept {
+    const auto give_up = std::chrono::steady_clock::now() + kMaxWaitWhenFull;
+    while (producer_.full() && std::chrono::steady_clock::now() < give_up)
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    return try_push(input);
 }
 
 Result<Recording, std::string> load_recording(const std::string& path) {

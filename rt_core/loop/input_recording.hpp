@@ -4,14 +4,15 @@
 //   record:  the loop hands what it saw each tick (HapticLoop::record_to: the read's status and
 //            the sample after it, the collision world and the device generation in use, the
 //            tick's timing faults) to InputRecorder on the real-time thread, which pushes one
-//            fixed-size RecordedInput into an in-process SPSC ring (wait-free, no allocation; a
-//            full ring drops and counts); InputRecorder's thread drains the ring to FILE.tmp every
-//            few milliseconds and renames it to FILE at stop() (a recording that dropped ticks is
-//            not kept, and one whose header counts drops is refused: it could not be replayed).
-//            Recorded from inside the loop, every tick is there: the ticks without a device
-//            (unplugged, not yet re-opened: status kDisconnected) and those of every re-opened
-//            device (format 3; format 2 recorded through a wrapper of the device opened at start,
-//            so it stopped at an unplug).
+//            fixed-size RecordedInput into an in-process SPSC ring (wait-free, no allocation; in
+//            real time a full ring drops and counts, in lockstep, where the emulator paces the
+//            loop, it waits for the drain: WhenFull); InputRecorder's thread drains the ring to
+//            FILE.tmp every few milliseconds and renames it to FILE at stop() (a recording that
+//            dropped ticks is not kept, and one whose header counts drops is refused: it could not
+//            be replayed). Recorded from inside the loop, every tick is there: the ticks without a
+//            device (unplugged, not yet re-opened: status kDisconnected) and those of every
+//            re-opened device (format 3; format 2 recorded through a wrapper of the device opened
+//            at start, so it stopped at an unplug).
 //   replay:  ReplayDevice hands the loop the recorded reads tick by tick (status and sample), so
 //            kerf-rt --replay FILE runs the same ticks on the same input. The collision world the
 //            recorded loop used at each tick is part of the record: the replay device holds the
@@ -30,6 +31,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -85,22 +87,36 @@ struct RecordingHeader {
 };
 static_assert(sizeof(RecordingHeader) == 64);
 
+/// What record() does when the ring is full.
+enum class WhenFull {
+    kDrop,  ///< real time: the tick goes on, the record is dropped (and the recording refused)
+    kWait,  ///< lockstep and replay: the loop is paced by the emulator, not the clock, so it
+            ///< waits for the drain (sleeping, up to kMaxWaitWhenFull) and nothing is dropped
+};
+
 /// Records what the loop saw each tick (HapticLoop::record_to) through a ring drained into a
 /// file by a thread of its own.
 class InputRecorder final : public TickRecorder {
 public:
     static constexpr std::uint32_t kCapacity = 1u << 15;  ///< ticks the ring holds (32 s at 1 kHz)
+    /// Longest a WhenFull::kWait record() waits for the drain before it drops (a drain stuck on
+    /// a write): 10 s.
+    static constexpr std::chrono::milliseconds kMaxWaitWhenFull{10'000};
     /// Creates FILE.tmp (fails naming it) and starts the drain thread.
-    static Result<std::unique_ptr<InputRecorder>, std::string> start(const std::string& path,
-                                                                     std::uint64_t period_ns);
+    static Result<std::unique_ptr<InputRecorder>, std::string> start(
+        const std::string& path, std::uint64_t period_ns, WhenFull when_full = WhenFull::kDrop);
     ~InputRecorder() override;  ///< stop() if not yet stopped
     InputRecorder(const InputRecorder&) = delete;
     InputRecorder& operator=(const InputRecorder&) = delete;
 
     /// RT: queues one tick's input; false (and counted) when the ring is full. noexcept.
     bool try_push(const RecordedInput& input) noexcept { return producer_.try_push(input); }
-    /// RT: what the loop saw this tick, as a RecordedInput (try_push). noexcept.
+    /// What the loop saw this tick, as a RecordedInput: try_push (RT, WhenFull::kDrop), or
+    /// push_waiting (WhenFull::kWait; sleeps while the ring is full, so never in real time).
     void record(const TickSeen& seen) noexcept override;
+    /// Pushes, sleeping 1 ms at a time while the ring is full, up to kMaxWaitWhenFull; then
+    /// try_push (dropped and counted when still full). noexcept.
+    bool push_waiting(const RecordedInput& input) noexcept;
     /// Drains what is left, writes the header and renames FILE.tmp to FILE. Idempotent.
     Result<std::uint64_t, std::string> stop();
     std::uint64_t dropped() const noexcept { return producer_.dropped(); }
@@ -118,6 +134,7 @@ private:
     std::string path_;
     std::FILE* file_ = nullptr;
     RecordingHeader header_{};
+    WhenFull when_full_ = WhenFull::kDrop;
     bool write_failed_ = false;
     std::atomic<bool> stop_{false};
     std::thread thread_;

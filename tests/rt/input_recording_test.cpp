@@ -124,6 +124,28 @@ TEST(InputRecording, ARecordingThatDroppedTicksIsRefused) {
     EXPECT_FALSE(fs::exists(file));
 }
 
+// kerf-rt --lockstep (kerf demo) records with WhenFull::kWait: a loaded machine starved the drain
+// thread and the demo failed with "ticks dropped". Four rings' worth recorded faster than the
+// drain's 5 ms period: every tick is kept, in order, whatever the scheduler does.
+TEST(InputRecording, InLockstepAFullRingWaitsForTheDrainAndKeepsEveryTick) {
+    const fs::path file = temp("wait.rec");
+    auto recorder = InputRecorder::start(file.string(), 1'000'000, WhenFull::kWait);
+    ASSERT_TRUE(recorder) << recorder.error();
+    CountingDevice device;
+    DeviceSample sample;
+    const std::uint64_t ticks = std::uint64_t(InputRecorder::kCapacity) * 4;
+    for (std::uint64_t t = 0; t < ticks; ++t) record_read(**recorder, device, sample, t);
+    EXPECT_EQ((*recorder)->dropped(), 0u);
+    auto stopped = (*recorder)->stop();
+    ASSERT_TRUE(stopped) << stopped.error();
+    EXPECT_EQ(*stopped, ticks);
+    auto loaded = load_recording(file.string());
+    ASSERT_TRUE(loaded) << loaded.error();
+    ASSERT_EQ(loaded->inputs.size(), ticks);
+    for (std::uint64_t t = 0; t < ticks; ++t) ASSERT_EQ(loaded->inputs[t].tick, t);
+    fs::remove(file);
+}
+
 TEST(InputRecording, BadFilesAreRefusedNamingTheFileAndTheFault) {
     const fs::path file = temp("bad.rec");
     const auto expect_refused = [&](const std::string& bytes, const std::string& what) {
