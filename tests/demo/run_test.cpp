@@ -70,6 +70,10 @@ protected:
         if (access(KERF_BIN_DIR "/kerf-rt", X_OK) != 0) GTEST_SKIP() << "no kerf-rt built";
         root_ = fs::temp_directory_path() / ("kerf-run-test-" + std::to_string(getpid()));
         fs::create_directories(root_ / "journal");
+        // The runs' work folders go here, not /tmp: a `kerf run` started meanwhile by another
+        // test removes the work folders of dead runs it finds (the one this test kills on purpose).
+        tmp_ = root_ / "tmp";
+        fs::create_directories(tmp_);
         runtime_ = root_ / "runtime";
         fs::create_directories(runtime_);
         fs::permissions(runtime_, fs::perms::owner_all);
@@ -102,6 +106,7 @@ protected:
         pid_ = fork();
         if (pid_ == 0) {
             setenv("KERF_RUNTIME_DIR", runtime_.c_str(), 1);
+            setenv("TMPDIR", tmp_.c_str(), 1);
             if (!std::freopen(log.c_str(), "w", stdout)) _exit(126);
             dup2(fileno(stdout), 2);
             const std::string exe = KERF_BIN_DIR "/kerf";
@@ -116,7 +121,7 @@ protected:
         }
         runs_.push_back(pid_);
     }
-    /// What the command lines of a run's children hold: its work folder /tmp/kerf-run-PID-*.
+    /// What the command lines of a run's children hold: its work folder TMPDIR/kerf-run-PID-*.
     static std::string mark(pid_t run) { return "kerf-run-" + std::to_string(run) + "-"; }
     /// Waits (up to `limit`) until `log` holds `text`.
     bool wait_for(const fs::path& log, const std::string& text,
@@ -140,7 +145,7 @@ protected:
     }
     bool session_socket_exists() const { return fs::exists(runtime_ / session_ / "socket"); }
 
-    fs::path root_, runtime_;
+    fs::path root_, tmp_, runtime_;
     std::string session_;
     pid_t pid_ = -1;
     std::vector<pid_t> runs_;
@@ -187,7 +192,7 @@ TEST_F(KerfRun, DisplayKilledIsRestartedRtKeepsRunningSigtermLeavesNothing) {
         EXPECT_TRUE(pids_of(p, mark(run)).empty()) << p << " left running";
     EXPECT_FALSE(session_socket_exists());
     std::error_code ec;
-    for (const auto& e : fs::directory_iterator(fs::temp_directory_path(), ec))
+    for (const auto& e : fs::directory_iterator(tmp_, ec))
         EXPECT_NE(e.path().filename().string().rfind(mark(run), 0), 0u) << "work folder left";
     // The session's journal is on disk, and the bound still holds.
     int journals = 0;
@@ -213,7 +218,7 @@ TEST_F(KerfRun, ASessionLeftByAKilledRunIsRemovedAtStart) {
     ASSERT_TRUE(session_socket_exists()) << "the killed run left no socket to clean";
     bool work_left = false;
     std::error_code ec;
-    for (const auto& e : fs::directory_iterator(fs::temp_directory_path(), ec))
+    for (const auto& e : fs::directory_iterator(tmp_, ec))
         work_left |=
             e.path().filename().string().rfind("kerf-run-" + std::to_string(run) + "-", 0) == 0;
     EXPECT_TRUE(work_left);
@@ -226,7 +231,7 @@ TEST_F(KerfRun, ASessionLeftByAKilledRunIsRemovedAtStart) {
     EXPECT_NE(text.find("removed the work folder of a dead kerf run"), std::string::npos) << text;
     kill(pid_, SIGTERM);
     EXPECT_EQ(wait_exit(), 0) << slurp(second);
-    for (const auto& e : fs::directory_iterator(fs::temp_directory_path(), ec))
+    for (const auto& e : fs::directory_iterator(tmp_, ec))
         EXPECT_NE(e.path().filename().string().rfind("kerf-run-" + std::to_string(run) + "-", 0),
                   0u);
 }
