@@ -162,8 +162,9 @@ bool try_flip(detail::ContextState& s, mesh::EdgeHandle e) {
     return false;
 }
 
-// A needle the lower wall's split can leave on the slab side: a face (x, a, b) with a, b
-// consecutive rim vertices of the lower wall (a few tolerances apart) and x above the upper plane,
+// A needle the first wall's split can leave on the slab side: a face (x, a, b) with a, b
+// consecutive vertices of `rim` (that wall's rim on the slab side, a few tolerances apart) and x
+// beyond the other wall (`beyond`: that wall's plane facing away from the slab),
 // made where a crossed face (often a thin cap triangle of an earlier cut) was split with its quad
 // part's diagonal from x. Where the upper plane crosses such a face more than kSnapTolerances
 // tolerances from x, the corner it cuts off is a sliver no snap mends, though the quad's other
@@ -173,11 +174,12 @@ bool try_flip(detail::ContextState& s, mesh::EdgeHandle e) {
 // returns how many it flipped; the flipped faces go into the face tree again (their boxes
 // changed; queries skip a face met twice). Geometry and volume are unchanged: the two triangles
 // still tile the same planar quad. O(rim vertices of the lower wall).
-int flip_rim_needles(detail::ContextState& s, const Plane& upper, const CrossSection& lower_cut) {
+int flip_rim_needles(detail::ContextState& s, const Plane& beyond,
+                     const std::vector<std::vector<VertexHandle>>& rim) {
     TriMesh& m = s.mesh;
     const double tol = s.tolerance_m;
     int flipped = 0;
-    for (const auto& loop : lower_cut.positive.loops)
+    for (const auto& loop : rim)
         for (std::size_t i = 0; i < loop.size(); ++i) {
             const VertexHandle a = loop[i], b = loop[(i + 1) % loop.size()];
             for (mesh::HalfedgeHandle h : {m.find_halfedge(a, b), m.find_halfedge(b, a)}) {
@@ -185,7 +187,7 @@ int flip_rim_needles(detail::ContextState& s, const Plane& upper, const CrossSec
                 const FaceHandle f = m.face_handle(h);
                 if (!f.is_valid()) continue;
                 const mesh::HalfedgeHandle hx = m.next_halfedge_handle(h);  // to x
-                if (!(upper.signed_distance(m.point(m.to_vertex_handle(hx))) > tol)) continue;
+                if (!(beyond.signed_distance(m.point(m.to_vertex_handle(hx))) > tol)) continue;
                 for (mesh::HalfedgeHandle d : {hx, m.next_halfedge_handle(hx)}) {
                     const FaceHandle g = m.opposite_face_handle(d);
                     if (!g.is_valid() || m.property(s.cap, g) != m.property(s.cap, f) ||
@@ -210,6 +212,64 @@ void add(CutStats& into, const CutStats& a) {
     into.loops += a.loops;
 }
 
+// One wall of the slab.
+struct Wall {
+    Plane plane;                        ///< its plane
+    Plane outward;                      ///< the same plane facing away from the slab
+    bool slab_positive;                 ///< whether the slab lies on the positive side of `plane`
+    std::vector<FaceHandle> faces;      ///< the faces the dry run found on it
+    std::vector<std::int32_t> snapped;  ///< vertices plan_snapped takes as on it
+    CrossSection* cut;                  ///< its slice
+};
+
+// Cuts wall `first` with the current plan (s.plan, made on the unedited mesh), then plans wall
+// `second` again on the edited mesh and cuts it. The faces the first cut split are reached again
+// through the slab from the first wall's rim on the slab side (not through its caps). The second
+// plan can meet a needle the first split left, a face whose far corner lies just beyond the
+// second plane, of which that plane would cut a corner too small to keep and too far to snap: on
+// such a refusal the needles' diagonals are flipped and the plan made once more. Every edit is
+// recorded in `undo`; on a refusal (its status) or a failure the caller restores it.
+CutStatus cut_walls(detail::ContextState& s, const Plane& lower, const Plane& upper, Wall& first,
+                    Wall& second, detail::EditUndo& undo, CutStats& stats) {
+    undo.record(s);
+    if (detail::apply_plan(s, first.plane, *first.cut, stats) != CutStatus::kOk)
+        return CutStatus::kInternalError;
+    const auto& rim = first.slab_positive ? first.cut->positive.loops : first.cut->negative.loops;
+    s.next_generation();
+    for (FaceHandle f : first.cut->positive.cap_faces) s.mark_face(f);
+    for (FaceHandle f : first.cut->negative.cap_faces) s.mark_face(f);
+    std::vector<FaceHandle> frontier;
+    for (const auto& loop : rim)
+        for (VertexHandle v : loop)
+            for (auto f : s.mesh.vf_range(v))
+                if (!s.face_marked(f)) frontier.push_back(f);
+    WallFaces after;
+    band_walls(s, lower, upper, frontier, after);
+    std::vector<FaceHandle>& faces = second.slab_positive ? after.lower : after.upper;
+    faces.insert(faces.end(), second.faces.begin(), second.faces.end());
+    second.cut->clear();
+    second.cut->plane = second.plane;
+    if (faces.empty()) return CutStatus::kOk;
+    auto plan = [&] {
+        return detail::plan_snapped(s, second.plane, second.snapped,
+                                    [&] { return detail::plan_wall(s, second.plane, faces); });
+    };
+    CutStatus st = plan();
+    if ((st == CutStatus::kSliverSplit || st == CutStatus::kCapTriangulationFailed) &&
+        flip_rim_needles(s, second.outward, rim) > 0)
+        st = plan();
+    if (st == CutStatus::kPlaneMissesMesh) return CutStatus::kOk;
+    if (st != CutStatus::kOk) return st;
+    CutStats second_stats;
+    second_stats.vertices_snapped = static_cast<std::uint32_t>(second.snapped.size());
+    undo.record(s);
+    if (detail::apply_plan(s, second.plane, *second.cut, second_stats) != CutStatus::kOk)
+        return CutStatus::kInternalError;
+    add(stats, second_stats);
+    stats.cap_triangles += second_stats.cap_triangles;
+    return CutStatus::kOk;
+}
+
 }  // namespace
 
 CutResult subtract_slab(CutContext& ctx, const Plane& plane, double kerf_width_m, const Seed& seed,
@@ -229,19 +289,35 @@ CutResult subtract_slab(CutContext& ctx, const Plane& plane, double kerf_width_m
     // Dry run on the unedited mesh: every loop of both walls is found, planned and capped.
     WallFaces walls;
     CutStatus st = find_walls(s, lower, upper, seed, walls);
-    std::vector<std::int32_t> lower_snapped, upper_snapped;  // see plan_snapped
-    if (st == CutStatus::kOk && !walls.upper.empty())
-        st = detail::plan_snapped(s, upper, upper_snapped,
-                                  [&] { return detail::plan_wall(s, upper, walls.upper); });
+    Wall lo{lower, lower, true, std::move(walls.lower), {}, &out.lower};
+    Wall up{upper, upper, false, std::move(walls.upper), {}, &out.upper};
+    if (st == CutStatus::kOk && !up.faces.empty())
+        st = detail::plan_snapped(s, upper, up.snapped,
+                                  [&] { return detail::plan_wall(s, upper, up.faces); });
     if (st == CutStatus::kOk)
-        st = detail::plan_snapped(s, lower, lower_snapped,
-                                  [&] { return detail::plan_wall(s, lower, walls.lower); });
+        st = detail::plan_snapped(s, lower, lo.snapped,
+                                  [&] { return detail::plan_wall(s, lower, lo.faces); });
     if (st != CutStatus::kOk) return done(st);
-    r.stats.vertices_snapped = static_cast<std::uint32_t>(lower_snapped.size());
-    // Lower wall (planned last, so the plan is current). The upper wall is planned again on the
-    // edited mesh and may still refuse there: every edit from here on can be undone, so any
-    // refusal leaves the mesh as it was.
+    lo.outward = *Plane::make(lower.point(), -lower.normal());
+    // The lower wall first (planned last, so the plan is current), then the upper wall planned
+    // again on the edited mesh. That re-plan can still refuse; every edit is undone then, and the
+    // walls are cut the other way round (the upper wall's split leaves no needle where the lower
+    // one did). A refusal either way leaves the mesh as it was.
     detail::EditUndo undo;
+    r.stats.vertices_snapped = static_cast<std::uint32_t>(lo.snapped.size());
+    const std::vector<std::int32_t> lower_snapped = lo.snapped, upper_snapped = up.snapped;
+    st = cut_walls(s, lower, upper, lo, up, undo, r.stats);
+    if (st != CutStatus::kOk && st != CutStatus::kInternalError && !up.faces.empty()) {
+        undo.restore(s);
+        lo.snapped = lower_snapped, up.snapped = upper_snapped;
+        r.stats = CutStats{};
+        r.stats.vertices_snapped = static_cast<std::uint32_t>(up.snapped.size());
+        const CutStatus again = detail::plan_snapped(
+            s, upper, up.snapped, [&] { return detail::plan_wall(s, upper, up.faces); });
+        if (again == CutStatus::kOk &&
+            cut_walls(s, lower, upper, up, lo, undo, r.stats) == CutStatus::kOk)
+            st = CutStatus::kOk;
+    }
     auto refuse = [&](CutStatus why) {
         undo.restore(s);
         out.lower.clear();
@@ -249,43 +325,7 @@ CutResult subtract_slab(CutContext& ctx, const Plane& plane, double kerf_width_m
         r.stats = CutStats{};
         return done(why);
     };
-    undo.record(s);
-    st = detail::apply_plan(s, lower, out.lower, r.stats);
-    if (st != CutStatus::kOk) return refuse(CutStatus::kInternalError);
-    // Upper wall: the loops found above; faces the lower cut split are reached again through the
-    // slab from the lower wall's positive side (not through the lower wall's own caps).
-    s.next_generation();
-    for (FaceHandle f : out.lower.positive.cap_faces) s.mark_face(f);
-    for (FaceHandle f : out.lower.negative.cap_faces) s.mark_face(f);
-    std::vector<FaceHandle> frontier;
-    for (const auto& loop : out.lower.positive.loops)
-        for (VertexHandle v : loop)
-            for (auto f : s.mesh.vf_range(v))
-                if (!s.face_marked(f)) frontier.push_back(f);
-    WallFaces after;
-    band_walls(s, lower, upper, frontier, after);
-    after.upper.insert(after.upper.end(), walls.upper.begin(), walls.upper.end());
-    out.upper.clear();
-    out.upper.plane = upper;
-    if (!after.upper.empty()) {
-        CutStats upper_stats;
-        st = detail::plan_snapped(s, upper, upper_snapped,
-                                  [&] { return detail::plan_wall(s, upper, after.upper); });
-        // A sliver on a needle the lower wall's split left: take the quads' other diagonals.
-        if ((st == CutStatus::kSliverSplit || st == CutStatus::kCapTriangulationFailed) &&
-            flip_rim_needles(s, upper, out.lower) > 0)
-            st = detail::plan_snapped(s, upper, upper_snapped,
-                                      [&] { return detail::plan_wall(s, upper, after.upper); });
-        upper_stats.vertices_snapped = static_cast<std::uint32_t>(upper_snapped.size());
-        if (st != CutStatus::kOk && st != CutStatus::kPlaneMissesMesh) return refuse(st);
-        if (st == CutStatus::kOk) {
-            undo.record(s);
-            st = detail::apply_plan(s, upper, out.upper, upper_stats);
-            if (st != CutStatus::kOk) return refuse(CutStatus::kInternalError);
-        }
-        add(r.stats, upper_stats);
-        r.stats.cap_triangles += upper_stats.cap_triangles;
-    }
+    if (st != CutStatus::kOk) return refuse(st);
     // Remove the slab: everything connected to the walls' inner caps, all of it between the walls.
     std::vector<FaceHandle> inner = out.lower.positive.cap_faces;
     inner.insert(inner.end(), out.upper.negative.cap_faces.begin(),

@@ -12,7 +12,10 @@
 // surface from the seed's loop until no new wall loop appears. Everything of that component,
 // including the two inner caps, is deleted (marked only; garbage collection stays the caller's
 // choice). Material that ends inside the slab (a tip thinner than the kerf) is removed with it.
-// Failure: every status the slices can return; both planes are validated before the first edit.
+// Failure: every status the slices can return, with the mesh unchanged. Both walls are planned
+// on the unedited mesh; the second is planned again after the first is cut (the first's split
+// changed faces it crosses), and a refusal there undoes the first edit (the walls are then tried
+// the other way round).
 #pragma once
 
 #include "display/cut/cross_section.hpp"

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -12,6 +13,8 @@
 #include "display/cut/components.hpp"
 #include "display/cut/slice_by_plane.hpp"
 #include "display/cut/subtract_slab.hpp"
+#include "tests/cut/chevron_checks.hpp"
+#include "tests/cut/cut_test_util.hpp"
 #include "tests/cut/slice_sweep.hpp"
 
 namespace kerf::cut::testing {
@@ -93,6 +96,28 @@ inline double seed_body_band_volume(const mesh::TriMesh& before, const mesh::Tri
     const std::vector<mesh::FaceHandle>& faces = bodies[seed_body].faces;
     return positive_part_flux(before, faces, lower, 0.0) -
            positive_part_flux(before, faces, lower, kerf_m);
+}
+
+/// What a slab cut of `before` on `plane`, `kerf_m` wide, from a seed at `seed_point` must
+/// remove, found independently of subtract_slab: the body of `before` nearest the seed, as a mesh
+/// of its own, sliced by full planes on both walls, and the piece between them that holds the
+/// seed, m^3 (-1 when a reference slice fails). Slicing the body alone keeps the rest of a long
+/// sequence's mesh, where a full plane can meet a refusal, out of the reference.
+inline double seed_body_slab_reference(const mesh::TriMesh& before, const Plane& plane,
+                                       double kerf_m, const Vec3& seed_point) {
+    const std::vector<Body> bodies = find_components(before);
+    double nearest = 1e300;
+    std::size_t seed_body = 0;
+    for (std::size_t k = 0; k < bodies.size(); ++k)
+        for (mesh::FaceHandle f : bodies[k].faces) {
+            const double d = (face_centroid(before, f) - seed_point).norm();
+            if (d < nearest) nearest = d, seed_body = k;
+        }
+    const std::vector<mesh::FaceHandle>& faces = bodies[seed_body].faces;
+    const mesh::TriMesh body = extract_faces(before, [&](mesh::FaceHandle f) {
+        return std::binary_search(faces.begin(), faces.end(), f);
+    });
+    return slab_reference_removed_volume(body, plane, kerf_m, seed_point);
 }
 
 /// Expects `after` to be `before` element for element: the array sizes, every vertex's point,
