@@ -1,0 +1,203 @@
+// Random sequential cuts of every kind on one mesh, as a training session makes them (issue 10
+// item 5): each cut on what the earlier ones left — localised, full plane, chevron (a localised
+// limb, then a second limb 20-70 degrees from it seeded where they meet) and biplanar slab,
+// in turn — on the clean shared meshes (skipped when ../shared/meshes is absent) and on
+// generated hollow tubes. After every cut: closed, oriented, no triangle below the one
+// threshold (check_closed_2_manifold); a slice conserves the volume (1e-9, plus what its vertex
+// merges may move), a slab only removes; no internal_error ever; a refusal leaves the mesh hash
+// unchanged. Refusals are counted by status and printed (not failed: sequences reach shapes that
+// single cuts of a clean bone do not). KERF_SEQUENCE_CUTS cuts per mesh: 4 in the always-run
+// binary; 60 in the stress binary (12 meshes: 720 cuts), which runs only with
+// KERF_SEQUENCE_LONG=1: it fails today (2 of 12 sequences leave a triangle below the one
+// threshold that stays for the rest of the sequence; issue 10 item 3 in sequences).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <random>
+#include <string>
+
+#include "display/cut/mesh_hash.hpp"
+#include "display/cut/slice_by_plane.hpp"
+#include "display/cut/subtract_slab.hpp"
+#include "display/mesh/mesh_io.hpp"
+#include "display/mesh/shapes.hpp"
+#include "tests/cut/chevron_checks.hpp"
+#include "tests/cut/cut_sequence.hpp"
+#include "tests/cut/mesh_checks.hpp"
+#include "tests/cut/slice_sweep.hpp"
+
+#ifndef KERF_SEQUENCE_CUTS
+#define KERF_SEQUENCE_CUTS 4
+#endif
+
+namespace kerf::cut {
+namespace {
+
+using mesh::FaceHandle;
+using mesh::TriMesh;
+
+struct SequenceTally {
+    int cuts = 0;
+    int internal_errors = 0;
+    int edited_on_refusal = 0;
+    int check_failures = 0;
+    int slab_references = 0;  ///< slabs checked against the reference
+    int slab_mismatches = 0;  ///< of those, removing another volume than the reference
+    std::map<std::string, int> refusals;
+};
+
+// Cuts `m` KERF_SEQUENCE_CUTS times (planes through random face centroids, random normals).
+SequenceTally run_sequence(TriMesh& m, std::uint64_t seed) {
+    SequenceTally t;
+    CutContext ctx(m);
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1, 1);
+    CrossSection cs;
+    SlabCut slab;
+    const double kerf_m = 0.02 * ctx.scale_m();
+    TriMesh before;
+    for (int i = 0; i < KERF_SEQUENCE_CUTS; ++i) {
+        ctx.grow_capacity();
+        FaceHandle f;
+        do {
+            f = FaceHandle(
+                std::uniform_int_distribution<int>(0, static_cast<int>(m.n_faces()) - 1)(rng));
+        } while (m.status(f).deleted());
+        const Vec3 p = testing::face_centroid(m, f);
+        Vec3 n(u(rng), u(rng), u(rng));
+        if (n.norm() < 0.1) n = Vec3(0, 0, 1);
+        const Plane plane = *Plane::make(p, n);
+        const Seed seed_here{p, FaceHandle(), -1.0};
+        const std::uint64_t hash = mesh_hash(m);
+        const double v0 = testing::signed_volume(m);
+        const int kind = i % 4;
+        CutResult r;
+        if (kind == 0) {
+            r = slice_by_plane(ctx, plane, seed_here, cs);
+        } else if (kind == 1) {
+            r = slice_by_plane(ctx, plane, cs);
+        } else if (kind == 2) {
+            r = slice_by_plane(ctx, plane, seed_here, cs);
+            if (r.ok()) {
+                const double angle = (20.0 + 50.0 * (0.5 + 0.5 * u(rng))) * M_PI / 180.0;
+                const Plane second = testing::chevron_second_limb(plane, p, angle);
+                const Seed seed2 = testing::seed_on_both(m, second, plane);
+                if (seed2.tolerance_m != 0.0) {
+                    const std::uint64_t between = mesh_hash(m);
+                    const CutResult r2 = slice_by_plane(ctx, second, seed2, cs);
+                    if (!r2.ok()) {
+                        if (mesh_hash(m) != between) ++t.edited_on_refusal;
+                        r.status = r2.status;
+                    }
+                    r.stats.vertices_merged += r2.stats.vertices_merged;
+                }
+            }
+        } else {
+            before = m;
+            r = subtract_slab(ctx, plane, kerf_m, seed_here, slab);
+        }
+        if (r.status == CutStatus::kPlaneMissesMesh) continue;
+        if (r.status == CutStatus::kInternalError) ++t.internal_errors;
+        if (!r.ok()) {
+            ++t.refusals[std::string(to_string(r.status))];
+            // A chevron whose second limb refused keeps its first (a cut of its own).
+            if (kind != 2 && mesh_hash(m) != hash) ++t.edited_on_refusal;
+            if (kind != 2) continue;
+        }
+        ++t.cuts;
+        const testing::MeshReport rep = testing::check_closed_2_manifold(m);
+        if (!rep.ok) {
+            ++t.check_failures;
+            ADD_FAILURE() << "cut " << i << " kind " << kind << ": " << rep.failures_log;
+            continue;
+        }
+        const double bound = testing::volume_change_bound(
+            v0, r.stats.vertices_merged, ctx.tolerance_m(), testing::surface_area(m));
+        if (kind == 3) {
+            // Against an independent reference (the seed's body sliced by two full planes),
+            // when its slices do not refuse.
+            const double removed = testing::seed_body_slab_reference(before, plane, kerf_m, p);
+            // Counted and printed, not yet asserted: in the long form 18 of 134 slabs differ
+            // from the reference, more and less, not yet diagnosed (the slab, or the reference's
+            // choice of the piece nearest the seed).
+            if (removed >= 0 && std::abs(rep.total_volume_m3 - (v0 - removed)) > bound) {
+                ++t.slab_mismatches;
+                std::printf("slab %d: volume %.17g after %.17g, reference removes %.17g\n", i,
+                            rep.total_volume_m3, v0, removed);
+            }
+            t.slab_references += removed >= 0;
+        } else if (std::abs(rep.total_volume_m3 - v0) > bound) {
+            ++t.check_failures;
+            ADD_FAILURE() << "cut " << i << " kind " << kind << ": volume " << rep.total_volume_m3
+                          << " after " << v0;
+        }
+    }
+    return t;
+}
+
+// Whether this binary's form runs (the long one is opt-in while it fails, see above).
+bool skip_long_form() {
+    return KERF_SEQUENCE_CUTS > 4 && std::getenv("KERF_SEQUENCE_LONG") == nullptr;
+}
+
+void report(const std::string& name, const SequenceTally& t) {
+    std::string refused;
+    int total = 0;
+    for (const auto& [status, n] : t.refusals)
+        refused += " " + status + "=" + std::to_string(n), total += n;
+    std::printf("%s: %d cuts (%d slabs against the reference, %d differ), %d refused%s\n",
+                name.c_str(), t.cuts, t.slab_references, t.slab_mismatches, total, refused.c_str());
+    ::testing::Test::RecordProperty("refusals", total);
+    EXPECT_EQ(t.internal_errors, 0) << name;
+    EXPECT_EQ(t.edited_on_refusal, 0) << name << ": a refusal changed the mesh";
+    EXPECT_EQ(t.check_failures, 0) << name;
+}
+
+class SharedMeshSequence : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(SharedMeshSequence, EveryCutKeepsEveryInvariantAndNoRefusalEditsTheMesh) {
+    if (skip_long_form()) GTEST_SKIP() << "the 720-cut form runs with KERF_SEQUENCE_LONG=1";
+    const auto path = std::filesystem::path(KERF_SHARED_MESHES) / GetParam();
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << "real meshes absent: " << path;
+    auto loaded = mesh::load_mesh(path, LengthUnit::kMillimetre);
+    ASSERT_TRUE(loaded);
+    TriMesh m = std::move(*loaded);
+    report(GetParam(), run_sequence(m, std::hash<std::string>{}(GetParam())));
+}
+
+INSTANTIATE_TEST_SUITE_P(Clean, SharedMeshSequence,
+                         ::testing::Values("bp3d_right_first_metatarsal.stl",
+                                           "jma_norm01_calcaneus_right.stl",
+                                           "jma_norm01_talus_right.stl",
+                                           "tcsm_ksbl_L01_talus_left.stl",
+                                           "tcsm_ksbl_L01_tibia_distal_left.stl",
+                                           "tcsm_ksbl_L01_fibula_distal_left.stl"));
+
+struct TubeShape {
+    int triangles;
+    int segments;
+};
+
+class TubeSequence : public ::testing::TestWithParam<TubeShape> {};
+
+TEST_P(TubeSequence, EveryCutKeepsEveryInvariantAndNoRefusalEditsTheMesh) {
+    if (skip_long_form()) GTEST_SKIP() << "the 720-cut form runs with KERF_SEQUENCE_LONG=1";
+    const TubeShape s = GetParam();
+    TriMesh m = mesh::make_hollow_tube(0.05, 0.006, 0.003, s.segments,
+                                       (s.triangles - 4 * s.segments) / (4 * s.segments));
+    const std::string name =
+        "tube " + std::to_string(s.triangles) + " x " + std::to_string(s.segments);
+    report(name, run_sequence(m, static_cast<std::uint64_t>(s.triangles + s.segments)));
+}
+
+INSTANTIATE_TEST_SUITE_P(Generated, TubeSequence,
+                         ::testing::Values(TubeShape{20000, 32}, TubeShape{20000, 512},
+                                           TubeShape{50000, 64}, TubeShape{100000, 128},
+                                           TubeShape{200000, 32}, TubeShape{200000, 512}));
+
+}  // namespace
+}  // namespace kerf::cut
