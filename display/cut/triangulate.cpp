@@ -164,6 +164,7 @@ struct Triangulator::Impl {
 
     bool strictly_convex(std::uint32_t l) const noexcept;
     void fan(std::uint32_t l, std::vector<Triangle>& out) const;
+    bool strip(std::uint32_t l, std::uint32_t h, std::vector<Triangle>& out) const;
     std::uint32_t make_ring(std::uint32_t l, bool ccw);
     std::uint32_t add_node(std::uint32_t point);
     void unlink(std::uint32_t n) noexcept;
@@ -400,6 +401,61 @@ void Triangulator::Impl::fan(std::uint32_t l, std::vector<Triangle>& out) const 
     for (std::uint32_t p = o + 1; p + 1 < begin[l + 1]; ++p) {
         out.push_back(ccw ? Triangle{o, p, p + 1} : Triangle{o, p + 1, p});
     }
+}
+
+// ---- one-hole fast path ----------------------------------------------------------------------
+
+// A strip triangle must be counter-clockwise by this much of its longest edge squared (twice its
+// area), far above rounding: then the orientations, and so the validity argument, are exact.
+constexpr double kStripMinRelativeArea = 1e-9;
+
+bool Triangulator::Impl::strip(std::uint32_t l, std::uint32_t h, std::vector<Triangle>& out) const {
+    const std::uint32_t no = loop_size(l), nh = loop_size(h);
+    // Both loops read counter-clockwise: the region is left of the outer loop's edges and right
+    // of the hole's, so (o_i, o_i+1, h_j) and (o_i, h_j+1, h_j) are counter-clockwise.
+    auto outer = [&](std::uint32_t k) {
+        k %= no;
+        return area[l] > 0 ? begin[l] + k : begin[l] + (no - 1 - k);
+    };
+    auto hole = [&](std::uint32_t k) {
+        k %= nh;
+        return area[h] > 0 ? begin[h] + k : begin[h] + (nh - 1 - k);
+    };
+    auto clearly_ccw = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+        const double longest2 = std::max({(pts[a] - pts[b]).sqrnorm(), (pts[b] - pts[c]).sqrnorm(),
+                                          (pts[c] - pts[a]).sqrnorm()});
+        return cross(pts[a], pts[b], pts[c]) > kStripMinRelativeArea * longest2;
+    };
+    // The first rung: outer point 0 to the nearest hole point.
+    std::uint32_t t = 0;
+    double best = std::numeric_limits<double>::infinity();
+    for (std::uint32_t k = 0; k < nh; ++k) {
+        const double d = (pts[hole(k)] - pts[outer(0)]).sqrnorm();
+        if (d < best) best = d, t = k;
+    }
+    const std::size_t first = out.size();
+    std::uint32_t i = 0, j = t;
+    while (i < no || j < t + nh) {
+        const std::uint32_t o = outer(i), hj = hole(j);
+        const bool can_outer = i < no && clearly_ccw(o, outer(i + 1), hj);
+        const bool can_hole = j < t + nh && clearly_ccw(o, hole(j + 1), hj);
+        bool take_outer = can_outer;
+        if (can_outer && can_hole)
+            take_outer =
+                (pts[outer(i + 1)] - pts[hj]).sqrnorm() <= (pts[hole(j + 1)] - pts[o]).sqrnorm();
+        if (!can_outer && !can_hole) {
+            out.resize(first);
+            return false;
+        }
+        if (take_outer) {
+            out.push_back(Triangle{o, outer(i + 1), hj});
+            ++i;
+        } else {
+            out.push_back(Triangle{o, hole(j + 1), hj});
+            ++j;
+        }
+    }
+    return true;
 }
 
 // ---- rings -----------------------------------------------------------------------------------
@@ -791,6 +847,14 @@ Status<TriangulateError> Triangulator::triangulate(std::span<const std::span<con
             m.fan(l, out);
             ++stats_.fans;
             continue;
+        }
+        if (m.holes.size() == 1) {
+            std::uint32_t h = 0;
+            while (!(m.parent[h] == static_cast<std::int32_t>(l) && m.depth[h] % 2 == 1)) ++h;
+            if (m.strip(l, h, out)) {
+                ++stats_.strips;
+                continue;
+            }
         }
         m.eliminate_holes(outer);
         m.use_grid = m.nodes.size() >= kGridThreshold;

@@ -11,8 +11,13 @@
 // indices. Every loop edge is the edge of exactly one triangle and every other triangle edge is
 // shared by exactly two, in opposite directions, so a cap closes a sliced mesh into a 2-manifold.
 //
-// Method: a loop verified strictly convex and without holes is fanned from its first point; every
-// other region is ear-clipped after bridging each hole to the boundary (Eberly, "Triangulation by
+// Method: a loop verified strictly convex and without holes is fanned from its first point. A
+// region with exactly one hole (a bone round its canal) is first stitched as a strip between the
+// two loops, always advancing on the loop whose next rung is shorter (near-Delaunay on annuli, in
+// linear time); the strip is kept only if every triangle is clearly counter-clockwise, which
+// makes it a valid triangulation (each point of the region is covered once: the sum of the
+// triangles' orientations over a point is the winding number of the two loops). Every other
+// region is ear-clipped after bridging each hole to the boundary (Eberly, "Triangulation by
 // ear clipping", hole = leftmost vertex joined to a visible boundary vertex). The smallest ear is
 // clipped first (size classes, O(1) each), only the two neighbours of a clipped ear are re-tested,
 // and an ear test only visits reflex vertices in the grid cells under the ear's box: a few thousand
@@ -77,6 +82,7 @@ struct TriangulateStats {
     std::uint32_t outer_loops = 0;      ///< loops bounding material (even nesting depth)
     std::uint32_t holes = 0;            ///< loops bounding a hole (odd nesting depth)
     std::uint32_t fans = 0;             ///< regions fanned because the loop was strictly convex
+    std::uint32_t strips = 0;           ///< one-hole regions stitched as a strip between the loops
     std::uint32_t degenerate_ears = 0;  ///< zero-area ears taken when no proper ear was left
 };
 

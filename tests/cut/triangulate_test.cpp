@@ -79,7 +79,19 @@ TEST(Triangulate, AnnulusLikeABoneCrossSectionHasTheRingArea) {
     const auto tris = expect_valid(bone, false, &st);
     EXPECT_EQ(st.outer_loops, 1u);
     EXPECT_EQ(st.holes, 1u);
+    EXPECT_EQ(st.strips, 1u);  // stitched between the two loops, no ear clipping
     EXPECT_EQ(tris.size(), 600u);
+}
+
+TEST(Triangulate, AHoleTheStripCannotReachIsEarClippedInstead) {
+    // A C-shaped region with a hole in its lower arm: a strip round the hole would have to cross
+    // the gap of the C, so some strip triangle turns clockwise and the region is ear-clipped.
+    TriangulateStats st;
+    const Loops c_shape{{{0, 0}, {10, 0}, {10, 3}, {3, 3}, {3, 7}, {10, 7}, {10, 10}, {0, 10}},
+                        square({5, 1}, 1, false)};
+    const auto tris = expect_valid(c_shape, true, &st);
+    EXPECT_EQ(st.strips, 0u);
+    EXPECT_EQ(tris.size(), 12u);  // 8 + 4 points, one hole: n + 2h - 2 triangles
 }
 
 TEST(Triangulate, IslandsInsideHolesAndLoopsSideBySideAreAllCapped) {
