@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <random>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "display/cut/components.hpp"
@@ -75,6 +77,34 @@ inline double positive_part_flux(const mesh::TriMesh& m, const std::vector<mesh:
     return sum;
 }
 
+/// The index of the body of `m` (`bodies`, find_components) with the face centroid nearest `point`.
+inline std::size_t nearest_body(const mesh::TriMesh& m, const std::vector<Body>& bodies,
+                                const Vec3& point) {
+    double nearest = 1e300;
+    std::size_t best = 0;
+    for (std::size_t k = 0; k < bodies.size(); ++k)
+        for (mesh::FaceHandle f : bodies[k].faces) {
+            const double d = (face_centroid(m, f) - point).norm();
+            if (d < nearest) nearest = d, best = k;
+        }
+    return best;
+}
+
+/// A random cut of `m`: a plane through the centroid of a random live face (normal drawn in
+/// [-1, 1]^3, +z when shorter than 0.1) and that centroid as the seed, with no triangle hint.
+inline std::pair<Plane, Seed> random_face_cut(const mesh::TriMesh& m, std::mt19937_64& rng) {
+    std::uniform_real_distribution<double> u(-1, 1);
+    mesh::FaceHandle f;
+    do {
+        f = mesh::FaceHandle(
+            std::uniform_int_distribution<int>(0, static_cast<int>(m.n_faces()) - 1)(rng));
+    } while (m.status(f).deleted());
+    const Vec3 p = face_centroid(m, f);
+    Vec3 n(u(rng), u(rng), u(rng));
+    if (n.norm() < 0.1) n = Vec3(0, 0, 1);
+    return {*Plane::make(p, n), Seed{p, mesh::FaceHandle(), -1.0}};
+}
+
 /// The volume a slab cut of `plane` kerf_m wide should have removed from `before` (the mesh just
 /// before it; `after` with `slab` the result): the material of the seed's body between the
 /// planes, found independently of any cut as the flux of clamp(s, 0, kerf) n through the body's
@@ -85,13 +115,7 @@ inline double seed_body_band_volume(const mesh::TriMesh& before, const mesh::Tri
     if (slab.lower.negative.cap_faces.empty()) return 0.0;
     const Vec3 on_lower_cap = face_centroid(after, slab.lower.negative.cap_faces.front());
     const std::vector<Body> bodies = find_components(before);
-    double nearest = 1e300;
-    std::size_t seed_body = 0;
-    for (std::size_t k = 0; k < bodies.size(); ++k)
-        for (mesh::FaceHandle f : bodies[k].faces) {
-            const double d = (face_centroid(before, f) - on_lower_cap).norm();
-            if (d < nearest) nearest = d, seed_body = k;
-        }
+    const std::size_t seed_body = nearest_body(before, bodies, on_lower_cap);
     const Plane lower = plane.offset(-0.5 * kerf_m);
     const std::vector<mesh::FaceHandle>& faces = bodies[seed_body].faces;
     return positive_part_flux(before, faces, lower, 0.0) -
@@ -106,13 +130,7 @@ inline double seed_body_band_volume(const mesh::TriMesh& before, const mesh::Tri
 inline double seed_body_slab_reference(const mesh::TriMesh& before, const Plane& plane,
                                        double kerf_m, const Vec3& seed_point) {
     const std::vector<Body> bodies = find_components(before);
-    double nearest = 1e300;
-    std::size_t seed_body = 0;
-    for (std::size_t k = 0; k < bodies.size(); ++k)
-        for (mesh::FaceHandle f : bodies[k].faces) {
-            const double d = (face_centroid(before, f) - seed_point).norm();
-            if (d < nearest) nearest = d, seed_body = k;
-        }
+    const std::size_t seed_body = nearest_body(before, bodies, seed_point);
     const std::vector<mesh::FaceHandle>& faces = bodies[seed_body].faces;
     const mesh::TriMesh body = extract_faces(before, [&](mesh::FaceHandle f) {
         return std::binary_search(faces.begin(), faces.end(), f);

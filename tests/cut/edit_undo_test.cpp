@@ -31,20 +31,6 @@ CutStatus plan(detail::ContextState& s, const Plane& plane, const Seed& seed) {
                                 [&] { return detail::plan_localised(s, plane, seed); });
 }
 
-// A random plane through the centroid of a random face, and that point as the seed.
-std::pair<Plane, Seed> random_cut(const TriMesh& m, std::mt19937_64& rng) {
-    std::uniform_real_distribution<double> u(-1, 1);
-    FaceHandle f;
-    do {
-        f = FaceHandle(
-            std::uniform_int_distribution<int>(0, static_cast<int>(m.n_faces()) - 1)(rng));
-    } while (m.status(f).deleted());
-    const Vec3 p = testing::face_centroid(m, f);
-    Vec3 n(u(rng), u(rng), u(rng));
-    if (n.norm() < 0.1) n = Vec3(0, 0, 1);
-    return {*Plane::make(p, n), Seed{p, FaceHandle(), -1.0}};
-}
-
 TEST(EditUndo, PutsBackEveryElementAndLaterCutsMatchACopyNeverUndone) {
     TriMesh m = mesh::make_hollow_tube(0.05, 0.006, 0.003, 48, 30);
     TriMesh control = m;
@@ -58,7 +44,7 @@ TEST(EditUndo, PutsBackEveryElementAndLaterCutsMatchACopyNeverUndone) {
     for (int i = 0; i < 200 && (undone < 20 || stacked < 10); ++i) {
         ctx.grow_capacity();
         control_ctx.grow_capacity();
-        const auto [plane, seed] = random_cut(m, rng);
+        const auto [plane, seed] = testing::random_face_cut(m, rng);
         if (plan(s, plane, seed) == CutStatus::kOk) {
             detail::EditUndo undo;
             undo.record(s);

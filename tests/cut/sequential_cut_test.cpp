@@ -62,16 +62,10 @@ SequenceTally run_sequence(TriMesh& m, std::uint64_t seed) {
     TriMesh before;
     for (int i = 0; i < KERF_SEQUENCE_CUTS; ++i) {
         ctx.grow_capacity();
-        FaceHandle f;
-        do {
-            f = FaceHandle(
-                std::uniform_int_distribution<int>(0, static_cast<int>(m.n_faces()) - 1)(rng));
-        } while (m.status(f).deleted());
-        const Vec3 p = testing::face_centroid(m, f);
-        Vec3 n(u(rng), u(rng), u(rng));
-        if (n.norm() < 0.1) n = Vec3(0, 0, 1);
-        const Plane plane = *Plane::make(p, n);
-        const Seed seed_here{p, FaceHandle(), -1.0};
+        const auto drawn = testing::random_face_cut(m, rng);
+        const Plane& plane = drawn.first;
+        const Seed& seed_here = drawn.second;
+        const Vec3& p = seed_here.point_m;
         const std::uint64_t hash = mesh_hash(m);
         const double v0 = testing::signed_volume(m);
         const int kind = i % 4;
