@@ -1,6 +1,7 @@
 #include "display/cut/section_plan.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "display/cut/context_state.hpp"
@@ -569,9 +570,98 @@ void merge_close_points(ContextState& s) {
     plan.points.swap(points);
 }
 
+CutStatus check_merged_split_areas(ContextState& s, const Plane& plane) {
+    const SectionPlan& plan = s.plan;
+    if (plan.merged.empty()) return CutStatus::kOk;
+    const TriMesh& m = s.mesh;
+    // Every cut point of the selected loops by key, with the index of the point it ends as (a
+    // merged point: the one it goes into) and so the position it ends at.
+    struct Final {
+        CutPointKey key;
+        std::uint32_t as;
+    };
+    std::vector<Final> finals;
+    for (const PlanLoop& l : plan.loops)
+        if (l.selected)
+            for (std::uint32_t i = l.first; i < l.first + l.count; ++i)
+                finals.push_back({plan.points[i].key, i});
+    for (const MergedPoint& mp : plan.merged) finals.push_back({mp.point.key, mp.into});
+    auto order = [](const CutPointKey& a, const CutPointKey& b) {
+        return a.edge != b.edge ? a.edge < b.edge : a.id < b.id;
+    };
+    std::sort(finals.begin(), finals.end(),
+              [&](const Final& a, const Final& b) { return order(a.key, b.key); });
+    auto find = [&](CutPointKey k) -> const Final* {
+        const auto it =
+            std::lower_bound(finals.begin(), finals.end(), k,
+                             [&](const Final& f, const CutPointKey& x) { return order(f.key, x); });
+        return it != finals.end() && it->key == k ? &*it : nullptr;
+    };
+    // A corner of a split part: a mesh vertex (as = none) or a cut point (as its final point).
+    constexpr std::uint32_t kVertex = 0xffffffffu;
+    struct Corner {
+        Vec3 p;
+        std::uint32_t as;
+    };
+    CutStatus status = CutStatus::kOk;
+    for (const MergedPoint& mp : plan.merged) {
+        for (int k = 0; k < 2; ++k) {
+            // Face x -> y -> z with the merged point on edge x-y: its split parts, both diagonals
+            // of the quad, each corner where the merges leave it.
+            const HalfedgeHandle h = m.halfedge_handle(EdgeHandle(mp.point.key.id), k);
+            const FaceHandle f = m.face_handle(h);
+            if (!f.is_valid()) continue;
+            const HalfedgeHandle hn = m.next_halfedge_handle(h), hp = m.next_halfedge_handle(hn);
+            const VertexHandle corners[3] = {m.from_vertex_handle(h), m.to_vertex_handle(h),
+                                             m.to_vertex_handle(hn)};
+            auto vertex = [&](VertexHandle v) {
+                const Final* on = find(CutPointKey{v.idx(), false});
+                return on ? Corner{plan.points[on->as].position, on->as}
+                          : Corner{m.point(v), kVertex};
+            };
+            const Corner x = vertex(corners[0]), y = vertex(corners[1]), z = vertex(corners[2]);
+            const Corner pp{plan.points[mp.into].position, mp.into};
+            const Final* on_yz = find(CutPointKey{m.edge_handle(hn).idx(), true});
+            const Final* on_zx = find(CutPointKey{m.edge_handle(hp).idx(), true});
+            std::vector<std::array<const Corner*, 3>> parts;
+            Corner qq;
+            if (z.as != kVertex) {
+                parts = {{&x, &pp, &z}, {&pp, &y, &z}};
+            } else if (on_yz != nullptr) {
+                qq = Corner{plan.points[on_yz->as].position, on_yz->as};
+                parts = {
+                    {&pp, &y, &qq}, {&x, &pp, &qq}, {&x, &qq, &z}, {&x, &pp, &z}, {&pp, &qq, &z}};
+            } else if (on_zx != nullptr) {
+                qq = Corner{plan.points[on_zx->as].position, on_zx->as};
+                parts = {
+                    {&x, &pp, &qq}, {&pp, &y, &z}, {&pp, &z, &qq}, {&pp, &y, &qq}, {&qq, &y, &z}};
+            } else {
+                continue;
+            }
+            const Vec3 n = OpenMesh::cross(m.point(corners[1]) - m.point(corners[0]),
+                                           m.point(corners[2]) - m.point(corners[0]));
+            bool bad = false;
+            for (const auto& t : parts) {
+                const Corner &a = *t[0], &b = *t[1], &c = *t[2];
+                if ((a.as != kVertex && (a.as == b.as || a.as == c.as)) ||
+                    (b.as != kVertex && b.as == c.as))
+                    continue;  // a part the collapse removes
+                const Vec3 twice = OpenMesh::cross(b.p - a.p, c.p - a.p);
+                bad |= !(OpenMesh::dot(twice, n) > 0) || s.too_small(a.p, b.p, c.p);
+            }
+            if (!bad) continue;
+            propose_snap(s, plane, corners);
+            status = CutStatus::kSliverSplit;
+        }
+    }
+    return status;
+}
+
 CutStatus finish_plan(ContextState& s, const Plane& plane) {
-    const CutStatus st = check_split_areas(s, plane);
-    if (st == CutStatus::kOk) merge_close_points(s);
+    CutStatus st = check_split_areas(s, plane);
+    if (st != CutStatus::kOk) return st;
+    merge_close_points(s);
+    st = check_merged_split_areas(s, plane);
     return st == CutStatus::kOk ? plan_caps(s, plane) : st;
 }
 
