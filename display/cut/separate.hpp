@@ -21,6 +21,16 @@
 // a strictly monotone map d -> d + g with slope >= 1 - kerf/(2D) = 3/4 instead of a collapse, so
 // no triangle becomes flat or zero-area). Moves are along the normal only, so every triangle keeps
 // its projection onto the plane: a cap triangle can never flip.
+// Partly swept (a withdrawn cut), the caps, built on rim points only, rise as wedges from the
+// swept rim across the section: over a point a cap triangle is at the weight its corners'
+// weights interpolate to, which can be far above m(x) there. A wall that leans over the cap near
+// the plane (a vertex a few um above it) is therefore raised with the cap: at every corner of the
+// overlay of each such wall face's projection with the cap triangles (the wall is linear over
+// its face, the cap over each triangle, so these points decide) the wall keeps at least half of
+// its gap above the cap, its corners' weights raised as needed (rim points of the wall too,
+// which raises their cap triangles in turn). Weights only grow and 1 everywhere clears every cap,
+// so this ends. Without it the cap went through the wall and a later cut through it met a
+// cross-section that crossed itself (cap_triangulation_failed).
 // Fully swept, the gap is exactly the kerf. Where the walls meet the plane at right angles this
 // is the biplanar result (the shifted band covers exactly the wall left by the slab); slanted walls
 // differ from it by at most slope * kerf/2 (the tests compare volumes with subtract_slab()).
@@ -50,7 +60,8 @@ struct SeparationStats {
 class Separator {
 public:
     /// Plans the separation of the cut `cut` (just made on ctx.mesh()) for a blade `kerf_width_m`
-    /// wide: finds the band on both sides and indexes it in the plane (cost of the band only).
+    /// wide: finds the band on both sides and indexes it in the plane, and the wall faces of the
+    /// band over the caps (cost of the band and the caps only).
     /// @pre `cut` is the CrossSection of the latest slice of ctx.mesh(), unedited since.
     /// Fails with kInvalidArgument for a non-positive or non-finite kerf, or an empty cut.
     static Result<Separator, CutStatus> make(CutContext& ctx, const CrossSection& cut,
@@ -62,7 +73,8 @@ public:
 
     /// Adds a convex polygon (either orientation, >= 3 points, plane coordinates, m) to the swept
     /// region and moves the vertices it affects. Cost proportional to the band vertices within a
-    /// kerf of the polygon. Ignores (returns false for) a degenerate or non-finite polygon.
+    /// kerf of the polygon, plus the wall faces over the cap triangles whose corners moved.
+    /// Ignores (returns false for) a degenerate or non-finite polygon.
     bool sweep(std::span<const Vec2> convex_polygon_m);
 
     /// Sweeps everything: the cut is complete and the kerf fully open.

@@ -13,6 +13,8 @@
 #include "display/cut/subtract_slab.hpp"
 #include "display/mesh/shapes.hpp"
 #include "tests/cut/mesh_checks.hpp"
+#include "tests/cut/self_intersection.hpp"
+#include "tests/cut/test_shapes.hpp"
 
 namespace kerf::cut {
 namespace {
@@ -213,6 +215,41 @@ TEST(Separate, OtherShellsCrossingThePlaneNeverMove) {
     for (int i = 0; i < static_cast<int>(others.size()); ++i) {
         EXPECT_EQ(m.point(mesh::VertexHandle(base + i)), others[static_cast<std::size_t>(i)]);
     }
+}
+
+TEST(Separate, AWallLeaningOverAPartlyOpenedCapIsLiftedAboveTheCap) {
+    // A cut just below the pole of a large sphere: above the plane the wall leans over the cap at
+    // a grazing angle (a ring 25 um above the plane, 0.66 mm inside the rim). The blade sweeps
+    // one side only (a withdrawn cut): caps are built on rim points only, so a cap triangle from
+    // a swept rim point across the section rises as a wedge, up to 0.5 mm over ring vertices
+    // the swept region's fall-off leaves where they were: the cap went through the wall.
+    TriMesh m = testing::uv_sphere_by_rings(0.05, 200, 64);
+    CutContext ctx(m);
+    CrossSection cs;
+    const auto plane = *Plane::make(Vec3(0, 0, 0.04995), Vec3(0, 0, 1));
+    ASSERT_TRUE(slice_by_plane(ctx, plane, cs).ok());
+    const auto near_cut = [&](mesh::FaceHandle f) {  // the faces within 2 kerfs of the plane
+        for (const auto v : m.fv_range(f))
+            if (std::abs(plane.signed_distance(m.point(v))) < 2 * kKerf) return true;
+        return false;
+    };
+    ASSERT_TRUE(testing::crossing_face_pairs(m, 5e-4, 1e-12, near_cut).empty());
+    const auto before = normals_of(m);
+    auto sep = Separator::make(ctx, cs, kKerf);
+    ASSERT_TRUE(sep.has_value());
+    for (double x = -0.0025; x <= -0.0010; x += 0.0002) {  // the blade comes in from -u
+        ASSERT_TRUE(sep->sweep(swept_up_to(x)));
+        const auto crossing = testing::crossing_face_pairs(m, 5e-4, 1e-12, near_cut);
+        EXPECT_TRUE(crossing.empty())
+            << crossing.size() << " faces cross with the blade at u = " << x * 1e3 << " mm";
+    }
+    EXPECT_GT(sep->stats().rim_pairs_swept, 0u);
+    EXPECT_LT(sep->stats().rim_pairs_swept, sep->stats().rim_pairs);
+    testing::expect_closed_2_manifold(m);
+    expect_no_flip(m, before);
+    sep->sweep_all();  // and completed: the gap is the kerf, nothing crosses
+    EXPECT_TRUE(testing::crossing_face_pairs(m, 5e-4, 1e-12, near_cut).empty());
+    expect_no_flip(m, before);
 }
 
 TEST(Separate, BadKerfOrCutIsRefusedAndBadPolygonsAreIgnored) {
