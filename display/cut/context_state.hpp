@@ -32,9 +32,19 @@ struct ContextState {
     void ensure_capacity(std::size_t vertices, std::size_t edges, std::size_t faces);
     /// One bounded step for idle time: clears the stamps when fewer than kStampReserve
     /// generations are left before they wrap (so no cut meets the O(mesh) wrap-around), else
-    /// hangs the face tree's pending inserts on their leaves when there are any, else
-    /// grow_kind(). Returns whether it did something.
+    /// hangs the face tree's pending inserts on their leaves when there are any, else writes one
+    /// element kind of the headroom rebuild() reserved (write_headroom), else grow_kind().
+    /// Returns whether it did something.
     bool grow_step(std::size_t min_spare_faces);
+    /// Reserves the headroom (headroom_faces(0) faces, half as many vertices, twice as many
+    /// edges, as many face-tree inserts) without writing it: no cut reallocates, and the first
+    /// idle steps make it resident. A cut before them page-faults in the pages it writes (a few
+    /// hundred at most: a cut adds a few thousand elements), instead of the context build
+    /// writing all of it (1/8 of the mesh; `kerf cut`, which has no idle time, never does).
+    void reserve_headroom();
+    /// Writes the reserved room of one element kind (0 vertices, 1 edges, 2 faces, 3 the face
+    /// tree's inserts) once, so that its pages become resident. O(that room).
+    void write_headroom(int kind);
     /// When the spare room of one element kind (vertices, edges, faces, the face tree's inserts)
     /// is below half its target, grows that kind alone to its target and makes it resident.
     /// Targets: headroom_faces(min_spare_faces) faces, half as many vertices, twice as many
@@ -110,6 +120,7 @@ struct ContextState {
     OpenMesh::FPropHandleT<std::uint8_t> cap;  ///< named kCapFaceProperty
     Stamp generation = 1;
     std::size_t reserved_vertices = 0, reserved_edges = 0, reserved_faces = 0;
+    unsigned unwritten_kinds = 0;       ///< bit k: kind k's reserved room is not written yet
     std::uint64_t growths_in_cuts = 0;  ///< cuts that had to grow capacity themselves
 
     /// Vertices a little beyond the tolerance that the plan being made treats as on the plane

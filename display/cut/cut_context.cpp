@@ -1,6 +1,7 @@
 #include "display/cut/cut_context.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -22,6 +23,7 @@ constexpr std::size_t kFlushStep = FaceTree::kPendingFaces;
 
 // Element kinds grown one at a time by grow_step().
 enum class Kind { kVertices, kEdges, kFaces, kTree };
+constexpr int kKinds = 4;
 
 }  // namespace
 
@@ -74,32 +76,41 @@ void ContextState::rebuild() {
     if (mesh.n_vertices() != 0)
         for (int a = 0; a < 3; ++a) reach = std::max({reach, std::abs(lo[a]), std::abs(hi[a])});
     float_rounding_m = std::ldexp(reach, -24);
-    max_edge_m = 0.0;
-    double max_edge_sq = 0.0;
-    for (auto e : mesh.edges()) {
-        const auto h = mesh.halfedge_handle(e, 0);
-        const auto f0 = mesh.face_handle(h),
-                   f1 = mesh.face_handle(mesh.opposite_halfedge_handle(h));
-        const bool cap_edge = (f0.is_valid() && mesh.property(cap, f0) != kCapNone) ||
-                              (f1.is_valid() && mesh.property(cap, f1) != kCapNone);
-        if (cap_edge) continue;
-        const Vec3 d =
-            points[mesh.to_vertex_handle(h).idx()] - points[mesh.from_vertex_handle(h).idx()];
-        max_edge_sq = std::max(max_edge_sq, d.sqrnorm());
+    // The longest non-cap edge: measured by the tree's pass over the faces, or else here.
+    double max_edge_sq = tree.build(mesh, mesh.property(cap).data_vector().data());
+    if (max_edge_sq < 0.0) {
+        max_edge_sq = 0.0;
+        for (auto e : mesh.edges()) {
+            const auto h = mesh.halfedge_handle(e, 0);
+            const auto f0 = mesh.face_handle(h),
+                       f1 = mesh.face_handle(mesh.opposite_halfedge_handle(h));
+            const bool cap_edge = (f0.is_valid() && mesh.property(cap, f0) != kCapNone) ||
+                                  (f1.is_valid() && mesh.property(cap, f1) != kCapNone);
+            if (cap_edge) continue;
+            const Vec3 d =
+                points[mesh.to_vertex_handle(h).idx()] - points[mesh.from_vertex_handle(h).idx()];
+            max_edge_sq = std::max(max_edge_sq, d.sqrnorm());
+        }
     }
     max_edge_m = std::sqrt(max_edge_sq);
-    tree.build(mesh);
     cap_faces.clear();
     for (auto f : mesh.faces())
         if (mesh.property(cap, f) != kCapNone) cap_faces.push_back(f);
     clear_stamps();
-    // Headroom for the cuts to come, reserved and made resident now (no cut reallocates or
-    // page-faults); idle time keeps it up with grow_step().
-    reserved_vertices = mesh.n_vertices();
-    reserved_edges = mesh.n_edges();
-    reserved_faces = mesh.n_faces();
-    while (grow_step(0)) {
-    }
+    reserve_headroom();
+}
+
+void ContextState::reserve_headroom() {
+    // Room for the cuts to come, reserved now (no cut reallocates); the first idle steps write
+    // it (grow_step), so that no cut page-faults either.
+    const std::size_t hf = headroom_faces(0);
+    reserved_vertices = mesh.n_vertices() + hf / 2;
+    reserved_edges = mesh.n_edges() + 2 * hf;
+    reserved_faces = mesh.n_faces() + hf;
+    mesh.reserve(reserved_vertices, reserved_edges, reserved_faces);
+    cap_faces.reserve(cap_faces.size() + hf);
+    tree.reserve(hf);
+    unwritten_kinds = (1u << kKinds) - 1;
 }
 
 std::size_t ContextState::headroom_faces(std::size_t min_spare_faces) const {
@@ -116,7 +127,47 @@ bool ContextState::grow_step(std::size_t min_spare_faces) {
         tree.flush_pending(kFlushStep);
         return true;
     }
+    if (unwritten_kinds != 0) {
+        const int k = std::countr_zero(unwritten_kinds);
+        write_headroom(k);
+        return true;
+    }
     return grow_kind(min_spare_faces);
+}
+
+void ContextState::write_headroom(int kind) {
+    const std::size_t nv = mesh.n_vertices(), ne = mesh.n_edges(), nf = mesh.n_faces();
+    // Writes elements [from, size) of a property whose type default construction leaves
+    // unwritten (OpenMesh's vectors), so that its pages become resident.
+    auto write_tail = [this](auto handle, std::size_t from) {
+        auto& v = mesh.property(handle).data_vector();
+        std::fill(v.begin() + static_cast<std::ptrdiff_t>(from), v.end(),
+                  typename std::decay_t<decltype(v)>::value_type());
+    };
+    // Grow into the reserved capacity and shrink back: value-initialised elements are written by
+    // resize, the vector types (which default construction leaves unwritten) explicitly;
+    // std::vector keeps the capacity, the kernel keeps the pages.
+    switch (static_cast<Kind>(kind)) {
+        case Kind::kVertices:
+            mesh.resize(std::max(nv, reserved_vertices), ne, nf);
+            write_tail(mesh.points_pph(), nv);
+            write_tail(mesh.vertex_normals_pph(), nv);
+            write_tail(mesh.vertex_texcoords2D_pph(), nv);
+            write_tail(mesh.vertex_colors_pph(), nv);
+            break;
+        case Kind::kEdges:
+            mesh.resize(nv, std::max(ne, reserved_edges), nf);
+            break;
+        case Kind::kFaces:
+            mesh.resize(nv, ne, std::max(nf, reserved_faces));
+            write_tail(mesh.face_normals_pph(), nf);
+            break;
+        case Kind::kTree:
+            tree.make_resident();
+            break;
+    }
+    mesh.resize(nv, ne, nf);
+    unwritten_kinds &= ~(1u << kind);
 }
 
 bool ContextState::grow_kind(std::size_t min_spare_faces) {
@@ -126,51 +177,29 @@ bool ContextState::grow_kind(std::size_t min_spare_faces) {
     const std::size_t have[4] = {reserved_vertices, reserved_edges, reserved_faces,
                                  tree.spare_inserts()};
     const std::size_t used[4] = {nv, ne, nf, 0};
-    // Writes elements [from, size) of a property whose type default construction leaves
-    // unwritten (OpenMesh's vectors), so that its pages become resident.
-    auto write_tail = [this](auto handle, std::size_t from) {
-        auto& v = mesh.property(handle).data_vector();
-        std::fill(v.begin() + static_cast<std::ptrdiff_t>(from), v.end(),
-                  typename std::decay_t<decltype(v)>::value_type());
-    };
-    for (int k = 0; k < 4; ++k) {
-        // Grow a kind whose spare room fell below half its target headroom.
+    for (int k = 0; k < kKinds; ++k) {
+        // Grow a kind whose spare room fell below half its target headroom: reserve, then write.
         const std::size_t target_spare = want[k] - used[k];
         if (have[k] >= used[k] + target_spare / 2) continue;
         switch (static_cast<Kind>(k)) {
-            case Kind::kVertices: {
-                // Reserve, then grow into the capacity and shrink back: value-initialised
-                // elements are written by resize, the vector types (which default construction
-                // leaves unwritten) explicitly; std::vector keeps the capacity, the kernel keeps
-                // the pages.
+            case Kind::kVertices:
                 mesh.reserve(want[k], ne, nf);
-                mesh.resize(want[k], ne, nf);
-                write_tail(mesh.points_pph(), nv);
-                write_tail(mesh.vertex_normals_pph(), nv);
-                write_tail(mesh.vertex_texcoords2D_pph(), nv);
-                write_tail(mesh.vertex_colors_pph(), nv);
-                mesh.resize(nv, ne, nf);
                 reserved_vertices = want[k];
                 break;
-            }
             case Kind::kEdges:
                 mesh.reserve(nv, want[k], nf);
-                mesh.resize(nv, want[k], nf);
-                mesh.resize(nv, ne, nf);
                 reserved_edges = want[k];
                 break;
             case Kind::kFaces:
                 mesh.reserve(nv, ne, want[k]);
-                mesh.resize(nv, ne, want[k]);
-                write_tail(mesh.face_normals_pph(), nf);
-                mesh.resize(nv, ne, nf);
                 cap_faces.reserve(cap_faces.size() + hf);
                 reserved_faces = want[k];
                 break;
             case Kind::kTree:
-                tree.reserve_resident(hf);
+                tree.reserve(hf);
                 break;
         }
+        write_headroom(k);
         return true;
     }
     return false;

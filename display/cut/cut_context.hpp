@@ -24,7 +24,8 @@ struct ContextState;
 
 class CutContext {
 public:
-    /// Adds the scratch properties to `mesh`, measures its scale and indexes its faces (O(n)).
+    /// Adds the scratch properties to `mesh`, measures its scale, indexes its faces (O(n)) and
+    /// reserves the headroom for cuts, which the first four grow_step() calls write (resident).
     explicit CutContext(mesh::TriMesh& mesh);
     ~CutContext();
     CutContext(const CutContext&) = delete;
@@ -54,7 +55,8 @@ public:
     /// grows that kind alone (O(that array): tens of ms at 1M faces) to a headroom of an eighth
     /// of the mesh, at least `min_spare_faces` faces (half as many vertices, twice as many edges),
     /// and makes it resident; or, first, hangs the faces the last cuts added to the face index
-    /// on its leaves (O(those faces x depth)). Returns whether it did something. Called often
+    /// on its leaves (O(those faces x depth)), or writes one kind of the headroom the build
+    /// reserved (O(that room)). Returns whether it did something. Called often
     /// enough, no cut ever grows capacity (a cut that finds too little room grows everything
     /// itself: O(mesh)).
     bool grow_step(std::size_t min_spare_faces = 0);

@@ -100,16 +100,19 @@ FaceTree::Item FaceTree::item_of(const mesh::TriMesh& mesh, mesh::FaceHandle f) 
     const mesh::HalfedgeHandle h0 = mesh.halfedge_handle(f);
     const mesh::HalfedgeHandle h1 = mesh.next_halfedge_handle(h0);
     const mesh::HalfedgeHandle h2 = mesh.next_halfedge_handle(h1);
-    const Vec3& p0 = mesh.point(mesh.to_vertex_handle(h0));
-    const Vec3& p1 = mesh.point(mesh.to_vertex_handle(h1));
-    const Vec3& p2 = mesh.point(mesh.to_vertex_handle(h2));
+    return item_from(f.idx(), mesh.point(mesh.to_vertex_handle(h0)),
+                     mesh.point(mesh.to_vertex_handle(h1)), mesh.point(mesh.to_vertex_handle(h2)));
+}
+
+FaceTree::Item FaceTree::item_from(std::int32_t face, const Vec3& p0, const Vec3& p1,
+                                   const Vec3& p2) {
     Vec3 lo = p0, hi = p0;
     lo.minimize(p1);
     hi.maximize(p1);
     lo.minimize(p2);
     hi.maximize(p2);
     Item e;
-    e.face = f.idx();
+    e.face = face;
     for (int a = 0; a < 3; ++a) e.box.lo[a] = round_down(lo[a]), e.box.hi[a] = round_up(hi[a]);
     return e;
 }
@@ -251,7 +254,7 @@ std::uint32_t FaceTree::point_mask(const Group& g, const PointLanes& q) noexcept
 
 #endif
 
-void FaceTree::build(const mesh::TriMesh& mesh) {
+double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_faces) {
     margin_m_ = 0.0;
     items_.clear();
     groups_.clear();
@@ -264,19 +267,59 @@ void FaceTree::build(const mesh::TriMesh& mesh) {
     pending_.clear();
     leaves_ = padded_leaves_ = 0;
     last_leaf_ = 0;
-    // Items, the box of their centres, and each item's Morton code in that box. The scratch
-    // arrays are written before they are read: no zero-filling.
+    // One pass over the faces: items, the box of their centres and the longest edge; then each
+    // item's Morton code in that box. The scratch arrays are written before they are read: no
+    // zero-filling.
     const std::size_t capacity = mesh.n_faces();
     auto unsorted = std::make_unique_for_overwrite<Item[]>(capacity);
     std::size_t count = 0;
     Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
-    for (auto f : mesh.faces()) {
-        const Item& e = unsorted[count++] = item_of(mesh, f);
+    double longest_sq = 0.0;
+    std::size_t boundary_halfedges = 0;
+    bool every_face_live = true;
+    const auto nf = static_cast<int>(capacity);
+    const mesh::TriMesh::Point* const points = mesh.points();
+    const OpenMesh::Attributes::StatusInfo* const face_status =
+        mesh.property(mesh.face_status_pph()).data_vector().data();
+    for (int fi = 0; fi < nf; ++fi) {
+        const mesh::FaceHandle f(fi);
+        if (face_status[fi].deleted()) {
+            every_face_live = false;
+            continue;
+        }
+        const mesh::HalfedgeHandle h0 = mesh.halfedge_handle(f);
+        const mesh::HalfedgeHandle h1 = mesh.next_halfedge_handle(h0);
+        const mesh::HalfedgeHandle h2 = mesh.next_halfedge_handle(h1);
+        const Vec3& p0 = points[mesh.to_vertex_handle(h0).idx()];
+        const Vec3& p1 = points[mesh.to_vertex_handle(h1).idx()];
+        const Vec3& p2 = points[mesh.to_vertex_handle(h2).idx()];
+        const Item& e = unsorted[count++] = item_from(fi, p0, p1, p2);
         const auto c = centre_of(e.box);
         lo.minimize(Vec3(c[0], c[1], c[2]));
         hi.maximize(Vec3(c[0], c[1], c[2]));
+        // The face's edges: h0 runs p2 -> p0, h1 p0 -> p1, h2 p1 -> p2. An edge counts unless a
+        // face on either side is flagged; |d|² is the same either way along it.
+        const bool flagged = flagged_faces != nullptr && flagged_faces[fi] != 0;
+        const mesh::HalfedgeHandle hs[3] = {h0, h1, h2};
+        const Vec3 d[3] = {p0 - p2, p1 - p0, p2 - p1};
+        for (int k = 0; k < 3; ++k) {
+            const mesh::FaceHandle o = mesh.face_handle(mesh.opposite_halfedge_handle(hs[k]));
+            boundary_halfedges += !o.is_valid();
+            if (flagged ||
+                (o.is_valid() && flagged_faces != nullptr && flagged_faces[o.idx()] != 0))
+                continue;
+            longest_sq = std::max(longest_sq, d[k].sqrnorm());
+        }
     }
-    if (count == 0) return;
+    // Every edge was met from a face, so the pass measured them all, when no element is deleted
+    // and the faces account for every edge (interior edges twice, boundary edges once).
+    std::size_t live_edges = 0;
+    const auto ne = static_cast<int>(mesh.n_edges());
+    for (int ei = 0; ei < ne; ++ei) live_edges += !mesh.status(mesh::EdgeHandle(ei)).deleted();
+    const bool measured = every_face_live && live_edges == mesh.n_edges() &&
+                          3 * count == 2 * live_edges - boundary_halfedges;
+    const double longest_edge_sq = measured ? longest_sq : -1.0;
+    if (count == 0) return longest_edge_sq;
     const Vec3 ext = hi - lo;
     for (int a = 0; a < 3; ++a) code_lo_[a] = lo[a];
     code_scale_ = 2097151.0 / std::max({ext[0], ext[1], ext[2], 1e-300});
@@ -354,18 +397,21 @@ void FaceTree::build(const mesh::TriMesh& mesh) {
         }
     }
     extra_head_.assign(leaves_, -1);
+    return longest_edge_sq;
 }
 
-void FaceTree::reserve_resident(std::size_t faces) {
+void FaceTree::reserve(std::size_t faces) {
     const std::size_t n = extra_.size(), p = pending_.size();
     if (extra_.capacity() < n + p + faces) extra_.reserve(n + p + faces);
+    if (pending_.capacity() < kPendingFaces) pending_.reserve(kPendingFaces);
+}
+
+void FaceTree::make_resident() {
+    const std::size_t n = extra_.size(), p = pending_.size();
     extra_.resize(extra_.capacity());  // value-initialised: every page written
     extra_.resize(n);
-    if (pending_.capacity() < kPendingFaces) {
-        pending_.reserve(kPendingFaces);
-        pending_.resize(pending_.capacity());
-        pending_.resize(p);
-    }
+    pending_.resize(pending_.capacity());
+    pending_.resize(p);
 }
 
 void FaceTree::insert(const mesh::TriMesh& mesh, mesh::FaceHandle f) {

@@ -46,12 +46,25 @@ public:
         float lo[3], hi[3];
     };
 
-    /// Indexes every non-deleted face of `mesh` (O(n)).
-    void build(const mesh::TriMesh& mesh);
+    /// Indexes every non-deleted face of `mesh` (O(n)). The same pass over the faces measures the
+    /// longest edge that no flagged face borders (`flagged_faces`: one byte per face, non-zero =
+    /// flagged, e.g. the cap tags; null = none) and returns its squared length, m², or -1 when
+    /// that pass cannot tell (a deleted face or edge, an edge with no face): then measure it
+    /// over the edges.
+    double build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_faces = nullptr);
 
-    /// Makes room for `faces` more inserted faces and writes it once, so inserts during a cut
-    /// neither reallocate nor page-fault.
-    void reserve_resident(std::size_t faces);
+    /// Makes room for `faces` more inserted faces (and the pending list's), so inserts during a
+    /// cut do not reallocate.
+    void reserve(std::size_t faces);
+
+    /// Writes the room reserve() made once, so inserts during a cut do not page-fault either.
+    void make_resident();
+
+    /// reserve(faces), then make_resident().
+    void reserve_resident(std::size_t faces) {
+        reserve(faces);
+        make_resident();
+    }
 
     /// Inserted faces the reserved room still takes without reallocating.
     std::size_t spare_inserts() const noexcept {
@@ -140,6 +153,8 @@ private:
     double float_error_m(double query_abs) const noexcept;
 
     static Item item_of(const mesh::TriMesh& mesh, mesh::FaceHandle f);
+    // The item of face `face` with corners p0, p1, p2.
+    static Item item_from(std::int32_t face, const Vec3& p0, const Vec3& p1, const Vec3& p2);
     // Hangs `item` on its leaf and enlarges the boxes up its path.
     void hang(const Item& item);
     // Grows b to hold `by`; whether it grew.

@@ -288,6 +288,33 @@ TEST(CutContext, SteadyCuttingWithIdleStepsNeverGrowsCapacityInsideACut) {
     }
 }
 
+// The context reserves its headroom when it is built and leaves writing it (making it resident)
+// to the first idle steps, one element kind each (issue 10 item 10: the build is a third
+// cheaper without it, and `kerf cut`, with no idle time, never pays for room it does not use). A
+// cut made before those steps still neither grows capacity nor moves an array: it only
+// page-faults in the reserved room it writes.
+TEST(CutContext, TheHeadroomIsReservedAtBuildAndWrittenByTheFirstIdleSteps) {
+    auto m = mesh::make_hollow_tube(0.05, 0.01, 0.006, 256, 40);
+    CutContext ctx(m);
+    const auto* points = m.points();
+    const auto* normals = m.property(m.face_normals_pph()).data_vector().data();
+    const std::size_t spare = ctx.spare_faces();
+    EXPECT_GE(spare, m.n_faces() / 8);
+    CrossSection cs;
+    const double z = 0.025 + 1.234e-6;
+    const Seed seed{Vec3(0.01, 0, z), mesh::FaceHandle(), -1.0};
+    ASSERT_TRUE(slice_by_plane(ctx, plane_of(Vec3(0, 0, z), Vec3(0, 0, 1)), seed, cs).ok());
+    EXPECT_EQ(ctx.growths_in_cuts(), 0u);
+    EXPECT_EQ(points, m.points());
+    EXPECT_EQ(normals, m.property(m.face_normals_pph()).data_vector().data());
+    // The idle steps: the cut's pending tree inserts, then one step per element kind written.
+    int steps = 0;
+    while (ctx.grow_step()) ++steps;
+    EXPECT_EQ(steps, 1 + 4);
+    EXPECT_EQ(points, m.points());
+    expect_closed_2_manifold(m);
+}
+
 // The context's generation stamps are 16 bits (issue 10 item 10): they wrap every 65,535
 // generations. A wrap inside a cut clears them and changes nothing (the same meshes as a fresh
 // context); idle time clears them before fewer than kStampReserve generations are left, so
@@ -506,6 +533,64 @@ TEST(FaceTree, QueriesReportExactlyTheFacesABruteForceTestFinds) {
         }
         EXPECT_GT(found, 1000);
     }
+}
+
+// The squared length of the longest edge of `m` none of whose faces is flagged, edge by edge.
+double longest_unflagged_edge_sq(const mesh::TriMesh& m, const std::vector<std::uint8_t>& flags) {
+    double longest = 0.0;
+    for (auto e : m.edges()) {
+        const auto h = m.halfedge_handle(e, 0);
+        const auto f0 = m.face_handle(h), f1 = m.face_handle(m.opposite_halfedge_handle(h));
+        if ((f0.is_valid() && flags[f0.idx()]) || (f1.is_valid() && flags[f1.idx()])) continue;
+        longest = std::max(
+            longest, (m.point(m.to_vertex_handle(h)) - m.point(m.from_vertex_handle(h))).sqrnorm());
+    }
+    return longest;
+}
+
+// The tree's pass over the faces also measures the longest edge no flagged face borders (the
+// context's full-slice reach): the same value, bit for bit, as a pass over the edges, on a
+// closed mesh, with flagged faces along the longest edges, with a boundary; and it says it
+// cannot tell (-1) when a face is deleted but not yet collected.
+TEST(FaceTree, BuildMeasuresTheLongestUnflaggedEdgeAsAPassOverTheEdges) {
+    auto m = mesh::make_hollow_tube(0.05, 0.01, 0.006, 32, 40);
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(-1e-3, 1e-3);
+    for (auto v : m.vertices()) m.set_point(v, m.point(v) + Vec3(u(rng), u(rng), u(rng)));
+    std::vector<std::uint8_t> flags(m.n_faces(), 0);
+    kerf::cut::detail::FaceTree tree;
+    const double all = longest_unflagged_edge_sq(m, flags);
+    EXPECT_GT(all, 0.0);
+    EXPECT_EQ(tree.build(m), all);
+    EXPECT_EQ(tree.build(m, flags.data()), all);
+    // Flag the faces on one side of each of the ten longest edges in turn: the answer moves down.
+    for (int round = 0; round < 10; ++round) {
+        const double before = longest_unflagged_edge_sq(m, flags);
+        for (auto e : m.edges()) {
+            const auto h = m.halfedge_handle(e, 0);
+            const double d2 =
+                (m.point(m.to_vertex_handle(h)) - m.point(m.from_vertex_handle(h))).sqrnorm();
+            if (d2 != before) continue;
+            const auto f = m.face_handle(round % 2 ? h : m.opposite_halfedge_handle(h));
+            if (f.is_valid() && !flags[f.idx()]) flags[f.idx()] = 1;
+            break;
+        }
+        const double expected = longest_unflagged_edge_sq(m, flags);
+        EXPECT_LT(expected, before);
+        EXPECT_EQ(tree.build(m, flags.data()), expected) << "round " << round;
+    }
+    // A boundary: an open strip (every edge on one face or two).
+    mesh::TriMesh strip = mesh::make_mesh();
+    std::vector<mesh::VertexHandle> vs;
+    for (int i = 0; i < 40; ++i)
+        vs.push_back(strip.add_vertex(Vec3(0.001 * i + u(rng), (i % 2) * 0.002 + u(rng), u(rng))));
+    for (int i = 0; i + 2 < 40; ++i)
+        strip.add_face(vs[i], vs[i + (i % 2 ? 2 : 1)], vs[i + (i % 2 ? 1 : 2)]);
+    const std::vector<std::uint8_t> none(strip.n_faces(), 0);
+    EXPECT_EQ(tree.build(strip, none.data()), longest_unflagged_edge_sq(strip, none));
+    // A face deleted, not collected: the caller measures over the edges.
+    m.delete_face(mesh::FaceHandle(5), false);
+    EXPECT_EQ(tree.build(m, flags.data()), -1.0);
 }
 
 }  // namespace
