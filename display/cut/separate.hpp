@@ -29,11 +29,11 @@
 // its face, the cap over each triangle, so these points decide) the wall keeps at least half of
 // its gap above the cap, its corners' weights raised as needed (rim points of the wall too,
 // which raises their cap triangles in turn). Weights only grow and 1 everywhere clears every cap,
-// so this ends. Without it the cap went through the wall and a later cut through it met a
-// cross-section that crossed itself (cap_triangulation_failed).
-// Fully swept, the gap is exactly the kerf. Where the walls meet the plane at right angles this
-// is the biplanar result (the shifted band covers exactly the wall left by the slab); slanted walls
-// differ from it by at most slope * kerf/2 (the tests compare volumes with subtract_slab()).
+// so this ends (cap_clearance.hpp). Without it the cap went through the wall and a later cut
+// through it met a cross-section that crossed itself (cap_triangulation_failed). Fully swept, the
+// gap is exactly the kerf. Where the walls meet the plane at right angles this is the biplanar
+// result (the shifted band covers exactly the wall left by the slab); slanted walls differ from it
+// by at most slope * kerf/2 (the tests compare volumes with subtract_slab()).
 #pragma once
 
 #include <memory>
@@ -60,8 +60,9 @@ struct SeparationStats {
 class Separator {
 public:
     /// Plans the separation of the cut `cut` (just made on ctx.mesh()) for a blade `kerf_width_m`
-    /// wide: finds the band on both sides and indexes it in the plane, and the wall faces of the
-    /// band over the caps (cost of the band and the caps only).
+    /// wide: finds the band on both sides and indexes it in the plane, and indexes the band's
+    /// faces near the plane and the cap triangles (cost of the band and the caps only; the walls
+    /// over a cap triangle are found when one of its corners first moves).
     /// @pre `cut` is the CrossSection of the latest slice of ctx.mesh(), unedited since.
     /// Fails with kInvalidArgument for a non-positive or non-finite kerf, or an empty cut.
     static Result<Separator, CutStatus> make(CutContext& ctx, const CrossSection& cut,
