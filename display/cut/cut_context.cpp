@@ -65,8 +65,10 @@ void ContextState::rebuild() {
     Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
     const auto nv = static_cast<int>(mesh.n_vertices());
     const mesh::TriMesh::Point* points = mesh.points();
+    const OpenMesh::Attributes::StatusInfo* const vertex_status =
+        mesh.property(mesh.vertex_status_pph()).data_vector().data();
     for (int i = 0; i < nv; ++i) {
-        if (mesh.status(mesh::VertexHandle(i)).deleted()) continue;
+        if (vertex_status[i].deleted()) continue;
         lo.minimize(points[i]);
         hi.maximize(points[i]);
     }
@@ -93,9 +95,15 @@ void ContextState::rebuild() {
         }
     }
     max_edge_m = std::sqrt(max_edge_sq);
+    // The cap faces in order, from the tag array (a face's status is read only where it is one).
     cap_faces.clear();
-    for (auto f : mesh.faces())
-        if (mesh.property(cap, f) != kCapNone) cap_faces.push_back(f);
+    const std::vector<std::uint8_t>& tags = mesh.property(cap).data_vector();
+    const auto is_cap = [](std::uint8_t t) { return t != kCapNone; };
+    for (auto at = std::find_if(tags.begin(), tags.end(), is_cap); at != tags.end();
+         at = std::find_if(at + 1, tags.end(), is_cap)) {
+        const mesh::FaceHandle f(static_cast<int>(at - tags.begin()));
+        if (!mesh.status(f).deleted()) cap_faces.push_back(f);
+    }
     clear_stamps();
     reserve_headroom();
 }

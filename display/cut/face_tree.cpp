@@ -359,7 +359,9 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
     // and the faces account for every edge (interior edges twice, boundary edges once).
     std::size_t live_edges = 0;
     const auto ne = static_cast<int>(mesh.n_edges());
-    for (int ei = 0; ei < ne; ++ei) live_edges += !mesh.status(mesh::EdgeHandle(ei)).deleted();
+    const OpenMesh::Attributes::StatusInfo* const edge_status =
+        mesh.property(mesh.edge_status_pph()).data_vector().data();
+    for (int ei = 0; ei < ne; ++ei) live_edges += !edge_status[ei].deleted();
     const bool measured = every_face_live && live_edges == mesh.n_edges() &&
                           3 * count == 2 * live_edges - boundary_halfedges;
     const double longest_edge_sq = measured ? longest_sq : -1.0;

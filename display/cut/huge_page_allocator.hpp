@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdlib>
 #include <new>
+#include <utility>
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -49,6 +50,17 @@ struct HugePageAllocator {
             ::operator delete(p);
         else
             std::free(p);
+    }
+
+    /// Default-initialises: a resize() leaves trivial elements unwritten (the face tree writes
+    /// every item it sizes for), so pages are first touched where they are filled.
+    template <class U>
+    void construct(U* p) noexcept(noexcept(::new (static_cast<void*>(p)) U)) {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
     }
 
     template <class U>
