@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <memory>
+#include <random>
 #include <vector>
 
 #include "display/app/collision_export.hpp"
@@ -76,17 +77,34 @@ inline WithdrawnCutSpec cut_across_walk(const CollisionBody& body, const std::ve
     return spec;
 }
 
+/// Cut k of `cuts` across `walk` as cut_across_walk, turned about the surface normal by up to
+/// +-0.6 rad, with a kerf of 0.5-1.2 mm, 6-16 mm long and 2-7 mm deep, drawn from `rng` (the
+/// random withdrawn-cut sequences of the rt tests).
+inline WithdrawnCutSpec turned_cut_across_walk(const CollisionBody& body,
+                                               const std::vector<Vec3>& walk, int k, int cuts,
+                                               std::mt19937_64& rng) {
+    std::uniform_real_distribution<double> uni(0, 1);
+    WithdrawnCutSpec spec = cut_across_walk(body, walk, k, cuts);
+    const double turn = (uni(rng) - 0.5) * 1.2;
+    spec.normal = normalized(spec.normal * std::cos(turn) + spec.u() * std::sin(turn));
+    spec.kerf_m = (0.5 + 0.7 * uni(rng)) * 1e-3;
+    spec.half_length_m = (3 + 5 * uni(rng)) * 1e-3;
+    spec.depth_m = (2 + 5 * uni(rng)) * 1e-3;
+    return spec;
+}
+
 /// Applies the cut to `session` as kerf-rt's events would: CutBegin, a CutProgress every 0.2 mm
-/// of depth, CutEnd{withdrawn}, then an idle step.
-inline void apply_withdrawn_cut(cut::CutSession& session, const WithdrawnCutSpec& spec,
-                                std::uint32_t cut_id) {
+/// of depth, CutEnd{withdrawn}, then an idle step. Returns what the CutBegin did.
+inline cut::ApplyReport apply_withdrawn_cut(cut::CutSession& session, const WithdrawnCutSpec& spec,
+                                            std::uint32_t cut_id) {
     const auto to_cut = [](const Vec3& p) { return cut::Vec3(p.x, p.y, p.z); };
     cut::CutBegin begin;
     begin.cut_id = cut_id;
     begin.blade = {to_cut(spec.point), to_cut(spec.normal), to_cut(spec.u())};
     begin.seed_m = to_cut(spec.point);
     begin.kerf_width_m = spec.kerf_m;
-    display::apply_record(session, display::make_record(begin));
+    const cut::ApplyReport report =
+        display::apply_record(session, display::make_record(begin)).report;
     cut::CutProgress progress{
         begin.cut_id, begin.blade, {-spec.half_length_m, spec.half_length_m, 0, 0.002}};
     const int steps = int(std::lround(spec.depth_m / 0.0002));
@@ -97,6 +115,7 @@ inline void apply_withdrawn_cut(cut::CutSession& session, const WithdrawnCutSpec
     const cut::CutEnd end{begin.cut_id, cut::CutEndKind::kWithdrawn};
     display::apply_record(session, display::make_record(end, begin));
     session.idle();
+    return report;
 }
 
 /// Where the proxy went on a walk (ForceModel::step each tick, as BM_TickAfterCuts does).

@@ -107,12 +107,7 @@ TEST(WithdrawnCutContact, CutsThroughTurnedWithdrawnCutsAreSliced) {
     const std::vector<physics::Vec3> walk =
         physics::test::surface_walk(*bodies[0], ticks, -0.002, 0.0005);
     for (int k = 0; k < cuts; ++k) {
-        auto spec = physics::test::cut_across_walk(*bodies[0], walk, k, cuts);
-        const double turn = (uni(rng) - 0.5) * 1.2;  // about the surface normal, rad
-        spec.normal = physics::normalized(spec.normal * std::cos(turn) + spec.u() * std::sin(turn));
-        spec.kerf_m = (0.5 + 0.7 * uni(rng)) * 1e-3;
-        spec.half_length_m = (3 + 5 * uni(rng)) * 1e-3;
-        spec.depth_m = (2 + 5 * uni(rng)) * 1e-3;
+        const auto spec = physics::test::turned_cut_across_walk(*bodies[0], walk, k, cuts, rng);
         physics::test::apply_withdrawn_cut(session, spec, std::uint32_t(k + 1));
         physics::test::publish(session, *mesh, bodies);
     }
