@@ -264,7 +264,7 @@ bool loop_nested(const SectionPlan& plan, const PlanLoop& inner, const PlanLoop&
 
 namespace {
 
-FaceHandle find_seed_face(ContextState& s, const Seed& seed) {
+FaceHandle seed_face_near(ContextState& s, const Seed& seed) {
     const TriMesh& m = s.mesh;
     const double tol =
         seed.tolerance_m >= 0 ? seed.tolerance_m : kSeedRelativeTolerance * s.scale_m;
@@ -818,18 +818,17 @@ CutStatus plan_full(ContextState& s, const Plane& plane) {
     return s.plan.loops.empty() ? CutStatus::kPlaneMissesMesh : CutStatus::kOk;
 }
 
-CutStatus plan_localised(ContextState& s, const Plane& plane, const Seed& seed) {
-    s.plan.clear();
+FaceHandle find_seed_face(ContextState& s, const Seed& seed) {
     s.next_generation();
-    const FaceHandle seed_face = find_seed_face(s, seed);
-    if (!seed_face.is_valid()) return CutStatus::kSeedNotOnSurface;
+    return seed_face_near(s, seed);
+}
+
+namespace {
+
+// The rest of a localised plan once its first loop is walked from `start`.
+CutStatus plan_localised_from(ContextState& s, Walker& w, const Plane& plane, CutPointKey start) {
     s.next_generation();
-    Walker w(s, plane);
-    CutPointKey start;
-    CutStatus st = find_start(s, w, plane, seed_face, start);
-    if (st != CutStatus::kOk) return st;
-    s.next_generation();
-    st = w.walk(start);
+    CutStatus st = w.walk(start);
     if (st != CutStatus::kOk) return st;
     if (s.plan.loops.front().area_m2 < 0) {
         st = select_loop_around_hole(s, w, plane);  // the hole is selected with it, below
@@ -838,6 +837,33 @@ CutStatus plan_localised(ContextState& s, const Plane& plane, const Seed& seed) 
         s.plan.loops.front().selected = true;
     }
     return add_nested_loops(s, w, plane);
+}
+
+}  // namespace
+
+CutStatus plan_localised(ContextState& s, const Plane& plane, const Seed& seed) {
+    s.plan.clear();
+    const FaceHandle seed_face = find_seed_face(s, seed);
+    if (!seed_face.is_valid()) return CutStatus::kSeedNotOnSurface;
+    s.next_generation();
+    Walker w(s, plane);
+    CutPointKey start;
+    const CutStatus st = find_start(s, w, plane, seed_face, start);
+    if (st != CutStatus::kOk) return st;
+    return plan_localised_from(s, w, plane, start);
+}
+
+CutStatus plan_localised_on(ContextState& s, const Plane& plane,
+                            const std::vector<FaceHandle>& faces) {
+    s.plan.clear();
+    s.next_generation();
+    Walker w(s, plane);
+    for (FaceHandle f : faces) {
+        CutPointKey start;
+        if (!s.mesh.status(f).deleted() && w.start_on(f, start))
+            return plan_localised_from(s, w, plane, start);
+    }
+    return CutStatus::kPlaneMissesMesh;
 }
 
 CutStatus plan_from_faces(ContextState& s, const Plane& plane,

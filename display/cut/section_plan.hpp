@@ -77,8 +77,17 @@ struct SectionPlan {
 /// Plans a full-plane slice: every loop. O(n) classification.
 CutStatus plan_full(ContextState& s, const Plane& plane);
 
+/// The face the seed lies on: the hint when it holds the point (within the seed tolerance), else
+/// the nearest face within that tolerance (invalid if none).
+mesh::FaceHandle find_seed_face(ContextState& s, const Seed& seed);
+
 /// Plans a localised slice: the seed's loop and the loops nested inside it.
 CutStatus plan_localised(ContextState& s, const Plane& plane, const Seed& seed);
+
+/// Plans a localised slice from the first of `faces` the plane crosses (as plan_localised does
+/// from the crossing it finds nearest the seed); kPlaneMissesMesh if it crosses none.
+CutStatus plan_localised_on(ContextState& s, const Plane& plane,
+                            const std::vector<mesh::FaceHandle>& faces);
 
 /// Plans the slice that cuts the loops through the given crossing faces (used by the slab).
 CutStatus plan_from_faces(ContextState& s, const Plane& plane,

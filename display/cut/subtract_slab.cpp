@@ -96,14 +96,33 @@ void band_walls(detail::ContextState& s, const Plane& lower, const Plane& upper,
 }
 
 // Finds every loop bounding the slab component that holds the seed, on both walls, on the
-// unedited mesh: the seed's loop and its nested loops, then (until nothing new is found) every
-// wall loop the slab surface reaches from the loops found so far, with the loops nested in them.
+// unedited mesh: a loop of the seed's component and its nested loops, then (until nothing new is
+// found) every wall loop the slab surface reaches from the loops found so far, with the loops
+// nested in them. The first loop is one the slab surface reaches from the seed's face: on the
+// lower wall, or on the upper wall when the component does not reach the lower one (a tip
+// ending inside the slab; the crossing nearest the seed on the lower plane then lay on another
+// component, which was removed instead). A seed face outside the slab starts from the lower
+// plane's crossing nearest the seed, as a localised slice does.
 CutStatus find_walls(detail::ContextState& s, const Plane& lower, const Plane& upper,
                      const Seed& seed, WallFaces& walls) {
-    CutStatus st = detail::plan_localised(s, lower, seed);
-    if (st != CutStatus::kOk) return st;
-    walls.lower = loop_faces(s);
-    std::size_t lower_loops = selected_loops(s), upper_loops = 0;
+    const FaceHandle seed_face = detail::find_seed_face(s, seed);
+    if (!seed_face.is_valid()) return CutStatus::kSeedNotOnSurface;
+    WallFaces reached;
+    band_walls(s, lower, upper, {seed_face}, reached);
+    CutStatus st = CutStatus::kPlaneMissesMesh;
+    if (!reached.lower.empty()) st = detail::plan_localised_on(s, lower, reached.lower);
+    std::size_t lower_loops = 0, upper_loops = 0;
+    if (st == CutStatus::kPlaneMissesMesh && !reached.upper.empty()) {
+        st = detail::plan_localised_on(s, upper, reached.upper);
+        if (st != CutStatus::kOk) return st;
+        walls.upper = loop_faces(s);
+        upper_loops = selected_loops(s);
+    } else {
+        if (st == CutStatus::kPlaneMissesMesh) st = detail::plan_localised(s, lower, seed);
+        if (st != CutStatus::kOk) return st;
+        walls.lower = loop_faces(s);
+        lower_loops = selected_loops(s);
+    }
     for (int round = 0; round < 16; ++round) {
         std::vector<FaceHandle> frontier = walls.lower;
         frontier.insert(frontier.end(), walls.upper.begin(), walls.upper.end());
@@ -118,10 +137,14 @@ CutStatus find_walls(detail::ContextState& s, const Plane& lower, const Plane& u
             walls.upper = st == CutStatus::kOk ? loop_faces(s) : std::vector<FaceHandle>{};
             up = st == CutStatus::kOk ? selected_loops(s) : 0;
         }
-        st = detail::plan_wall(s, lower, found.lower);
-        if (st != CutStatus::kOk) return st;
-        walls.lower = loop_faces(s);
-        const std::size_t lo = selected_loops(s);
+        std::size_t lo = 0;
+        if (!found.lower.empty()) {
+            st = detail::plan_wall(s, lower, found.lower);
+            if (st != CutStatus::kOk && st != CutStatus::kPlaneMissesMesh) return st;
+            walls.lower = st == CutStatus::kOk ? loop_faces(s) : std::vector<FaceHandle>{};
+            lo = st == CutStatus::kOk ? selected_loops(s) : 0;
+        }
+        if (lo == 0 && up == 0) return CutStatus::kInternalError;
         if (lo == lower_loops && up == upper_loops) return CutStatus::kOk;
         lower_loops = lo, upper_loops = up;
     }
@@ -291,12 +314,16 @@ CutResult subtract_slab(CutContext& ctx, const Plane& plane, double kerf_width_m
     CutStatus st = find_walls(s, lower, upper, seed, walls);
     Wall lo{lower, lower, true, std::move(walls.lower), {}, &out.lower};
     Wall up{upper, upper, false, std::move(walls.upper), {}, &out.upper};
-    if (st == CutStatus::kOk && !up.faces.empty())
+    if (st == CutStatus::kOk && !lo.faces.empty() && !up.faces.empty())
         st = detail::plan_snapped(s, upper, up.snapped,
                                   [&] { return detail::plan_wall(s, upper, up.faces); });
+    // The wall cut first is planned last, so that its plan is the current one: the lower one, or
+    // the upper one when the component does not reach the lower plane.
+    Wall& first = lo.faces.empty() ? up : lo;
+    Wall& second = lo.faces.empty() ? lo : up;
     if (st == CutStatus::kOk)
-        st = detail::plan_snapped(s, lower, lo.snapped,
-                                  [&] { return detail::plan_wall(s, lower, lo.faces); });
+        st = detail::plan_snapped(s, first.plane, first.snapped,
+                                  [&] { return detail::plan_wall(s, first.plane, first.faces); });
     if (st != CutStatus::kOk) return done(st);
     lo.outward = *Plane::make(lower.point(), -lower.normal());
     // The lower wall first (planned last, so the plan is current), then the upper wall planned
@@ -304,10 +331,11 @@ CutResult subtract_slab(CutContext& ctx, const Plane& plane, double kerf_width_m
     // walls are cut the other way round (the upper wall's split leaves no needle where the lower
     // one did). A refusal either way leaves the mesh as it was.
     detail::EditUndo undo;
-    r.stats.vertices_snapped = static_cast<std::uint32_t>(lo.snapped.size());
+    r.stats.vertices_snapped = static_cast<std::uint32_t>(first.snapped.size());
     const std::vector<std::int32_t> lower_snapped = lo.snapped, upper_snapped = up.snapped;
-    st = cut_walls(s, lower, upper, lo, up, undo, r.stats);
-    if (st != CutStatus::kOk && st != CutStatus::kInternalError && !up.faces.empty()) {
+    st = cut_walls(s, lower, upper, first, second, undo, r.stats);
+    if (st != CutStatus::kOk && st != CutStatus::kInternalError && !lo.faces.empty() &&
+        !up.faces.empty()) {
         undo.restore(s);
         lo.snapped = lower_snapped, up.snapped = upper_snapped;
         r.stats = CutStats{};

@@ -6,16 +6,18 @@
 //
 // Planes: lower = plane.offset(-kerf/2), upper = plane.offset(+kerf/2). What is removed is exactly
 // the slab component that holds the seed: the connected part of the material between the planes
-// reached from the seed's loop on the lower plane. Its walls are cut on every loop that bounds it,
-// on both planes (a slab through the bridge of a U meets the lower plane in two loops: both are
-// cut), with the loops nested in them (the canal). Found on the unedited mesh by walking the slab
-// surface from the seed's loop until no new wall loop appears. Everything of that component,
-// including the two inner caps, is deleted (marked only; garbage collection stays the caller's
-// choice). Material that ends inside the slab (a tip thinner than the kerf) is removed with it.
-// Failure: every status the slices can return, with the mesh unchanged. Both walls are planned
-// on the unedited mesh; the second is planned again after the first is cut (the first's split
-// changed faces it crosses), and a refusal there undoes the first edit (the walls are then tried
-// the other way round).
+// that the seed's face reaches. Its walls are cut on every loop that bounds it, on both planes (a
+// slab through the bridge of a U meets the lower plane in two loops: both are cut), with the
+// loops nested in them (the canal); a component that reaches only one plane (a tip ending inside
+// the slab) has that wall alone. Found on the unedited mesh by walking the slab surface from the
+// seed's face to a first wall loop, then from the loops found until no new wall loop appears. A
+// seed whose face lies outside the slab starts from the lower plane's crossing nearest it.
+// Everything of that component, including the two inner caps, is deleted (marked only; garbage
+// collection stays the caller's choice). Material that ends inside the slab (a tip thinner than the
+// kerf) is removed with it. Failure: every status the slices can return, with the mesh unchanged.
+// Both walls are planned on the unedited mesh; the second is planned again after the first is cut
+// (the first's split changed faces it crosses), and a refusal there undoes the first edit (the
+// walls are then tried the other way round).
 #pragma once
 
 #include "display/cut/cross_section.hpp"

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "display/cut/components.hpp"
+#include "display/cut/section_plan.hpp"
 #include "display/cut/slice_by_plane.hpp"
 #include "display/mesh/mesh_io.hpp"
 #include "display/mesh/validate.hpp"
@@ -30,9 +31,12 @@ inline Plane chevron_second_limb(const Plane& first, const Vec3& through, double
 
 /// Volume of the piece of `ref` (already sliced on both slab planes) between the planes that
 /// holds the face nearest to `p`, m^3 (0 when none lies between them). A rim vertex may lie
-/// kSnapTolerances tolerances outside its plane (snapped).
+/// kSnapTolerances tolerances outside its plane (snapped). Nearest: by face centroid; with
+/// `facing`, by the distance to the face itself, among the faces whose normal has a positive
+/// component along `facing` (a point on an earlier cut's cap is on its twin too, facing away).
 inline double between_piece_volume(const kerf::mesh::TriMesh& ref, const Plane& lower,
-                                   const Plane& upper, const Vec3& p, double tolerance_m) {
+                                   const Plane& upper, const Vec3& p, double tolerance_m,
+                                   const Vec3* facing = nullptr) {
     const double tol = kSnapTolerances * tolerance_m;
     double best_d = 1e300, volume = 0;
     for (const Body& b : find_components(ref)) {
@@ -42,7 +46,10 @@ inline double between_piece_volume(const kerf::mesh::TriMesh& ref, const Plane& 
                        upper.signed_distance(ref.point(v)) < tol;
         if (!between) continue;
         for (kerf::mesh::FaceHandle f : b.faces) {
-            const double d = (face_centroid(ref, f) - p).norm();
+            if (facing != nullptr && !(OpenMesh::dot(ref.calc_face_normal(f), *facing) > 0))
+                continue;
+            const double d = facing != nullptr ? cut::detail::distance_to_face(ref, f, p)
+                                               : (face_centroid(ref, f) - p).norm();
             if (d < best_d) best_d = d, volume = b.volume_m3;
         }
     }
@@ -53,7 +60,8 @@ inline double between_piece_volume(const kerf::mesh::TriMesh& ref, const Plane& 
 /// found independently: a copy sliced on both slab planes and the piece between them that holds
 /// the seed, m^3; -1 when a reference slice fails.
 inline double slab_reference_removed_volume(const kerf::mesh::TriMesh& shape, const Plane& plane,
-                                            double kerf_m, const Vec3& seed_point) {
+                                            double kerf_m, const Vec3& seed_point,
+                                            const Vec3* facing = nullptr) {
     kerf::mesh::TriMesh ref = shape;
     CutContext ctx(ref);
     CrossSection cs;
@@ -61,7 +69,7 @@ inline double slab_reference_removed_volume(const kerf::mesh::TriMesh& shape, co
     if (!slice_by_plane(ctx, lower, cs).ok()) return -1.0;
     const CutStatus up = slice_by_plane(ctx, upper, cs).status;
     if (up != CutStatus::kOk && up != CutStatus::kPlaneMissesMesh) return -1.0;
-    return between_piece_volume(ref, lower, upper, seed_point, ctx.tolerance_m());
+    return between_piece_volume(ref, lower, upper, seed_point, ctx.tolerance_m(), facing);
 }
 
 /// A mesh of the given faces of `m` (positions only), for writing one piece.

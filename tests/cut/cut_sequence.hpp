@@ -47,6 +47,38 @@ inline std::size_t replay_cuts(CutContext& ctx, std::span<const SequenceCut> cut
     return cuts.size();
 }
 
+/// One cut of a recorded sequence with a seed of its own: kinds as SequenceCut; a chevron's
+/// second limb (kind 3) is seeded off its plane point, on the face its draw found (the hint), and
+/// a slab from the face drawn for it.
+struct SeededCut {
+    int kind;
+    Vec3 point;   ///< plane point, m
+    Vec3 normal;  ///< unit, as the sequence's Plane had it
+    Vec3 seed;    ///< m
+    int hint;     ///< seed face index, -1 for none
+};
+
+/// Applies `cuts` in order to `ctx` as sequential_cut_test made them (capacity grown before each
+/// but a chevron's second limb; slabs `kerf_m` wide); the index of the first that ended in
+/// kInternalError, or cuts.size() when none did. Refusals are allowed: they leave the mesh
+/// unchanged (checked by the caller where it matters).
+inline std::size_t replay_seeded_cuts(CutContext& ctx, std::span<const SeededCut> cuts,
+                                      double kerf_m) {
+    CrossSection cs;
+    SlabCut slab;
+    for (std::size_t i = 0; i < cuts.size(); ++i) {
+        const SeededCut& c = cuts[i];
+        if (c.kind != 3) ctx.grow_capacity();
+        const Plane plane = *Plane::make(c.point, c.normal);
+        const Seed seed{c.seed, c.hint >= 0 ? mesh::FaceHandle(c.hint) : mesh::FaceHandle(), -1.0};
+        const CutResult r = c.kind < 4    ? slice_by_plane(ctx, plane, seed, cs)
+                            : c.kind == 4 ? slice_by_plane(ctx, plane, cs)
+                                          : subtract_slab(ctx, plane, kerf_m, seed, slab);
+        if (r.status == CutStatus::kInternalError) return i;
+    }
+    return cuts.size();
+}
+
 // Flux of max(s - c, 0) n through the faces of `m` in `faces` (s: signed distance to `lower`, n
 // its normal): clipped to s >= c, fanned, each piece's vector area times its mean of s - c.
 inline double positive_part_flux(const mesh::TriMesh& m, const std::vector<mesh::FaceHandle>& faces,
@@ -91,8 +123,10 @@ inline std::size_t nearest_body(const mesh::TriMesh& m, const std::vector<Body>&
 }
 
 /// A random cut of `m`: a plane through the centroid of a random live face (normal drawn in
-/// [-1, 1]^3, +z when shorter than 0.1) and that centroid as the seed, with no triangle hint.
-inline std::pair<Plane, Seed> random_face_cut(const mesh::TriMesh& m, std::mt19937_64& rng) {
+/// [-1, 1]^3, +z when shorter than 0.1) and that centroid as the seed, with no triangle hint;
+/// the face in `face` when given.
+inline std::pair<Plane, Seed> random_face_cut(const mesh::TriMesh& m, std::mt19937_64& rng,
+                                              mesh::FaceHandle* face = nullptr) {
     std::uniform_real_distribution<double> u(-1, 1);
     mesh::FaceHandle f;
     do {
@@ -102,6 +136,7 @@ inline std::pair<Plane, Seed> random_face_cut(const mesh::TriMesh& m, std::mt199
     const Vec3 p = face_centroid(m, f);
     Vec3 n(u(rng), u(rng), u(rng));
     if (n.norm() < 0.1) n = Vec3(0, 0, 1);
+    if (face != nullptr) *face = f;
     return {*Plane::make(p, n), Seed{p, mesh::FaceHandle(), -1.0}};
 }
 
@@ -136,6 +171,31 @@ inline double seed_body_slab_reference(const mesh::TriMesh& before, const Plane&
         return std::binary_search(faces.begin(), faces.end(), f);
     });
     return slab_reference_removed_volume(body, plane, kerf_m, seed_point);
+}
+
+/// What a slab cut of `before` on `plane`, `kerf_m` wide, from a seed at `seed_point` on face
+/// `seed_face` must remove, found independently of subtract_slab: the body of `before` that holds
+/// the face, as a mesh of its own, sliced by full planes on both walls, and the piece between them
+/// that holds the seed on that face (the face nearest it among those facing as the seed's face
+/// does), m^3 (-1 when a reference slice fails). The face says which material the blade touches:
+/// a seed on an earlier cut's cap lies on that cut's other cap too, the pieces on either side
+/// both hold it, and nearest_body or a nearest centroid may name either.
+inline double seed_face_slab_reference(const mesh::TriMesh& before, const Plane& plane,
+                                       double kerf_m, const Vec3& seed_point,
+                                       mesh::FaceHandle seed_face) {
+    const std::vector<Body> bodies = find_components(before);
+    std::size_t seed_body = 0;
+    while (seed_body < bodies.size() &&
+           !std::binary_search(bodies[seed_body].faces.begin(), bodies[seed_body].faces.end(),
+                               seed_face))
+        ++seed_body;
+    if (seed_body == bodies.size()) return -1.0;
+    const std::vector<mesh::FaceHandle>& faces = bodies[seed_body].faces;
+    const mesh::TriMesh body = extract_faces(before, [&](mesh::FaceHandle f) {
+        return std::binary_search(faces.begin(), faces.end(), f);
+    });
+    const Vec3 facing = before.calc_face_normal(seed_face);
+    return slab_reference_removed_volume(body, plane, kerf_m, seed_point, &facing);
 }
 
 /// Expects `after` to be `before` element for element: the array sizes, every vertex's point,

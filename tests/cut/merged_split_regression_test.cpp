@@ -9,34 +9,27 @@
 // merges leave them (check_merged_split_areas), and such a plan is snapped or refused like any
 // other sliver: the cut leaves no triangle below the threshold, or is refused with the mesh
 // unchanged. The same happened on the 100k-triangle tube of 128 segments (cut 56).
-// The cuts are the hex floats the scratch sequence drew, in order, from the shared mesh: kind 0
-// and 2 localised (a chevron's first limb) from a seed at the plane point, 3 a chevron's second
-// limb from its own seed and face hint, 4 full, 5 slab 0.02 * scale_m wide.
+// The cuts are the hex floats the scratch sequence drew (SeededCut: kinds 0 and 2 localised from
+// a seed at the plane point, 3 a chevron's second limb from its own seed and face hint, 4 full, 5
+// slab 0.02 * scale_m wide), in order, from the shared mesh.
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <span>
 
 #include "display/cut/mesh_hash.hpp"
 #include "display/cut/slice_by_plane.hpp"
-#include "display/cut/subtract_slab.hpp"
 #include "display/mesh/mesh_io.hpp"
+#include "tests/cut/cut_sequence.hpp"
 #include "tests/cut/mesh_checks.hpp"
 
 namespace kerf::cut {
 namespace {
 
-using mesh::FaceHandle;
 using mesh::TriMesh;
+using testing::SeededCut;
 
-struct Cut {
-    int kind;
-    Vec3 point;   ///< plane point, m
-    Vec3 normal;  ///< unit
-    Vec3 seed;    ///< m
-    int hint;     ///< seed face, -1 for none
-};
-
-const Cut kFibulaCuts[] = {
+const SeededCut kFibulaCuts[] = {
     {0,
      {0x1.45a910624dd3p-6, -0x1.f68cd65b7a328p-8, -0x1.3e64e353f7cedp-5},
      {0x1.3d47e5eb71e25p-2, 0x1.a6ecf5cfbfaf3p-1, 0x1.e220005fee26ap-2},
@@ -253,26 +246,21 @@ TEST(MergedSplitRegression, AMergeThatWouldFlattenAThinCapTriangleLeavesNoDegene
     TriMesh m = std::move(*loaded);
     CutContext ctx(m);
     const double kerf_m = 0.02 * ctx.scale_m();
-    CrossSection cs;
-    SlabCut slab;
     const std::size_t last = std::size(kFibulaCuts) - 1;
-    for (std::size_t i = 0; i <= last; ++i) {
-        const Cut& c = kFibulaCuts[i];
-        if (c.kind != 3) ctx.grow_capacity();  // as the sequence did: not between two limbs
-        const Plane plane = *Plane::make(c.point, c.normal);
-        const Seed seed{c.seed, c.hint >= 0 ? FaceHandle(c.hint) : FaceHandle(), -1.0};
-        const std::uint64_t hash = mesh_hash(m);
-        const CutResult r = c.kind < 4    ? slice_by_plane(ctx, plane, seed, cs)
-                            : c.kind == 4 ? slice_by_plane(ctx, plane, cs)
-                                          : subtract_slab(ctx, plane, kerf_m, seed, slab);
-        // Refusals (one second limb's seed lies off the surface here) leave the mesh unchanged.
-        ASSERT_NE(r.status, CutStatus::kInternalError) << "cut " << i;
-        if (!r.ok()) {
-            ASSERT_EQ(mesh_hash(m), hash) << "cut " << i << ": " << to_string(r.status);
-        }
+    ASSERT_EQ(testing::replay_seeded_cuts(ctx, std::span(kFibulaCuts).first(last), kerf_m), last)
+        << "an earlier cut ended in internal_error";
+    // The last, a full plane: cut without a triangle below the one threshold, or refused with
+    // the mesh unchanged.
+    const SeededCut& c = kFibulaCuts[last];
+    ASSERT_EQ(c.kind, 4);
+    ctx.grow_capacity();
+    const std::uint64_t hash = mesh_hash(m);
+    CrossSection cs;
+    const CutResult r = slice_by_plane(ctx, *Plane::make(c.point, c.normal), cs);
+    ASSERT_NE(r.status, CutStatus::kInternalError);
+    if (!r.ok()) {
+        EXPECT_EQ(mesh_hash(m), hash) << to_string(r.status);
     }
-    // The last, a full plane: cut without a triangle below the one threshold, or refused.
-    ASSERT_EQ(kFibulaCuts[last].kind, 4);
     testing::expect_closed_2_manifold(m);
     testing::expect_face_normals_agree(m);
 }
