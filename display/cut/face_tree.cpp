@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <numeric>
 
 #if defined(__SSE2__)
 #include <immintrin.h>
@@ -309,7 +310,10 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
     // item's Morton code in that box. The scratch arrays are written before they are read: no
     // zero-filling.
     const std::size_t capacity = mesh.n_faces();
-    auto unsorted = std::make_unique_for_overwrite<Item[]>(capacity);
+    // Each face's box in face order; a face's number is its position while every face is live
+    // (faces_of holds them from the first deleted face on).
+    auto unsorted = std::make_unique_for_overwrite<Box[]>(capacity);
+    std::vector<std::int32_t> faces_of;
     std::size_t count = 0;
     Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
     double longest_sq = 0.0;
@@ -325,6 +329,10 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
     for (int fi = 0; fi < nf; ++fi) {
         const mesh::FaceHandle f(fi);
         if (face_status[fi].deleted()) {
+            if (every_face_live) {
+                faces_of.resize(count);
+                std::iota(faces_of.begin(), faces_of.end(), 0);
+            }
             every_face_live = false;
             continue;
         }
@@ -334,7 +342,9 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
         const Vec3& p0 = points[mesh.to_vertex_handle(h0).idx()];
         const Vec3& p1 = points[mesh.to_vertex_handle(h1).idx()];
         const Vec3& p2 = points[mesh.to_vertex_handle(h2).idx()];
-        const Item& e = unsorted[count++] = item_from(fi, p0, p1, p2);
+        const Item e = item_from(fi, p0, p1, p2);
+        unsorted[count++] = e.box;
+        if (!every_face_live) faces_of.push_back(fi);
         const auto c = centre_of(e.box);
         lo.minimize(Vec3(c[0], c[1], c[2]));
         hi.maximize(Vec3(c[0], c[1], c[2]));
@@ -375,8 +385,7 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
     auto keyed = std::make_unique_for_overwrite<Keyed[]>(count);
     auto scratch = std::make_unique_for_overwrite<Keyed[]>(count);
     for (std::size_t i = 0; i < count; ++i)
-        scratch[i] =
-            Keyed{code_of(centre_of(unsorted[i].box).data()), static_cast<std::uint32_t>(i)};
+        scratch[i] = Keyed{code_of(centre_of(unsorted[i]).data()), static_cast<std::uint32_t>(i)};
     if (const Keyed* sorted = radix_sort(scratch.get(), keyed.get(), count); sorted != keyed.get())
         std::copy(sorted, sorted + count, keyed.get());  // an even number of passes ran
     scratch.reset();
@@ -401,13 +410,15 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
     // leaf's box folded from an empty one item by item as they arrive, as enlarging its lane per
     // item would (the same std::min / std::max in the same order: the same floats, a NaN
     // ignored the same way), then stored once.
-    constexpr std::size_t kAhead = 8;
+    constexpr std::size_t kAhead = 16;
     for (std::uint32_t leaf = 0; leaf < leaves_; ++leaf) {
         Box b{{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}};
         const std::size_t end = std::min<std::size_t>(count, (leaf + 1) * kLeafItems);
         for (std::size_t k = leaf * std::size_t{kLeafItems}; k < end; ++k) {
             if (k + kAhead < count) __builtin_prefetch(&unsorted[keyed[k + kAhead].index]);
-            const Item& item = items_[k] = unsorted[keyed[k].index];
+            const std::uint32_t at = keyed[k].index;
+            const auto face = every_face_live ? static_cast<std::int32_t>(at) : faces_of[at];
+            const Item& item = items_[k] = Item{face, unsorted[at]};
             const Box& by = item.box;
             for (int a = 0; a < 3; ++a) {
                 b.lo[a] = std::min(b.lo[a], by.lo[a]);

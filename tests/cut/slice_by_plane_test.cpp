@@ -588,9 +588,14 @@ TEST(FaceTree, BuildMeasuresTheLongestUnflaggedEdgeAsAPassOverTheEdges) {
         strip.add_face(vs[i], vs[i + (i % 2 ? 2 : 1)], vs[i + (i % 2 ? 1 : 2)]);
     const std::vector<std::uint8_t> none(strip.n_faces(), 0);
     EXPECT_EQ(tree.build(strip, none.data()), longest_unflagged_edge_sq(strip, none));
-    // A face deleted, not collected: the caller measures over the edges.
-    m.delete_face(mesh::FaceHandle(5), false);
+    // Faces deleted, not collected: the caller measures over the edges, and the tree holds every
+    // live face under its own number (a query reaching everything reports exactly those).
+    for (const int f : {5, 6, 400, static_cast<int>(m.n_faces()) - 1})
+        m.delete_face(mesh::FaceHandle(f), false);
     EXPECT_EQ(tree.build(m, flags.data()), -1.0);
+    std::vector<int> seen(m.n_faces(), 0);
+    tree.for_each_near_point(Vec3(0, 0, 0.025), 1.0, [&](std::int32_t f) { ++seen[f]; });
+    for (auto f : m.all_faces()) EXPECT_EQ(seen[f.idx()], m.status(f).deleted() ? 0 : 1) << f.idx();
 }
 
 }  // namespace
