@@ -328,7 +328,23 @@ ApplyReport CutSession::begin(const CutBegin& e) {
     s.body_faces_stale = true;
     if (e.kerf_width_m > 0.0) {
         auto separator = Separator::make(*s.ctx, cut.section, e.kerf_width_m);
-        if (separator) cut.separator.emplace(std::move(*separator));
+        if (separator) {
+            // An earlier withdrawn cut this one reaches may be sliced on one side only (the
+            // localised slice follows one loop): neither of its sides may pass through the other.
+            const double grow = e.kerf_width_m + s.withdrawn_kerf_max_m;
+            for (const WithdrawnCut& w : s.withdrawn) {
+                Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
+                for (std::size_t i = w.first_pair; i < w.first_pair + w.pair_count; ++i)
+                    for (const auto v : {s.withdrawn_pairs[i].a, s.withdrawn_pairs[i].b}) {
+                        lo.minimize(s.mesh.point(v));
+                        hi.maximize(s.mesh.point(v));
+                    }
+                if (w.pair_count == 0) continue;
+                separator->keep_off(w.plane, lo - Vec3(grow, grow, grow),
+                                    hi + Vec3(grow, grow, grow));
+            }
+            cut.separator.emplace(std::move(*separator));
+        }
     }
     s.open.emplace(std::move(cut));
     ++s.counters.applied;

@@ -212,6 +212,23 @@ Result<Separator, CutStatus> Separator::make(CutContext& ctx, const CrossSection
     return Separator(std::move(s));
 }
 
+void Separator::keep_off(const Plane& other, const Vec3& lo, const Vec3& hi) {
+    State& s = *s_;
+    const double tol = s.ctx->tolerance_m();
+    const double slope = s.plane.normal() | other.normal();  // d(distance to other) / d(lift)
+    for (BandVertex& b : s.band) {
+        const Vec3& p = b.origin;
+        if (p[0] < lo[0] || p[1] < lo[1] || p[2] < lo[2] || p[0] > hi[0] || p[1] > hi[1] ||
+            p[2] > hi[2])
+            continue;
+        const double w = other.signed_distance(p);
+        const double change = b.lift * slope;                // at full lift
+        if (std::abs(w) > tol && change * w >= 0) continue;  // moves away from it, or along it
+        const double allowed = std::max(0.0, std::abs(w) - 2.0 * tol);
+        if (std::abs(change) > allowed) b.lift *= allowed / std::abs(change);
+    }
+}
+
 Separator::Separator(std::unique_ptr<State> s) noexcept : s_(std::move(s)) {}
 Separator::Separator(Separator&&) noexcept = default;
 Separator& Separator::operator=(Separator&&) noexcept = default;

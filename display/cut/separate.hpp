@@ -72,6 +72,14 @@ public:
     Separator& operator=(Separator&&) noexcept;
     ~Separator();
 
+    /// Keeps the band off an earlier cut's plane `other` (a withdrawn cut, whose sides this
+    /// localised cut may have sliced on one side only): a band vertex inside the box [lo, hi]
+    /// that would move towards `other` moves less, stopping two tolerances short of it, and one
+    /// on it (within the tolerance) does not move, so no side of the earlier cut passes through
+    /// the other one, left in place. The kerf then opens less there. Call before the first sweep.
+    /// O(band).
+    void keep_off(const Plane& other, const Vec3& lo, const Vec3& hi);
+
     /// Adds a convex polygon (either orientation, >= 3 points, plane coordinates, m) to the swept
     /// region and moves the vertices it affects. Cost proportional to the band vertices within a
     /// kerf of the polygon, plus the wall faces over the cap triangles whose corners moved.
