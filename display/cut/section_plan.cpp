@@ -665,8 +665,24 @@ CutStatus finish_plan(ContextState& s, const Plane& plane) {
     return st == CutStatus::kOk ? plan_caps(s, plane) : st;
 }
 
+namespace {
+
+// finish_plan with the merges first: the split parts are checked on the loops the merges leave
+// (check_split_areas skips a pair of points that no longer share a face) and round the merged
+// points where the merges leave them. A needle of an earlier cap thinner than tol, crossed by the
+// plane, has its two cut points within tol: the part between them, below the threshold, goes
+// with the merge instead of refusing the cut.
+CutStatus finish_plan_merged_first(ContextState& s, const Plane& plane) {
+    merge_close_points(s);
+    CutStatus st = check_split_areas(s, plane);
+    if (st == CutStatus::kOk) st = check_merged_split_areas(s, plane);
+    return st == CutStatus::kOk ? plan_caps(s, plane) : st;
+}
+
+}  // namespace
+
 CutStatus plan_snapped(ContextState& s, const Plane& plane, std::vector<std::int32_t>& snapped,
-                       const std::function<CutStatus()>& plan) {
+                       const std::function<CutStatus()>& plan, bool merges_first_last) {
     s.snapped = &snapped;
     CutStatus st = CutStatus::kOk;
     for (int round = 0;; ++round) {
@@ -681,6 +697,12 @@ CutStatus plan_snapped(ContextState& s, const Plane& plane, std::vector<std::int
             if (!std::binary_search(snapped.begin(), snapped.end(), v))
                 snapped.insert(std::lower_bound(snapped.begin(), snapped.end(), v), v);
         if (snapped.size() == before) break;  // nothing new to try
+    }
+    if (st == CutStatus::kSliverSplit && merges_first_last) {
+        // Last, where snapping did not help: the merges first (a plan that passes the other way
+        // is left as it was, so every cut that succeeded before is unchanged).
+        st = plan();
+        if (st == CutStatus::kOk) st = finish_plan_merged_first(s, plane);
     }
     s.snapped = nullptr;
     return st;

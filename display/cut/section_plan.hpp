@@ -146,10 +146,15 @@ CutStatus finish_plan(ContextState& s, const Plane& plane);
 /// tolerances of the plane, those join `snapped` and the plan is made again, at most
 /// kMaxSnapRounds times. A snapped vertex is not moved: it becomes a rim vertex where it is, as
 /// on-plane vertices do, so rims lie within kSnapTolerances tolerances of the plane (within one
-/// tolerance when nothing was snapped) and every volume is conserved exactly.
+/// tolerance when nothing was snapped) and every volume is conserved exactly. A plan still
+/// refused for a split part is then, when `merges_first_last`, made once more with the merges of
+/// close points before the split check (merge_close_points, then check_split_areas on the loops
+/// they leave, then check_merged_split_areas): a needle of an earlier cap thinner than tol puts
+/// two cut points within tol of each other, and the part between them goes with their merge.
+/// Every plan that passed before passes the same way.
 inline constexpr int kMaxSnapRounds = 8;
 CutStatus plan_snapped(ContextState& s, const Plane& plane, std::vector<std::int32_t>& snapped,
-                       const std::function<CutStatus()>& plan);
+                       const std::function<CutStatus()>& plan, bool merges_first_last = true);
 
 /// Triangulates the selected loops into plan.cap_triangles, counter-clockwise about the normal
 /// (kCapTriangulationFailed if a loop cannot be capped without slivers or tilted triangles).

@@ -273,14 +273,17 @@ CutStatus cut_walls(detail::ContextState& s, const Plane& lower, const Plane& up
     second.cut->clear();
     second.cut->plane = second.plane;
     if (faces.empty()) return CutStatus::kOk;
-    auto plan = [&] {
-        return detail::plan_snapped(s, second.plane, second.snapped,
-                                    [&] { return detail::plan_wall(s, second.plane, faces); });
+    // The merges first (plan_snapped's last resort) only after the needles' diagonals are flipped.
+    auto plan = [&](bool merges_first_last) {
+        return detail::plan_snapped(
+            s, second.plane, second.snapped,
+            [&] { return detail::plan_wall(s, second.plane, faces); }, merges_first_last);
     };
-    CutStatus st = plan();
+    CutStatus st = plan(false);
     if ((st == CutStatus::kSliverSplit || st == CutStatus::kCapTriangulationFailed) &&
         flip_rim_needles(s, second.outward, rim) > 0)
-        st = plan();
+        st = plan(false);
+    if (st == CutStatus::kSliverSplit) st = plan(true);
     if (st == CutStatus::kPlaneMissesMesh) return CutStatus::kOk;
     if (st != CutStatus::kOk) return st;
     CutStats second_stats;
