@@ -35,7 +35,8 @@ inline FaceSnapshot snapshot(const kerf::mesh::TriMesh& m, int first = 0, int la
     return s;
 }
 
-/// A new mesh made of the faces of `m` for which `keep(face)` holds (positions only).
+/// A new mesh made of the faces of `m` for which `keep(face)` holds (positions, vertex normals and
+/// texture coordinates).
 template <class Keep>
 kerf::mesh::TriMesh extract_faces(const kerf::mesh::TriMesh& m, Keep&& keep) {
     kerf::mesh::TriMesh out;
@@ -45,7 +46,12 @@ kerf::mesh::TriMesh extract_faces(const kerf::mesh::TriMesh& m, Keep&& keep) {
         kerf::mesh::VertexHandle vs[3];
         int k = 0;
         for (auto v : m.fv_range(f)) {
-            if (!map[v.idx()].is_valid()) map[v.idx()] = out.add_vertex(m.point(v));
+            if (!map[v.idx()].is_valid()) {
+                map[v.idx()] = out.add_vertex(m.point(v));
+                // A slice of the copy interpolates them (valgrind: uninitialised otherwise).
+                out.set_normal(map[v.idx()], m.normal(v));
+                out.set_texcoord2D(map[v.idx()], m.texcoord2D(v));
+            }
             vs[k++] = map[v.idx()];
         }
         out.add_face(vs[0], vs[1], vs[2]);
