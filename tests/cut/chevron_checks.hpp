@@ -58,17 +58,21 @@ inline double between_piece_volume(const kerf::mesh::TriMesh& ref, const Plane& 
 
 /// What a slab cut of `shape` on `plane`, `kerf_m` wide, from a seed at `seed_point` must remove,
 /// found independently: a copy sliced on both slab planes and the piece between them that holds
-/// the seed, m^3; -1 when a reference slice fails.
+/// the seed, m^3; -1 when a reference slice fails. `merges` (optional) gets the vertex merges of
+/// the two reference slices: each moved the reference's surface too (volume_change_bound).
 inline double slab_reference_removed_volume(const kerf::mesh::TriMesh& shape, const Plane& plane,
                                             double kerf_m, const Vec3& seed_point,
-                                            const Vec3* facing = nullptr) {
+                                            const Vec3* facing = nullptr,
+                                            std::uint32_t* merges = nullptr) {
     kerf::mesh::TriMesh ref = shape;
     CutContext ctx(ref);
     CrossSection cs;
     const Plane lower = plane.offset(-0.5 * kerf_m), upper = plane.offset(0.5 * kerf_m);
-    if (!slice_by_plane(ctx, lower, cs).ok()) return -1.0;
-    const CutStatus up = slice_by_plane(ctx, upper, cs).status;
-    if (up != CutStatus::kOk && up != CutStatus::kPlaneMissesMesh) return -1.0;
+    const CutResult low = slice_by_plane(ctx, lower, cs);
+    if (!low.ok()) return -1.0;
+    const CutResult up = slice_by_plane(ctx, upper, cs);
+    if (up.status != CutStatus::kOk && up.status != CutStatus::kPlaneMissesMesh) return -1.0;
+    if (merges != nullptr) *merges = low.stats.vertices_merged + up.stats.vertices_merged;
     return between_piece_volume(ref, lower, upper, seed_point, ctx.tolerance_m(), facing);
 }
 

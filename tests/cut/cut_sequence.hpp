@@ -179,10 +179,12 @@ inline double seed_body_slab_reference(const mesh::TriMesh& before, const Plane&
 /// that holds the seed on that face (the face nearest it among those facing as the seed's face
 /// does), m^3 (-1 when a reference slice fails). The face says which material the blade touches:
 /// a seed on an earlier cut's cap lies on that cut's other cap too, the pieces on either side
-/// both hold it, and nearest_body or a nearest centroid may name either.
+/// both hold it, and nearest_body or a nearest centroid may name either. `merges` (optional)
+/// gets the reference slices' vertex merges.
 inline double seed_face_slab_reference(const mesh::TriMesh& before, const Plane& plane,
                                        double kerf_m, const Vec3& seed_point,
-                                       mesh::FaceHandle seed_face) {
+                                       mesh::FaceHandle seed_face,
+                                       std::uint32_t* merges = nullptr) {
     const std::vector<Body> bodies = find_components(before);
     std::size_t seed_body = 0;
     while (seed_body < bodies.size() &&
@@ -195,7 +197,7 @@ inline double seed_face_slab_reference(const mesh::TriMesh& before, const Plane&
         return std::binary_search(faces.begin(), faces.end(), f);
     });
     const Vec3 facing = before.calc_face_normal(seed_face);
-    return slab_reference_removed_volume(body, plane, kerf_m, seed_point, &facing);
+    return slab_reference_removed_volume(body, plane, kerf_m, seed_point, &facing, merges);
 }
 
 /// Expects `after` to be `before` element for element: the array sizes, every vertex's point,
