@@ -157,4 +157,28 @@ inline ProxyStray walk_proxy(const CollisionWorld& world, const CollisionWorld& 
     return stray;
 }
 
+/// One random sequence of withdrawn cuts turned about the surface normal, drawn from `seed` (the
+/// sequences of WithdrawnCutContact and WithdrawnCutProbe): a surface walk of 6,000-20,000 ticks
+/// and 6-17 cuts across it, each applied with apply_withdrawn_cut and the collision bodies then
+/// republished; `after_cut(k, cuts, report)` after each. Returns the number of cuts.
+template <class AfterCut>
+int apply_turned_withdrawn_sequence(cut::CutSession& session, std::uint64_t seed,
+                                    AfterCut&& after_cut) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> uni(0, 1);
+    auto mesh = std::make_unique<ipc::CollisionMesh>();
+    std::vector<std::shared_ptr<const CollisionBody>> bodies;
+    publish(session, *mesh, bodies);
+    const int ticks = 6000 + int(uni(rng) * 14000);
+    const int cuts = 6 + int(uni(rng) * 12);
+    const std::vector<Vec3> walk = surface_walk(*bodies[0], ticks, -0.002, 0.0005);
+    for (int k = 0; k < cuts; ++k) {
+        const auto spec = turned_cut_across_walk(*bodies[0], walk, k, cuts, rng);
+        const cut::ApplyReport r = apply_withdrawn_cut(session, spec, std::uint32_t(k + 1));
+        publish(session, *mesh, bodies);
+        after_cut(k, cuts, r);
+    }
+    return cuts;
+}
+
 }  // namespace kerf::physics::test

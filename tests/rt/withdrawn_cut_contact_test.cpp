@@ -94,23 +94,11 @@ TEST(WithdrawnCutContact, EveryCutBeginOfALongerSequenceIsSliced) {
 // The walls now rise with the cap (separate.hpp).
 TEST(WithdrawnCutContact, CutsThroughTurnedWithdrawnCutsAreSliced) {
     if (!rt::test::have_shared_meshes()) GTEST_SKIP() << "no " << rt::test::calcaneus_path();
-    std::mt19937_64 rng(1000);
-    std::uniform_real_distribution<double> uni(0, 1);
     auto scene = mesh::load_mesh_owned(rt::test::calcaneus_path(), LengthUnit::kMillimetre);
     ASSERT_TRUE(scene) << scene.error().message();
     cut::CutSession session(std::move(*scene));
-    auto mesh = std::make_unique<ipc::CollisionMesh>();
-    std::vector<std::shared_ptr<const CollisionBody>> bodies;
-    physics::test::publish(session, *mesh, bodies);
-    const int ticks = 6000 + int(uni(rng) * 14000);
-    const int cuts = 6 + int(uni(rng) * 12);
-    const std::vector<physics::Vec3> walk =
-        physics::test::surface_walk(*bodies[0], ticks, -0.002, 0.0005);
-    for (int k = 0; k < cuts; ++k) {
-        const auto spec = physics::test::turned_cut_across_walk(*bodies[0], walk, k, cuts, rng);
-        physics::test::apply_withdrawn_cut(session, spec, std::uint32_t(k + 1));
-        physics::test::publish(session, *mesh, bodies);
-    }
+    const int cuts = physics::test::apply_turned_withdrawn_sequence(
+        session, 1000, [](int, int, const cut::ApplyReport&) {});
     EXPECT_EQ(cuts, 17);
     EXPECT_EQ(session.counters().refused, 0u);
     EXPECT_EQ(session.withdrawn_cuts().size(), std::size_t(cuts));

@@ -13,7 +13,6 @@
 #include <cstdlib>
 #include <map>
 #include <memory>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -25,8 +24,6 @@
 namespace kerf {
 namespace {
 
-using physics::CollisionBody;
-
 constexpr int kSequences = 14;
 
 TEST(WithdrawnCutProbe, EveryCutIsSlicedAndNothingCrossesNearTheKerfs) {
@@ -37,22 +34,10 @@ TEST(WithdrawnCutProbe, EveryCutIsSlicedAndNothingCrossesNearTheKerfs) {
     int begins = 0, crossing_cuts = 0;
     for (int sequence = 0; sequence < kSequences; ++sequence) {
         // Sequence 0 is WithdrawnCutContact.CutsThroughTurnedWithdrawnCutsAreSliced.
-        std::mt19937_64 rng(1000 + sequence);
-        std::uniform_real_distribution<double> uni(0, 1);
         auto scene = mesh::load_mesh_owned(rt::test::calcaneus_path(), LengthUnit::kMillimetre);
         ASSERT_TRUE(scene) << scene.error().message();
         cut::CutSession session(std::move(*scene));
-        auto mesh = std::make_unique<ipc::CollisionMesh>();
-        std::vector<std::shared_ptr<const CollisionBody>> bodies;
-        physics::test::publish(session, *mesh, bodies);
-        const int ticks = 6000 + int(uni(rng) * 14000);
-        const int cuts = 6 + int(uni(rng) * 12);
-        const std::vector<physics::Vec3> walk =
-            physics::test::surface_walk(*bodies[0], ticks, -0.002, 0.0005);
-        for (int k = 0; k < cuts; ++k) {
-            const auto spec = physics::test::turned_cut_across_walk(*bodies[0], walk, k, cuts, rng);
-            const cut::ApplyReport r =
-                physics::test::apply_withdrawn_cut(session, spec, std::uint32_t(k + 1));
+        const auto after_cut = [&](int k, int cuts, const cut::ApplyReport& r) {
             ++begins;
             if (r.outcome == cut::EventOutcome::kRefused) {
                 const std::string status(cut::to_string(r.status));
@@ -60,7 +45,6 @@ TEST(WithdrawnCutProbe, EveryCutIsSlicedAndNothingCrossesNearTheKerfs) {
                 std::printf("sequence %d cut %d of %d refused: %s\n", sequence, k, cuts,
                             status.c_str());
             }
-            physics::test::publish(session, *mesh, bodies);
             // Faces with a corner within 1.6 mm (two of the widest kerfs) of a withdrawn plane.
             const mesh::TriMesh& m = session.mesh();
             const auto withdrawn = session.withdrawn_cuts();
@@ -76,7 +60,8 @@ TEST(WithdrawnCutProbe, EveryCutIsSlicedAndNothingCrossesNearTheKerfs) {
                 std::printf("sequence %d after cut %d: %zu crossing face pairs (first %d, %d)\n",
                             sequence, k, crossing.size(), crossing[0].a, crossing[0].b);
             }
-        }
+        };
+        physics::test::apply_turned_withdrawn_sequence(session, 1000 + sequence, after_cut);
     }
     int refused = 0;
     std::printf("%d CutBegins; faces crossing after %d; refused:", begins, crossing_cuts);
