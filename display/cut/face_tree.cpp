@@ -5,8 +5,10 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <memory>
+#include <new>
 #include <numeric>
 
 #if defined(__SSE2__)
@@ -379,16 +381,25 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
     const Vec3 ext = hi - lo;
     for (int a = 0; a < 3; ++a) code_lo_[a] = lo[a];
     code_scale_ = 2097151.0 / std::max({ext[0], ext[1], ext[2], 1e-300});
-    // The keys end in the array allocated first and the one allocated last is freed: in a heap
-    // that never returns memory (`kerf cut`), that one lies on top, so the items reuse its pages
-    // (freeing the other left a hole they do not fit in: 16 MB more peak on the 1M foot).
-    auto keyed = std::make_unique_for_overwrite<Keyed[]>(count);
-    auto scratch = std::make_unique_for_overwrite<Keyed[]>(count);
+    // The sort's two key arrays live in the items' own memory, allocated now (pages that the
+    // gather then rewrites, instead of two more arrays paged in and freed): the scratch keys in
+    // its first 12 bytes per item, the sorted keys in its last 12. The gather writes item k over
+    // bytes [28k, 28k + 28), below key k + 1 (at 16n + 12(k + 1)): it overwrites only keys it
+    // has read. The keys are read there through memcpy (key_at), not as Keyed objects.
+    items_.resize(count);
+    auto* const arena = reinterpret_cast<unsigned char*>(items_.data());
+    static_assert(sizeof(Item) == 28 && sizeof(Keyed) == 12 && alignof(Item) >= alignof(Keyed));
+    Keyed* const scratch = reinterpret_cast<Keyed*>(arena);
+    Keyed* const keyed = reinterpret_cast<Keyed*>(arena + 16 * count);
+    const auto key_at = [keyed](std::size_t k) {
+        Keyed key;
+        std::memcpy(&key, reinterpret_cast<const unsigned char*>(keyed) + 12 * k, sizeof key);
+        return key;
+    };
     for (std::size_t i = 0; i < count; ++i)
         scratch[i] = Keyed{code_of(centre_of(unsorted[i]).data()), static_cast<std::uint32_t>(i)};
-    if (const Keyed* sorted = radix_sort(scratch.get(), keyed.get(), count); sorted != keyed.get())
-        std::copy(sorted, sorted + count, keyed.get());  // an even number of passes ran
-    scratch.reset();
+    if (const Keyed* sorted = radix_sort(scratch, keyed, count); sorted != keyed)
+        std::memmove(keyed, sorted, count * sizeof(Keyed));  // an even number of passes ran
     leaves_ = static_cast<std::uint32_t>((count + kLeafItems - 1) / kLeafItems);
     padded_leaves_ = 1;
     int depth = 0;  // of the leaves in the binary tree
@@ -404,7 +415,6 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
         for (std::uint32_t k = 0; k < kLanes; ++k) empty.lo[a][k] = kInf, empty.hi[a][k] = -kInf;
     groups_.assign(total, empty);
     leaf_codes_.resize(leaves_);
-    items_.resize(count);
     const int leaves_level = last_level();
     // A gather from across the unsorted items, each one fetched a few ahead, leaf by leaf: the
     // leaf's box folded from an empty one item by item as they arrive, as enlarging its lane per
@@ -413,12 +423,14 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
     constexpr std::size_t kAhead = 16;
     for (std::uint32_t leaf = 0; leaf < leaves_; ++leaf) {
         Box b{{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}};
-        const std::size_t end = std::min<std::size_t>(count, (leaf + 1) * kLeafItems);
-        for (std::size_t k = leaf * std::size_t{kLeafItems}; k < end; ++k) {
-            if (k + kAhead < count) __builtin_prefetch(&unsorted[keyed[k + kAhead].index]);
-            const std::uint32_t at = keyed[k].index;
+        const std::size_t first = leaf * std::size_t{kLeafItems};
+        const std::size_t end = std::min<std::size_t>(count, first + kLeafItems);
+        leaf_codes_[leaf] = key_at(first).code;  // before the leaf's items overwrite it
+        for (std::size_t k = first; k < end; ++k) {
+            if (k + kAhead < count) __builtin_prefetch(&unsorted[key_at(k + kAhead).index]);
+            const std::uint32_t at = key_at(k).index;
             const auto face = every_face_live ? static_cast<std::int32_t>(at) : faces_of[at];
-            const Item& item = items_[k] = Item{face, unsorted[at]};
+            const Item& item = *::new (static_cast<void*>(&items_[k])) Item{face, unsorted[at]};
             const Box& by = item.box;
             for (int a = 0; a < 3; ++a) {
                 b.lo[a] = std::min(b.lo[a], by.lo[a]);
@@ -431,7 +443,6 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
             g.lo[a][leaf % kLanes] = b.lo[a];
             g.hi[a][leaf % kLanes] = b.hi[a];
         }
-        leaf_codes_[leaf] = keyed[leaf * std::size_t{kLeafItems}].code;
     }
     unsorted.reset();
     for (std::uint32_t j = 0; j < leaves_; j += kCoarseStride)
