@@ -453,6 +453,27 @@ std::uint32_t CutSession::body_at(const Vec3& p) const noexcept {
     const State& s = *s_;
     double best = 1e300;
     std::uint32_t body = kNoBody;
+    // Every body at rest (a fresh session, `kerf cut`): R q + t is q itself there, bit for bit
+    // where q is finite (1 x + 0 y + 0 z + 0), and a vertex with a non-finite coordinate is never
+    // the nearest either way; so the scan skips the pose, whose rotation matrix to_world builds
+    // from the quaternion per vertex (most of this O(V) scan).
+    const bool at_rest = std::all_of(s.bodies.begin(), s.bodies.end(), [](const SessionBody& b) {
+        const auto& q = b.pose.orientation_wxyz;
+        return b.pose.position_m == Vec3(0.0, 0.0, 0.0) && q[0] == 1.0 && q[1] == 0.0 &&
+               q[2] == 0.0 && q[3] == 0.0;
+    });
+    if (at_rest) {
+        for (const auto v : s.mesh.vertices()) {
+            const std::uint32_t b = s.mesh.property(s.vertex_body, v);
+            if (b >= s.bodies.size()) continue;
+            const double d = (s.mesh.point(v) - p).sqrnorm();
+            if (d < best) {
+                best = d;
+                body = b;
+            }
+        }
+        return body;
+    }
     for (const auto v : s.mesh.vertices()) {
         const std::uint32_t b = s.mesh.property(s.vertex_body, v);
         if (b >= s.bodies.size()) continue;
