@@ -222,6 +222,11 @@ GroupResult try_triangulate_group(ContextState& s, const Plane& plane,
     return GroupResult::kOk;
 }
 
+// What plan_caps already knows of a cap triangle (per slot, kept through every flip): `good`
+// implies `acceptable`, and both are pure functions of the triangle, so a known answer is not
+// asked again.
+constexpr char kUnknown = 0, kKnownAcceptable = 1, kKnownGood = 2;
+
 // Cap triangles with the neighbour across each edge (SectionPlan::cap_neighbours), kept up to
 // date through every flip, so the triangle across an edge is one lookup (searching the
 // triangles, or a per-point edge table rebuilt every pass, made the flips a third of a cut).
@@ -231,7 +236,9 @@ public:
         : tris_(tris), nb_(neighbours) {}
 
     static std::uint32_t corner(const Triangle& t, int k) {
-        return k == 0 ? t.a : (k == 1 ? t.b : t.c);
+        static constexpr std::uint32_t Triangle::*kCorners[3] = {&Triangle::a, &Triangle::b,
+                                                                 &Triangle::c};
+        return t.*kCorners[k];
     }
 
     // Links every edge slot to the slot of its reverse edge; false when a directed edge is held
@@ -307,10 +314,11 @@ private:
 // triangles are `good`. Ear clipping leaves long thin ears; Delaunay maximises the smallest angle,
 // so what stays thin is only what the rim itself forces. A bounded number of passes; in a pass a
 // triangle flips at most once, and an edge next to a triangle flipped in that pass waits for the
-// next pass (the order and the result of the per-pass edge table this replaced).
+// next pass (the order and the result of the per-pass edge table this replaced). Both triangles
+// of every flip are `good`: their slots in `known` are set to kKnownGood.
 template <class Good>
 void delaunay_flips(const SectionPlan& plan, std::vector<Triangle>& tris, CapAdjacency& adj,
-                    const Good& good) {
+                    const Good& good, std::vector<char>& known) {
     // A pass looks only at the triangles flipped in the pass before and their neighbours: every
     // other triangle had each of its edges tested in that pass against the same two triangles
     // (an edge it skipped for a flipped neighbour has that neighbour now), so it cannot flip.
@@ -347,6 +355,7 @@ void delaunay_flips(const SectionPlan& plan, std::vector<Triangle>& tris, CapAdj
                 if (!good(Triangle{a, b, d}) || !good(Triangle{b, c, d})) continue;
                 adj.flip(si, sj);
                 touched[i] = touched[j] = 1;
+                known[i] = known[j] = kKnownGood;
                 flipped = true;
             }
         }
@@ -443,15 +452,21 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
     std::vector<Triangle>& tris = plan.cap_triangles;
     CapAdjacency adj(tris, plan.cap_neighbours);
     if (!adj.build(plan.points.size())) return CutStatus::kCapTriangulationFailed;
-    delaunay_flips(plan, tris, adj, good);
+    std::vector<char> known(tris.size(), kUnknown);
+    delaunay_flips(plan, tris, adj, good, known);
     // Tries the flip across the longest edge first, then the other two; good triangles first,
     // then acceptable ones.
     bool failed = false;
     for (std::size_t i = 0; i < tris.size(); ++i) {
-        if (good(tris[i])) continue;
+        if (known[i] == kKnownGood) continue;
+        if (good(tris[i])) {
+            known[i] = kKnownGood;
+            continue;
+        }
         bool fixed = false;
         for (int tier = 0; tier < 2 && !fixed; ++tier) {
             if (tier == 1 && acceptable(tris[i])) {
+                known[i] = kKnownAcceptable;
                 fixed = true;
                 break;
             }
@@ -473,7 +488,9 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
                     CapAdjacency::corner(tris[sj / 3], static_cast<int>(sj % 3 + 2) % 3);
                 const Triangle n1{a, b, d}, n2{b, c, d};
                 const bool ok = tier == 0 ? good(n1) && good(n2) : acceptable(n1) && acceptable(n2);
-                if (ok) adj.flip(si, sj), fixed = true;
+                if (!ok) continue;
+                adj.flip(si, sj), fixed = true;
+                known[i] = known[sj / 3] = tier == 0 ? kKnownGood : kKnownAcceptable;
             }
         }
         if (fixed) continue;
@@ -488,8 +505,8 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
         }
     }
     if (failed) return CutStatus::kCapTriangulationFailed;
-    for (const Triangle& t : tris)
-        if (!acceptable(t)) return CutStatus::kCapTriangulationFailed;
+    for (std::size_t i = 0; i < tris.size(); ++i)
+        if (known[i] == kUnknown && !acceptable(tris[i])) return CutStatus::kCapTriangulationFailed;
     return pinched_along_an_edge(s) ? CutStatus::kDegenerateCrossSection : CutStatus::kOk;
 }
 

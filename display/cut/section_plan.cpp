@@ -87,15 +87,16 @@ public:
         return false;
     }
 
-    // Outgoing segments at on-plane vertex v: how many, and the last one's end.
-    int outgoing(VertexHandle v, CutPointKey& next, bool& via_face) const {
+    // Outgoing segments at on-plane vertex v: how many, and the last one's end (with its face,
+    // or an invalid face for a step along an in-plane edge).
+    int outgoing(VertexHandle v, CutPointKey& next, FaceHandle& via) const {
         int count = 0;
         const CutPointKey self{v.idx(), false};
         for (auto g : m_.voh_range(v)) {
             const FaceHandle f = m_.face_handle(g);
             CutPointKey a, b;
             if (segment(f, a, b)) {
-                if (a == self) next = b, via_face = true, ++count;
+                if (a == self) next = b, via = f, ++count;
                 continue;
             }
             const VertexHandle w = m_.to_vertex_handle(g);
@@ -104,12 +105,14 @@ public:
             CutPointKey c, d;
             if (segment(o, c, d)) continue;
             if (label(f) > 0 && label(o) < 0)
-                next = CutPointKey{w.idx(), false}, via_face = false, ++count;
+                next = CutPointKey{w.idx(), false}, via = FaceHandle(), ++count;
         }
         return count;
     }
 
-    CutStatus next(const CutPointKey& k, CutPointKey& out, bool& via_face) const {
+    // The cut point after k on its loop, and the face the step crosses (invalid along an
+    // in-plane edge).
+    CutStatus next(const CutPointKey& k, CutPointKey& out, FaceHandle& via) const {
         if (k.edge) {
             const EdgeHandle e(k.id);
             // The loop leaves edge k through the face whose halfedge runs from k's positive end
@@ -122,7 +125,7 @@ public:
                 CutPointKey a, b;
                 if (segment(ff, a, b) && a == k) {
                     out = b;
-                    via_face = true;
+                    via = ff;
                     return CutStatus::kOk;
                 }
             }
@@ -132,7 +135,7 @@ public:
                 CutPointKey a, b;
                 if (segment(f, a, b) && a == k) {
                     out = b;
-                    via_face = true;
+                    via = f;
                     return CutStatus::kOk;
                 }
             }
@@ -140,7 +143,7 @@ public:
         }
         const VertexHandle v(k.id);
         if (m_.is_boundary(v)) return CutStatus::kNonManifoldInput;
-        const int count = outgoing(v, out, via_face);
+        const int count = outgoing(v, out, via);
         return count == 1 ? CutStatus::kOk : CutStatus::kDegenerateCrossSection;
     }
 
@@ -179,7 +182,10 @@ public:
         return p;
     }
 
-    // Walks the loop through `start` and appends it to the plan (not selected yet).
+    // Walks the loop through `start` and appends it to the plan (not selected yet). Every face
+    // a step crosses is marked: its segment starts at a point of this loop, which is marked, so
+    // start_on() would find nothing new on it, and the face-tree queries for more loops
+    // (add_nested_loops, select_loop_around_hole) skip marked faces before they ask.
     CutStatus walk(const CutPointKey& start) {
         SectionPlan& plan = s_.plan;
         PlanLoop loop;
@@ -190,11 +196,11 @@ public:
         while (!marked(k)) {
             mark(k);
             plan.points.push_back(make_point(k));
-            bool via_face = false;
+            FaceHandle via;
             CutPointKey nx;
-            const CutStatus st = next(k, nx, via_face);
+            const CutStatus st = next(k, nx, via);
             if (st != CutStatus::kOk) return st;
-            faces += via_face;
+            if (via.is_valid()) ++faces, s_.mark_face(via);
             k = nx;
             if (plan.points.size() - loop.first > limit) return CutStatus::kInternalError;
         }
@@ -222,7 +228,7 @@ public:
         for (auto v : m_.fv_range(f)) {
             if (side(v) != 0 || s_.vertex_marked(v) || m_.is_boundary(v)) continue;
             CutPointKey nx;
-            bool via = false;
+            FaceHandle via;
             if (outgoing(v, nx, via) > 0) {
                 start = CutPointKey{v.idx(), false};
                 return true;
