@@ -299,8 +299,21 @@ FaceHandle seed_face_near(ContextState& s, const Seed& seed) {
         s.tree.for_each_near_point(seed.point_m, r, consider);
         if (best.is_valid() || r >= tol) break;
     }
-    if (!best.is_valid())
-        for (FaceHandle f : s.cap_faces) consider(f.idx());
+    // Cap faces are not in the tree: a seed on a cap lies within a few micrometres of the sides'
+    // faces along the cap's rim, so a cap nearer than the tree's best face wins (ties keep the
+    // tree's). Only seeds without a usable face hint get here (the display passes one).
+    if (best_d > 0) {
+        const FaceHandle tree_best = best;
+        const double tree_d = best.is_valid() ? best_d : tol;
+        best = FaceHandle();
+        best_d = tree_d;
+        for (FaceHandle f : s.cap_faces) {
+            if (m.status(f).deleted() || !accepted(f)) continue;
+            const double d = distance_to_face(m, f, seed.point_m);
+            if (d < best_d || (!tree_best.is_valid() && d <= best_d)) best_d = d, best = f;
+        }
+        if (!best.is_valid()) best = tree_best;
+    }
     return best;
 }
 

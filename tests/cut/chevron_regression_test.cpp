@@ -6,11 +6,9 @@
 // volume kept, and every piece reloads from float32 STL as a closed 2-manifold.
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <string>
 
 #include "display/cut/slice_by_plane.hpp"
-#include "display/mesh/mesh_io.hpp"
 #include "tests/cut/chevron_checks.hpp"
 #include "tests/cut/cut_test_util.hpp"
 #include "tests/cut/mesh_checks.hpp"
@@ -50,10 +48,8 @@ class ChevronNearVertices : public ::testing::TestWithParam<CloseChevron> {};
 
 TEST_P(ChevronNearVertices, SecondLimbLeavesNoVertexWithinTheToleranceAndPiecesRoundTrip) {
     const CloseChevron& c = GetParam();
-    const auto path = std::filesystem::path(KERF_SHARED_MESHES) / c.mesh;
-    if (!std::filesystem::exists(path)) GTEST_SKIP() << "real meshes absent: " << path;
-    auto loaded = mesh::load_mesh(path, LengthUnit::kMillimetre);
-    ASSERT_TRUE(loaded);
+    auto loaded = testing::load_shared_mesh(c.mesh);
+    if (!loaded) GTEST_SKIP() << "real meshes absent";
     TriMesh m = std::move(*loaded);
     const double v0 = testing::signed_volume(m);
     const auto first_new = static_cast<int>(m.n_vertices());

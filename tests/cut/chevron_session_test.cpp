@@ -6,12 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
 #include <vector>
 
 #include "display/cut/cut_session.hpp"
 #include "display/mesh/foot_generator.hpp"
-#include "display/mesh/mesh_io.hpp"
+#include "tests/cut/cut_test_util.hpp"
 #include "tests/cut/mesh_checks.hpp"
 
 namespace kerf::cut {
@@ -188,10 +187,8 @@ TEST(ChevronSession, WithABladeOfRealWidthTheHeadComesFreeToo) {
 }
 
 TEST(ChevronSession, TwoWithdrawnLimbsFreeTheHeadOfTheSharedFirstMetatarsal) {
-    const auto path = std::filesystem::path(KERF_SHARED_MESHES) / "bp3d_right_first_metatarsal.stl";
-    if (!std::filesystem::exists(path)) GTEST_SKIP() << "real meshes absent: " << path;
-    auto loaded = mesh::load_mesh(path, LengthUnit::kMillimetre);
-    ASSERT_TRUE(loaded);
+    auto loaded = testing::load_shared_mesh("bp3d_right_first_metatarsal.stl");
+    if (!loaded) GTEST_SKIP() << "real meshes absent";
     TriMesh m = std::move(*loaded);
     // The bone's long axis and a perpendicular (principal axes of its vertices).
     Vec3 centre(0, 0, 0);

@@ -19,7 +19,6 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <filesystem>
 #include <map>
 #include <random>
 #include <string>
@@ -30,7 +29,6 @@
 #include "display/cut/components.hpp"
 #include "display/cut/slice_by_plane.hpp"
 #include "display/cut/subtract_slab.hpp"
-#include "display/mesh/mesh_io.hpp"
 #include "display/mesh/validate.hpp"
 #include "tests/cut/chevron_checks.hpp"
 #include "tests/cut/cut_test_util.hpp"
@@ -79,10 +77,8 @@ TEST_P(CutProperty, EveryCutIsClosedOrientedNonDegenerateConservesVolumeAndRound
     if (order != DrawOrder::kZyx && std::getenv("KERF_PROPERTY_BOTH_DRAW_ORDERS") == nullptr)
         GTEST_SKIP() << "the second plane family runs with KERF_PROPERTY_BOTH_DRAW_ORDERS=1 (it "
                         "doubles this test's time, which CI has no room for)";
-    const auto path = std::filesystem::path(KERF_SHARED_MESHES) / name;
-    if (!std::filesystem::exists(path)) GTEST_SKIP() << "real meshes absent: " << path;
-    auto loaded = mesh::load_mesh(path, LengthUnit::kMillimetre);
-    ASSERT_TRUE(loaded);
+    auto loaded = testing::load_shared_mesh(name);
+    if (!loaded) GTEST_SKIP() << "real meshes absent";
     const TriMesh shape = std::move(*loaded);
     ASSERT_TRUE(check_closed_2_manifold(shape).ok) << name << " is not clean";
     const double v0 = signed_volume(shape);

@@ -1,6 +1,6 @@
 // A recorded sequence of cuts, replayed on one mesh as a training session would cut it: the
 // regression tests that need the earlier cuts of a random sequence to reach the failing one
-// (slab_cap_wall_regression_test, slab_rim_needle_regression_test) list them as hex floats.
+// (the slab_*_regression_test and merged_split_regression_test files) list them as hex floats.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -21,56 +21,35 @@
 
 namespace kerf::cut::testing {
 
-/// One cut of a sequence.
-struct SequenceCut {
-    int kind;     ///< 0-3 localised (the plane point is the seed), 4 full, 5 slab
-    Vec3 point;   ///< plane point and seed, m
-    Vec3 normal;  ///< not normalised (Plane::make does)
-};
-
-/// Applies `cuts` in order to `ctx` (capacity grown before each, as the display's idle steps
-/// do; slabs `kerf_m` wide); the index of the first that ended in kInternalError, or
-/// cuts.size() when none did. Refusals are allowed: they leave the mesh unchanged.
-inline std::size_t replay_cuts(CutContext& ctx, std::span<const SequenceCut> cuts, double kerf_m) {
-    CrossSection cs;
-    SlabCut slab;
-    for (std::size_t i = 0; i < cuts.size(); ++i) {
-        const SequenceCut& c = cuts[i];
-        ctx.grow_capacity();
-        const Plane plane = *Plane::make(c.point, c.normal);
-        const Seed seed{c.point, mesh::FaceHandle(), -1.0};
-        const CutResult r = c.kind < 4    ? slice_by_plane(ctx, plane, seed, cs)
-                            : c.kind == 4 ? slice_by_plane(ctx, plane, cs)
-                                          : subtract_slab(ctx, plane, kerf_m, seed, slab);
-        if (r.status == CutStatus::kInternalError) return i;
-    }
-    return cuts.size();
-}
-
-/// One cut of a recorded sequence with a seed of its own: kinds as SequenceCut; a chevron's
-/// second limb (kind 3) is seeded off its plane point, on the face its draw found (the hint), and
-/// a slab from the face drawn for it.
+/// One cut of a recorded sequence: kind 0-2 localised, 3 a chevron's second limb (localised,
+/// no capacity growth before it), 4 full, 5 slab; each but a full cut seeded on the face the
+/// recording's seed search found (the hint), as the display passes the triangle the blade hit, so
+/// that a replay does not depend on how the library searches a seed without a face.
 struct SeededCut {
     int kind;
     Vec3 point;   ///< plane point, m
-    Vec3 normal;  ///< unit, as the sequence's Plane had it
+    Vec3 normal;  ///< normalised by Plane::make
     Vec3 seed;    ///< m
     int hint;     ///< seed face index, -1 for none
 };
+
+/// The seed a recorded cut gives the library.
+inline Seed seed_of(const SeededCut& c) {
+    return Seed{c.seed, c.hint >= 0 ? mesh::FaceHandle(c.hint) : mesh::FaceHandle(), -1.0};
+}
 
 /// Applies `cuts` in order to `ctx` as sequential_cut_test made them (capacity grown before each
 /// but a chevron's second limb; slabs `kerf_m` wide); the index of the first that ended in
 /// kInternalError, or cuts.size() when none did. Refusals are allowed: they leave the mesh
 /// unchanged (checked by the caller where it matters).
-inline std::size_t replay_seeded_cuts(CutContext& ctx, std::span<const SeededCut> cuts,
-                                      double kerf_m) {
+inline std::size_t replay_cuts(CutContext& ctx, std::span<const SeededCut> cuts, double kerf_m) {
     CrossSection cs;
     SlabCut slab;
     for (std::size_t i = 0; i < cuts.size(); ++i) {
         const SeededCut& c = cuts[i];
         if (c.kind != 3) ctx.grow_capacity();
         const Plane plane = *Plane::make(c.point, c.normal);
-        const Seed seed{c.seed, c.hint >= 0 ? mesh::FaceHandle(c.hint) : mesh::FaceHandle(), -1.0};
+        const Seed seed = seed_of(c);
         const CutResult r = c.kind < 4    ? slice_by_plane(ctx, plane, seed, cs)
                             : c.kind == 4 ? slice_by_plane(ctx, plane, cs)
                                           : subtract_slab(ctx, plane, kerf_m, seed, slab);

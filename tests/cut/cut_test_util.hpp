@@ -1,5 +1,5 @@
-// Helpers shared by the slice tests: snapshots for "unchanged / bit-identical" checks, cap and
-// loop areas, and a one-call strict check after a cut.
+// Helpers shared by the slice tests: the shared bone meshes, snapshots for "unchanged /
+// bit-identical" checks, cap and loop areas, and a one-call strict check after a cut.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -7,14 +7,32 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
+#include <optional>
 #include <vector>
 
 #include "display/cut/cross_section.hpp"
 #include "display/cut/slice_by_plane.hpp"
+#include "display/mesh/mesh_io.hpp"
 #include "display/mesh/tri_mesh.hpp"
 #include "tests/cut/mesh_checks.hpp"
 
 namespace kerf::cut::testing {
+
+/// The shared bone mesh `file` (KERF_SHARED_MESHES, ../shared/meshes) loaded in `unit`, or
+/// nullopt when it is absent (the caller skips: `if (!m) GTEST_SKIP() << "real meshes absent";`)
+/// or does not load (a failure naming the file and the error is recorded as well).
+inline std::optional<kerf::mesh::TriMesh> load_shared_mesh(
+    const char* file, kerf::LengthUnit unit = kerf::LengthUnit::kMillimetre) {
+    const auto path = std::filesystem::path(KERF_SHARED_MESHES) / file;
+    if (!std::filesystem::exists(path)) return std::nullopt;
+    auto loaded = kerf::mesh::load_mesh(path, unit);
+    if (!loaded) {
+        ADD_FAILURE() << "cannot load " << path << ": " << loaded.error().message();
+        return std::nullopt;
+    }
+    return std::move(*loaded);
+}
 
 /// Every non-deleted face's vertex positions, bit for bit, in face-index order.
 struct FaceSnapshot {

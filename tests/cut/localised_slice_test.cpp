@@ -3,12 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <numeric>
 #include <string>
 
 #include "display/cut/slice_by_plane.hpp"
-#include "display/mesh/mesh_io.hpp"
 #include "display/mesh/shapes.hpp"
 #include "tests/cut/cut_test_util.hpp"
 #include "tests/cut/mesh_checks.hpp"
@@ -193,11 +191,8 @@ std::vector<int> shells(const TriMesh& m) {
 
 TEST(LocalisedSlice,
      ForefootPlaneAt100mmCutsExactlyTheSeedsRayAndLeavesTheOtherShellsBitIdentical) {
-    const std::filesystem::path path =
-        std::filesystem::path(KERF_SHARED_MESHES) / "bp3d_right_forefoot_24shells.stl";
-    if (!std::filesystem::exists(path)) GTEST_SKIP() << "real meshes absent: " << path;
-    auto loaded = mesh::load_mesh(path, LengthUnit::kMillimetre);
-    ASSERT_TRUE(loaded) << "cannot load " << path;
+    auto loaded = testing::load_shared_mesh("bp3d_right_forefoot_24shells.stl");
+    if (!loaded) GTEST_SKIP() << "real meshes absent";
     TriMesh m = std::move(*loaded);
     const Plane plane = plane_of(Vec3(0, 0, 0.100), Vec3(0, 0, 1));
     const std::vector<int> comp = shells(m);

@@ -9,12 +9,10 @@
 // Planes and seeds are the hex floats cut_property_test printed.
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <string>
 
 #include "display/cut/slice_by_plane.hpp"
 #include "display/cut/subtract_slab.hpp"
-#include "display/mesh/mesh_io.hpp"
 #include "tests/cut/chevron_checks.hpp"
 #include "tests/cut/cut_test_util.hpp"
 #include "tests/cut/mesh_checks.hpp"
@@ -67,10 +65,8 @@ class NewPlaneFamily : public ::testing::TestWithParam<NewPlaneCase> {};
 
 TEST_P(NewPlaneFamily, CutsClosedWithTheRightVolumeAndRoundTripsThroughEveryFormat) {
     const NewPlaneCase& c = GetParam();
-    const auto path = std::filesystem::path(KERF_SHARED_MESHES) / c.mesh;
-    if (!std::filesystem::exists(path)) GTEST_SKIP() << "real meshes absent: " << path;
-    auto loaded = mesh::load_mesh(path, LengthUnit::kMillimetre);
-    ASSERT_TRUE(loaded);
+    auto loaded = testing::load_shared_mesh(c.mesh);
+    if (!loaded) GTEST_SKIP() << "real meshes absent";
     const TriMesh shape = std::move(*loaded);
     TriMesh m = shape;
     const double v0 = testing::signed_volume(m);

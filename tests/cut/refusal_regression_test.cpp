@@ -4,13 +4,11 @@
 // invariant: closed, oriented, volume to 1e-9 (uniplanar), rims and caps consistent.
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <string>
 #include <string_view>
 
 #include "display/cut/slice_by_plane.hpp"
 #include "display/cut/subtract_slab.hpp"
-#include "display/mesh/mesh_io.hpp"
 #include "tests/cut/cut_test_util.hpp"
 #include "tests/cut/mesh_checks.hpp"
 
@@ -110,10 +108,8 @@ class OnceRefused : public ::testing::TestWithParam<Refused> {};
 
 TEST_P(OnceRefused, NowCutsBySnappingWithEveryInvariant) {
     const Refused& c = GetParam();
-    const auto path = std::filesystem::path(KERF_SHARED_MESHES) / c.mesh;
-    if (!std::filesystem::exists(path)) GTEST_SKIP() << "real meshes absent: " << path;
-    auto loaded = mesh::load_mesh(path, LengthUnit::kMillimetre);
-    ASSERT_TRUE(loaded);
+    auto loaded = testing::load_shared_mesh(c.mesh);
+    if (!loaded) GTEST_SKIP() << "real meshes absent";
     TriMesh m = std::move(*loaded);
     const double v0 = testing::signed_volume(m);
     CutContext ctx(m);

@@ -14,7 +14,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <map>
 #include <random>
 #include <string>
@@ -22,7 +21,6 @@
 #include "display/cut/mesh_hash.hpp"
 #include "display/cut/slice_by_plane.hpp"
 #include "display/cut/subtract_slab.hpp"
-#include "display/mesh/mesh_io.hpp"
 #include "display/mesh/shapes.hpp"
 #include "tests/cut/chevron_checks.hpp"
 #include "tests/cut/cut_sequence.hpp"
@@ -175,10 +173,8 @@ void report(const std::string& name, const SequenceTally& t) {
 class SharedMeshSequence : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(SharedMeshSequence, EveryCutKeepsEveryInvariantAndNoRefusalEditsTheMesh) {
-    const auto path = std::filesystem::path(KERF_SHARED_MESHES) / GetParam();
-    if (!std::filesystem::exists(path)) GTEST_SKIP() << "real meshes absent: " << path;
-    auto loaded = mesh::load_mesh(path, LengthUnit::kMillimetre);
-    ASSERT_TRUE(loaded);
+    auto loaded = testing::load_shared_mesh(GetParam());
+    if (!loaded) GTEST_SKIP() << "real meshes absent";
     TriMesh m = std::move(*loaded);
     report(GetParam(), run_sequence(m, std::hash<std::string>{}(GetParam())));
 }

@@ -32,7 +32,7 @@ const SeededCut kTubeCuts[] = {
      {0x1.447aec74808fp-9, -0x1.6611f28e048cp-8, 0x1.2411983143bd2p-5},
      {0x1.3ade6b359f696p-1, 0x1.8a9c29492d47fp-2, -0x1.603d3378514a8p-1},
      {0x1.447aec74808fp-9, -0x1.6611f28e048cp-8, 0x1.2411983143bd2p-5},
-     -1},
+     70864},
     {4,
      {-0x1.3f89d5e7424e8p-9, -0x1.c9f5182c95cc4p-10, 0x1.b457f8f652b1cp-6},
      {-0x1.418d04988393cp-1, -0x1.82cc98ca5b9aep-1, -0x1.7e515142163aap-3},
@@ -42,7 +42,7 @@ const SeededCut kTubeCuts[] = {
      {-0x1.80403bd501b31p-8, -0x1.4bf568415acdbp-10, 0x1.54a12a671a915p-6},
      {-0x1.6a0b2e9768917p-1, -0x1.8b3c399b91803p-4, 0x1.66a59962a653bp-1},
      {-0x1.80403bd501b31p-8, -0x1.4bf568415acdbp-10, 0x1.54a12a671a915p-6},
-     -1},
+     41097},
     {3,
      {-0x1.80403bd501b31p-8, -0x1.4bf568415acdbp-10, 0x1.54a12a671a915p-6},
      {0x1.07f0beb0cde9cp-2, -0x1.89eec9075b13cp-5, 0x1.ee1632eabb2cfp-1},
@@ -57,7 +57,7 @@ const SeededCut kTubeCuts[] = {
      {-0x1.96f9d86204091p-11, 0x1.7bb748ed3997bp-9, 0x1.6855dc7588018p-11},
      {0x1.fbad1431d24e2p-4, 0x1.9253b487b9f7cp-1, 0x1.363dde6974ad5p-1},
      {-0x1.96f9d86204091p-11, 0x1.7bb748ed3997bp-9, 0x1.6855dc7588018p-11},
-     -1},
+     1355},
     {4,
      {-0x1.6d997b721b28cp-8, -0x1.20f332397aaa8p-9, 0x1.0abb8eb1002d1p-5},
      {0x1.b57ef42baa24fp-4, 0x1.58d7b366afd3dp-1, -0x1.767b7245c92f5p-1},
@@ -67,7 +67,7 @@ const SeededCut kTubeCuts[] = {
      {-0x1.2bc20c2b5785ep-8, 0x1.fca6624288753p-9, 0x1.85e4e78b2c299p-6},
      {-0x1.7cd0729df4e42p-1, -0x1.d20539d3396b5p-3, 0x1.41cb240b54345p-1},
      {-0x1.2bc20c2b5785ep-8, 0x1.fca6624288753p-9, 0x1.85e4e78b2c299p-6},
-     -1},
+     47202},
     {3,
      {-0x1.2bc20c2b5785ep-8, 0x1.fca6624288753p-9, 0x1.85e4e78b2c299p-6},
      {0x1.50dd9988aca8ep-2, -0x1.549ee7e6a31d8p-4, 0x1.e19fb4e2fed3p-1},
@@ -82,12 +82,12 @@ const SeededCut kTubeCuts[] = {
      {0x1.447aec74808fp-9, 0x1.6611f28e048cp-8, 0x1.00e135a9c975p-5},
      {0x1.79e84b0ed10c6p-1, 0x1.28bd0332cce69p-1, -0x1.61b3d6d47d011p-2},
      {0x1.447aec74808fp-9, 0x1.6611f28e048cp-8, 0x1.00e135a9c975p-5},
-     -1},
+     61999},
     {2,
      {0x1.7bb748ed3997bp-9, 0x1.96f9d86204093p-11, 0x1.dbc15d132d91dp-6},
      {-0x1.b46dc8ca657b9p-2, -0x1.c0d226b0f7349p-1, 0x1.c994b0a088b34p-3},
      {0x1.7bb748ed3997bp-9, 0x1.96f9d86204093p-11, 0x1.dbc15d132d91dp-6},
-     -1},
+     57611},
     {3,
      {0x1.7bb748ed3997bp-9, 0x1.96f9d86204093p-11, 0x1.dbc15d132d91dp-6},
      {0x1.5526216c5c3d4p-3, -0x1.f01267526e00ep-1, 0x1.76dd9e37d25fdp-3},
@@ -102,7 +102,7 @@ const SeededCut kTubeCuts[] = {
      {-0x1.579d549c141f3p-8, -0x1.7deaa66fef4dp-9, 0x1.eca56368aff2p-6},
      {0x1.66358aa69e735p-1, 0x1.dcb79eb38c579p-2, -0x1.158434cd898b4p-1},
      {-0x1.579d549c141f3p-8, -0x1.7deaa66fef4dp-9, 0x1.eca56368aff2p-6},
-     -1},
+     59541},
     {4,
      {-0x1.127f2e1f9f309p-13, -0x1.87f6894032661p-8, 0x1.e9b8ff823642cp-6},
      {0x1.76cc9e2b9e34ap-2, 0x1.38953e0374536p-1, 0x1.679b69ea94bc1p-1},
@@ -112,7 +112,7 @@ const SeededCut kTubeCuts[] = {
      {0x1.6d997b721b28bp-9, -0x1.20f332397aaafp-10, 0x1.6c8ede0ae8997p-5},
      {-0x1.8b37076e4dddp-5, -0x1.afed0bd09396cp-1, 0x1.11d040e9ba59bp-1},
      {0x1.6d997b721b28bp-9, -0x1.20f332397aaafp-10, 0x1.6c8ede0ae8997p-5},
-     -1},
+     88561},
     {3,
      {0x1.6d997b721b28bp-9, -0x1.20f332397aaafp-10, 0x1.6c8ede0ae8997p-5},
      {-0x1.34740297b63c4p-6, -0x1.a4f3608195619p-1, -0x1.234b00f2028cfp-1},
@@ -132,7 +132,7 @@ const SeededCut kTubeCuts[] = {
      {0x1.6611f28e048bfp-9, -0x1.447aec74808f5p-10, 0x1.43bd241198314p-6},
      {0x1.3d7d542a747d5p-2, 0x1.b1a25efa4f9f1p-1, 0x1.ba4a994beca48p-2},
      {0x1.6611f28e048bfp-9, -0x1.447aec74808f5p-10, 0x1.43bd241198314p-6},
-     -1},
+     39407},
     {3,
      {0x1.6611f28e048bfp-9, -0x1.447aec74808f5p-10, 0x1.43bd241198314p-6},
      {0x1.8c9eca1a117d8p-3, 0x1.64d285c37ca37p-3, 0x1.ee5288d4e7118p-1},
@@ -147,7 +147,7 @@ const SeededCut kTubeCuts[] = {
      {-0x1.7d7b5fa24dccp-8, 0x1.7d4832969a71p-10, 0x1.6b1c32cdf0fe5p-6},
      {-0x1.57556f874fd3bp-1, 0x1.48281697f6244p-2, 0x1.568e343e8454dp-1},
      {-0x1.7d7b5fa24dccp-8, 0x1.7d4832969a71p-10, 0x1.6b1c32cdf0fe5p-6},
-     -1},
+     43639},
     {4,
      {0x1.01020e17f929p-12, 0x1.87cbbb0ec78c7p-9, 0x1.0cd80f7bb0791p-6},
      {0x1.c025ddbc9a1bp-2, 0x1.67ed50c3d7098p-9, 0x1.cc5c97aa36117p-1},
@@ -157,7 +157,7 @@ const SeededCut kTubeCuts[] = {
      {-0x1.764427b85dbcdp-8, -0x1.e1034a58c79cbp-10, 0x1.ef760f219b02p-11},
      {-0x1.80293622abb7ap-5, -0x1.d5647f8768d7p-1, 0x1.9624bb0356b4bp-2},
      {-0x1.764427b85dbcdp-8, -0x1.e1034a58c79cbp-10, 0x1.ef760f219b02p-11},
-     -1},
+     1677},
     {3,
      {-0x1.764427b85dbcdp-8, -0x1.e1034a58c79cbp-10, 0x1.ef760f219b02p-11},
      {-0x1.191e9cbf5cabfp-6, -0x1.68f1947e632cbp-1, -0x1.6b062abb7718bp-1},
@@ -172,7 +172,7 @@ const SeededCut kTubeCuts[] = {
      {0x1.37e0458d40179p-8, -0x1.de9ed1e1a9edbp-9, 0x1.47f625a6f8c94p-5},
      {-0x1.7b46f646a817bp-1, 0x1.5f972969f327p-2, 0x1.279db4d52a0d6p-1},
      {0x1.37e0458d40179p-8, -0x1.de9ed1e1a9edbp-9, 0x1.47f625a6f8c94p-5},
-     -1},
+     79588},
     {3,
      {0x1.37e0458d40179p-8, -0x1.de9ed1e1a9edbp-9, 0x1.47f625a6f8c94p-5},
      {0x1.09e329e3e4265p-2, 0x1.1e7483d3a508fp-3, 0x1.e939b09bd3bdp-1},
@@ -187,7 +187,7 @@ const SeededCut kTubeCuts[] = {
      {0x1.676a369d71523p-11, -0x1.8688f8f04d8edp-8, 0x1.598e56eab5ed5p-5},
      {0x1.b55bb12084b4cp-1, 0x1.9c4ce911b0c1cp-5, 0x1.08f2dc500117p-1},
      {0x1.676a369d71523p-11, -0x1.8688f8f04d8edp-8, 0x1.598e56eab5ed5p-5},
-     -1},
+     83653},
     {4,
      {-0x1.2bc20c2b5785ep-9, 0x1.fca6624288753p-10, 0x1.32d91dbc15d14p-5},
      {-0x1.22c886ebe8887p-1, 0x1.9110ab724c27p-1, -0x1.02bbf1395a4bdp-2},
@@ -197,7 +197,7 @@ const SeededCut kTubeCuts[] = {
      {0x1.afc6f28915fp-10, -0x1.7a0006cd49eddp-8, 0x1.91dbc15d132d9p-5},
      {0x1.7ef80411bd159p-1, -0x1.52e005e8f6e63p-1, 0x1.9594badd8345bp-5},
      {0x1.afc6f28915fp-10, -0x1.7a0006cd49eddp-8, 0x1.91dbc15d132d9p-5},
-     -1},
+     97482},
     {3,
      {0x1.afc6f28915fp-10, -0x1.7a0006cd49eddp-8, 0x1.91dbc15d132d9p-5},
      {0x1.e6ccb244672edp-1, -0x1.39e2171602cd9p-2, 0x1.73a1d2e3157f7p-5},
@@ -215,7 +215,7 @@ TEST(SlabSeedComponentRegression, ASlabWhoseSeedComponentHasNoLowerWallRemovesTh
     CutContext ctx(m);
     const double kerf_m = 0.02 * ctx.scale_m();
     const std::size_t last = std::size(kTubeCuts) - 1;
-    ASSERT_EQ(testing::replay_seeded_cuts(ctx, std::span(kTubeCuts).first(last), kerf_m), last)
+    ASSERT_EQ(testing::replay_cuts(ctx, std::span(kTubeCuts).first(last), kerf_m), last)
         << "an earlier cut ended in internal_error";
     const SeededCut& c = kTubeCuts[last];
     ASSERT_EQ(c.kind, 5);
@@ -224,8 +224,7 @@ TEST(SlabSeedComponentRegression, ASlabWhoseSeedComponentHasNoLowerWallRemovesTh
     const double v0 = testing::expect_closed_2_manifold(before).total_volume_m3;
     const Plane plane = *Plane::make(c.point, c.normal);
     SlabCut slab;
-    const CutResult r =
-        subtract_slab(ctx, plane, kerf_m, Seed{c.seed, FaceHandle(c.hint), -1.0}, slab);
+    const CutResult r = subtract_slab(ctx, plane, kerf_m, testing::seed_of(c), slab);
     ASSERT_EQ(r.status, CutStatus::kOk) << to_string(r.status);
     // The seed's component reaches only the upper plane: that wall alone is cut.
     EXPECT_TRUE(slab.lower.negative.cap_faces.empty());

@@ -12,6 +12,7 @@
 #include "display/cut/context_state.hpp"
 #include "display/cut/face_tree.hpp"
 #include "display/cut/mesh_hash.hpp"
+#include "display/cut/section_plan.hpp"
 #include "display/mesh/shapes.hpp"
 #include "tests/cut/cut_test_util.hpp"
 #include "tests/cut/mesh_checks.hpp"
@@ -126,6 +127,27 @@ TEST(SliceByPlane, InvalidSeedIsRefusedAndTheMeshIsUnchanged) {
     EXPECT_EQ(slice_by_plane(ctx, p, Seed{Vec3(5, 5, 5), mesh::FaceHandle(3)}, cs).status,
               CutStatus::kSeedNotOnSurface);
     EXPECT_TRUE(snapshot(m) == before);
+}
+
+TEST(SliceByPlane, ASeedOnACapNearItsRimIsFoundOnTheCapWithoutAFaceHint) {
+    // A point on a cap 1e-4 m inside its rim lies about 1e-4 m from the sphere's faces along
+    // the rim: within the seed tolerance (1e-3 of the mesh's size), but the cap is nearer.
+    auto m = uv_sphere_by_rings(1.0, 16, 32);
+    CutContext ctx(m);
+    CrossSection cs;
+    ASSERT_TRUE(slice_by_plane(ctx, plane_of(Vec3(0, 0, 0.1), Vec3(0, 0, 1)), cs).ok());
+    ctx.grow_capacity();
+    ASSERT_EQ(cs.negative.loops.size(), 1u);
+    for (const mesh::VertexHandle v : cs.negative.loops[0]) {
+        const TriMesh::Point rim = m.point(v);
+        const TriMesh::Point centre(0, 0, rim[2]);
+        const TriMesh::Point on_cap = rim + (centre - rim).normalized() * 1e-4;
+        const mesh::FaceHandle f =
+            kerf::cut::detail::find_seed_face(ctx.state(), Seed{on_cap, mesh::FaceHandle(), -1.0});
+        ASSERT_TRUE(f.is_valid());
+        EXPECT_NE(m.property(ctx.state().cap, f), kCapNone)
+            << "rim vertex " << v.idx() << ": face " << f.idx();
+    }
 }
 
 TEST(SliceByPlane, EdgeVerticesInterpolateEveryAttributeWithOneParameter) {

@@ -2,13 +2,11 @@
 // sanitizer runs, still part of the normal ctest run). Skips visibly when the meshes are absent.
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <random>
 #include <string>
 
 #include "display/cut/slice_by_plane.hpp"
 #include "display/cut/subtract_slab.hpp"
-#include "display/mesh/mesh_io.hpp"
 #include "tests/cut/cut_test_util.hpp"
 #include "tests/cut/mesh_checks.hpp"
 #include "tests/cut/slice_sweep.hpp"
@@ -19,17 +17,11 @@ namespace {
 using namespace kerf::cut::testing;
 using mesh::TriMesh;
 
-std::filesystem::path shared(const std::string& name) {
-    return std::filesystem::path(KERF_SHARED_MESHES) / name;
-}
-
 class RealMeshSweep : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(RealMeshSweep, RandomPlanesAndSeedsGiveClosedPiecesThatConserveVolume) {
-    const auto path = shared(GetParam());
-    if (!std::filesystem::exists(path)) GTEST_SKIP() << "real meshes absent: " << path;
-    auto loaded = mesh::load_mesh(path, LengthUnit::kMillimetre);
-    ASSERT_TRUE(loaded) << "cannot load " << path;
+    auto loaded = testing::load_shared_mesh(GetParam());
+    if (!loaded) GTEST_SKIP() << "real meshes absent";
     const TriMesh shape = std::move(*loaded);
     const auto base = expect_closed_2_manifold(shape);
     ASSERT_TRUE(base.ok) << GetParam() << " is not clean before cutting";
@@ -58,10 +50,9 @@ INSTANTIATE_TEST_SUITE_P(SharedMeshes, RealMeshSweep,
                          });
 
 TEST(RealMeshes, ACutThroughTheMissingTriangleOfTheOpenFootIsRefusedUnchanged) {
-    const auto path = shared("opensim_gait2392_foot_OPEN_metres.stl");
-    if (!std::filesystem::exists(path)) GTEST_SKIP() << "real meshes absent: " << path;
-    auto loaded = mesh::load_mesh(path, LengthUnit::kMetre);
-    ASSERT_TRUE(loaded);
+    auto loaded =
+        testing::load_shared_mesh("opensim_gait2392_foot_OPEN_metres.stl", LengthUnit::kMetre);
+    if (!loaded) GTEST_SKIP() << "real meshes absent";
     TriMesh m = std::move(*loaded);
     // The hole: a boundary halfedge; cut through its edge's midpoint.
     mesh::HalfedgeHandle hole;
@@ -79,10 +70,8 @@ TEST(RealMeshes, ACutThroughTheMissingTriangleOfTheOpenFootIsRefusedUnchanged) {
 }
 
 TEST(RealMeshes, SlabThroughTheFirstMetatarsalShaftRemovesTheKerf) {
-    const auto path = shared("bp3d_right_first_metatarsal.stl");
-    if (!std::filesystem::exists(path)) GTEST_SKIP() << "real meshes absent: " << path;
-    auto loaded = mesh::load_mesh(path, LengthUnit::kMillimetre);
-    ASSERT_TRUE(loaded);
+    auto loaded = testing::load_shared_mesh("bp3d_right_first_metatarsal.stl");
+    if (!loaded) GTEST_SKIP() << "real meshes absent";
     TriMesh m = std::move(*loaded);
     Vec3 lo(1e9, 1e9, 1e9), hi(-1e9, -1e9, -1e9);
     for (auto v : m.vertices()) lo.minimize(m.point(v)), hi.maximize(m.point(v));
