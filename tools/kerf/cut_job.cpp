@@ -190,7 +190,8 @@ Status<CutJobError> run_directly(mesh::TriMesh& mesh, const CutJob& job, CutRepo
 }
 
 /// Seeded uniplanar and separated cuts: the blade events a CutSession applies (begin, then a
-/// completed end; the kerf opens fully in separated mode), so the CLI cuts as the display does.
+/// completed end, but for the last uniplanar cut; the kerf opens fully in separated mode), so the
+/// CLI cuts as the display does.
 Status<CutJobError> run_in_session(std::unique_ptr<mesh::TriMesh>& mesh, const CutJob& job,
                                    CutReport& report) {
     cut::CutSession session(std::move(mesh));
@@ -208,7 +209,12 @@ Status<CutJobError> run_in_session(std::unique_ptr<mesh::TriMesh>& mesh, const C
             status = Err{cut_job_error(i, r.status, "cut refused: " + refusal_text(r.status))};
             break;
         }
-        (void)session.end({begin.cut_id, cut::CutEndKind::kCompleted});
+        // Ending a cut opens a separated cut's kerf (the mesh changes) and finds the pieces the
+        // cut severed, for the bodies the next plane's seed is looked up in. After the last
+        // uniplanar cut nothing reads those bodies (the pieces are found over the whole mesh
+        // below), so that cut is left open: the same mesh without a second search for pieces.
+        if (job.mode == CutMode::kSeparated || i + 1 < job.planes.size())
+            (void)session.end({begin.cut_id, cut::CutEndKind::kCompleted});
         report.steps.push_back({i, cut::CutResult{cut::CutStatus::kOk, r.slice}});
     }
     mesh = std::move(session).release_owned();
