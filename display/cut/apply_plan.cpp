@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "display/cut/context_state.hpp"
+#include "display/cut/vec_ops.hpp"
 
 namespace kerf::cut::detail {
 
@@ -26,9 +27,9 @@ void set_edge_vertex(TriMesh& m, const PlanPoint& p, VertexHandle v) {
     const VertexHandle a(p.a), b(p.b);
     const double t = p.t;
     m.set_point(v, p.position);
-    OpenMesh::Vec3d n = m.normal(a) + (m.normal(b) - m.normal(a)) * t;
-    const double len = n.norm();
-    m.set_normal(v, len > 0 ? n / len : m.normal(a));
+    const Vec3 n = lerp(m.normal(a), m.normal(b), t);
+    const double len = std::sqrt(sqrnorm(n));
+    m.set_normal(v, len > 0 ? Vec3(n[0] / len, n[1] / len, n[2] / len) : m.normal(a));
     const auto ta = m.texcoord2D(a), tb = m.texcoord2D(b);
     m.set_texcoord2D(v, TriMesh::TexCoord2D(static_cast<float>(ta[0] + (tb[0] - ta[0]) * t),
                                             static_cast<float>(ta[1] + (tb[1] - ta[1]) * t)));

@@ -9,6 +9,7 @@
 
 #include "display/cut/context_state.hpp"
 #include "display/cut/section_plan.hpp"
+#include "display/cut/vec_ops.hpp"
 
 namespace kerf::cut::detail {
 
@@ -101,8 +102,8 @@ constexpr double kStraightRelative = 1e-9;
 // within twice the points' distance from the plane: a triangle that thin could tilt over in 3-D.
 bool straight(const Vec2& a, const Vec2& b, const Vec2& c, double off_plane_m, double min_cross) {
     const double cr = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-    const double along = OpenMesh::dot(b - a, c - b);
-    const double ac2 = (c - a).sqrnorm();
+    const double along = dot(sub(b, a), sub(c, b));
+    const double ac2 = sqrnorm(sub(c, a));
     const double noise = 2.0 * off_plane_m;
     return along > 0 && (std::abs(cr) <= kStraightRelative * ac2 || std::abs(cr) <= min_cross ||
                          cr * cr <= noise * noise * ac2);
@@ -441,13 +442,14 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
         const Vec3& a = plan.points[t.a].position;
         const Vec3& b = plan.points[t.b].position;
         const Vec3& c = plan.points[t.c].position;
-        const Vec3 n = OpenMesh::cross(b - a, c - a);
-        return !s.too_small(a, b, c, n.sqrnorm()) && OpenMesh::dot(n, normal) > cosine * n.norm();
+        const Vec3 n = cross(sub(b, a), sub(c, a));
+        const double n2 = sqrnorm(n);
+        return !s.too_small(a, b, c, n2) && dot(n, normal) > cosine * std::sqrt(n2);
     };
     auto good = [&](const Triangle& t) { return facing(t, 0.5); };
     auto acceptable = [&](const Triangle& t) { return facing(t, kMinCapCosine); };
     auto len2 = [&](std::uint32_t a, std::uint32_t b) {
-        return (plan.points[a].position - plan.points[b].position).sqrnorm();
+        return sqrdist(plan.points[a].position, plan.points[b].position);
     };
     std::vector<Triangle>& tris = plan.cap_triangles;
     CapAdjacency adj(tris, plan.cap_neighbours);

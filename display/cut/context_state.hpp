@@ -10,6 +10,7 @@
 #include "display/cut/face_tree.hpp"
 #include "display/cut/section_plan.hpp"
 #include "display/cut/triangulate.hpp"
+#include "display/cut/vec_ops.hpp"
 #include "display/mesh/tri_mesh.hpp"
 
 namespace kerf::cut::detail {
@@ -63,7 +64,7 @@ struct ContextState {
     /// triangle with two corners within the tolerance is left to merge_close_points, which
     /// collapses them (a file may well merge them). No square root on the common path.
     bool too_small(const Vec3& a, const Vec3& b, const Vec3& c) const {
-        return too_small(a, b, c, OpenMesh::cross(b - a, c - a).sqrnorm());
+        return too_small(a, b, c, twice_area2(a, b, c));
     }
     /// The same, given twice2 = |(b - a) x (c - a)|² as computed above (callers that need the
     /// cross product anyway pass it: same value, same answer).
@@ -75,9 +76,9 @@ struct ContextState {
         // (kept + loss L)² <= 2 kept² + 2 loss² L²: enough room without a square root. First
         // with 2.000000001 (ab + ca), which bounds the longest edge² (bc <= 2 (ab + ca), with room
         // for rounding), so the common case skips the third edge: the same answer either way.
-        const double ab = (b - a).sqrnorm(), ca = (a - c).sqrnorm();
+        const double ab = sqrdist(b, a), ca = sqrdist(a, c);
         if (twice2 > 2.0 * (kept * kept + loss * loss * (2.000000001 * (ab + ca)))) return false;
-        const double bc = (c - b).sqrnorm();
+        const double bc = sqrdist(c, b);
         const double longest2 = std::max({ab, bc, ca});
         if (twice2 > 2.0 * (kept * kept + loss * loss * longest2)) return false;
         if (std::sqrt(twice2) - loss * std::sqrt(longest2) > kept) return false;

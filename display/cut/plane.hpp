@@ -42,9 +42,12 @@ public:
     const Vec3& u() const noexcept { return u_; }            ///< first in-plane unit axis
     const Vec3& v() const noexcept { return v_; }            ///< second in-plane unit axis
 
-    /// Signed distance of `p` from the plane, m (positive on the normal's side).
+    /// Signed distance of `p` from the plane, m (positive on the normal's side): dot(p - point,
+    /// normal), written out on the components (OpenMesh's vector loops are not unrolled at -O2;
+    /// the same operations in the same order, so the same value).
     double signed_distance(const Vec3& p) const noexcept {
-        return OpenMesh::dot(p - point_, normal_);
+        return (p[0] - point_[0]) * normal_[0] + (p[1] - point_[1]) * normal_[1] +
+               (p[2] - point_[2]) * normal_[2];
     }
 
     /// -1, 0 or +1: the side of `p`, 0 when within `tolerance_m` of the plane.

@@ -6,6 +6,7 @@
 
 #include "display/cut/context_state.hpp"
 #include "display/cut/slice_by_plane.hpp"
+#include "display/cut/vec_ops.hpp"
 
 namespace kerf::cut::detail {
 namespace {
@@ -49,42 +50,33 @@ public:
     }
 
     // For a face with vertices on both sides: its segment, directed along the positive part's
-    // halfedge. False when the face does not cross.
+    // halfedge. False when the face does not cross. Read round the face from h[0] as vertices
+    // and the cut points between them (on-plane vertices and crossing edges), the positive
+    // vertices form one run (a triangle has at most two, and then they are neighbours): the
+    // segment runs from the cut point after that run to the one before it.
     bool segment(FaceHandle f, CutPointKey& from, CutPointKey& to) const {
         HalfedgeHandle h[3];
         h[0] = m_.halfedge_handle(f);
         h[1] = m_.next_halfedge_handle(h[0]);
         h[2] = m_.next_halfedge_handle(h[1]);
+        VertexHandle v[3];
         int sg[3];
-        bool pos = false, neg = false;
-        for (int k = 0; k < 3; ++k) {
-            sg[k] = side(m_.from_vertex_handle(h[k]));
-            pos |= sg[k] > 0;
-            neg |= sg[k] < 0;
-        }
-        if (!(pos && neg)) return false;
-        struct Item {
-            int kind;  // 1 positive vertex, 2 cut point, 3 negative vertex
-            CutPointKey key;
-        };
-        Item items[6];
-        int n = 0;
-        for (int k = 0; k < 3; ++k) {
-            const int vk = m_.from_vertex_handle(h[k]).idx();
-            items[n++] = Item{sg[k] > 0 ? 1 : (sg[k] < 0 ? 3 : 2), CutPointKey{vk, false}};
-            if (sg[k] * sg[(k + 1) % 3] == -1)
-                items[n++] = Item{2, CutPointKey{m_.edge_handle(h[k]).idx(), true}};
-        }
-        for (int i = 0; i < n; ++i) {
-            const Item& prev = items[(i + n - 1) % n];
-            if (items[i].kind != 1 || prev.kind == 1) continue;
-            int j = i;
-            while (items[j].kind == 1) j = (j + 1) % n;
-            from = items[j].key;
-            to = prev.key;
-            return prev.kind == 2 && items[j].kind == 2;
-        }
-        return false;
+        for (int k = 0; k < 3; ++k) v[k] = m_.from_vertex_handle(h[k]), sg[k] = side(v[k]);
+        if (!((sg[0] > 0 || sg[1] > 0 || sg[2] > 0) && (sg[0] < 0 || sg[1] < 0 || sg[2] < 0)))
+            return false;
+        // The run's first vertex k (its predecessor not positive) and last vertex j.
+        int k = 0;
+        while (!(sg[k] > 0 && sg[(k + 2) % 3] <= 0)) ++k;
+        int j = k;
+        while (sg[(j + 1) % 3] > 0) j = (j + 1) % 3;
+        // Between vertices i and i + 1 lies edge h[i]: a cut point when they are on opposite
+        // sides, else the non-positive vertex is on the plane and is the cut point.
+        const int before = (k + 2) % 3, after = (j + 1) % 3;
+        to = sg[before] < 0 ? CutPointKey{m_.edge_handle(h[before]).idx(), true}
+                            : CutPointKey{v[before].idx(), false};
+        from = sg[after] < 0 ? CutPointKey{m_.edge_handle(h[j]).idx(), true}
+                             : CutPointKey{v[after].idx(), false};
+        return true;
     }
 
     // Outgoing segments at on-plane vertex v: how many, and the last one's end (with its face,
@@ -174,7 +166,7 @@ public:
             const double da = plane_.signed_distance(pa);
             const double db = plane_.signed_distance(pb);
             p.t = da / (da - db);
-            p.position = pa + (pb - pa) * p.t;
+            p.position = lerp(pa, pb, p.t);
             p.a = a.idx();
             p.b = b.idx();
         }
@@ -521,7 +513,7 @@ void merge_close_points(ContextState& s) {
     const TriMesh& m = s.mesh;
     const double tol = s.tolerance_m;
     auto close = [&](const PlanPoint& p, const PlanPoint& q) {
-        return (p.position - q.position).sqrnorm() <= tol * tol;
+        return sqrdist(p.position, q.position) <= tol * tol;
     };
     // Per kept point: which of its loop neighbours was merged into it (at most one per side).
     constexpr char kFromBefore = 1, kFromAfter = 2;
