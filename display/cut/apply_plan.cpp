@@ -19,6 +19,7 @@ using mesh::FaceHandle;
 using mesh::HalfedgeHandle;
 using mesh::TriMesh;
 using mesh::VertexHandle;
+using CapScratch = ContextState::CapScratch;
 
 // Writes the attributes of vertex v made for an edge cut point: every attribute interpolated
 // with the plan's t, from the lower-index endpoint a towards b; the material is the nearer
@@ -238,6 +239,13 @@ bool separate_loop(TriMesh& m, const std::vector<VertexHandle>& r,
     return true;
 }
 
+// data() of `v` with room for at least n elements; elements already there are kept, not filled.
+template <class T>
+T* room(std::vector<T>& v, std::size_t n) {
+    if (v.size() < n) v.resize(n);
+    return v.data();
+}
+
 // Closes the rim loops of one side with the plan's cap triangles on that side's vertices
 // (`vertex` per plan point; `reversed`: corners b and c swapped, so the cap faces the other way).
 // Built directly on the halfedge arrays: every triangle edge is either a rim boundary halfedge or
@@ -246,90 +254,105 @@ bool separate_loop(TriMesh& m, const std::vector<VertexHandle>& r,
 // every triangle) and no sort of the edges (they are numbered in the order of their two vertex
 // handles, as OpenMesh's new_edge in sorted order gave them, by two counting passes).
 bool add_cap(TriMesh& m, const SectionPlan& plan, const std::vector<VertexHandle>& vertex,
-             bool reversed, RimEdges& rim, std::vector<FaceHandle>& faces) {
+             bool reversed, RimEdges& rim, std::vector<FaceHandle>& faces, CapScratch& w) {
     const std::size_t n = plan.cap_triangles.size();
+    const std::size_t slots = 3 * n;
     // Per slot 3t + k of this side (the edge from corner k to corner k + 1 of triangle t as built
-    // here): its first point and the slot across it. A plan slot 3t + e is slot 3t + (2 - e) here
-    // when reversed, corners (a, c, b).
-    std::vector<std::uint32_t> from(3 * n), across(3 * n);
+    // here): its first and second point and the slot across it. A plan slot 3t + e is slot
+    // 3t + (2 - e) here when reversed, corners (a, c, b). Scratch arrays are written before they
+    // are read, so they are kept from cut to cut without filling.
+    std::uint32_t* const from = room(w.from, slots);
+    std::uint32_t* const to = room(w.to, slots);
+    std::uint32_t* const across = room(w.across, slots);
     for (std::size_t t = 0; t < n; ++t) {
         const Triangle& tri = plan.cap_triangles[t];
-        from[3 * t] = tri.a;
-        from[3 * t + 1] = reversed ? tri.c : tri.b;
-        from[3 * t + 2] = reversed ? tri.b : tri.c;
+        const std::uint32_t c0 = tri.a, c1 = reversed ? tri.c : tri.b,
+                            c2 = reversed ? tri.b : tri.c;
+        from[3 * t] = c0, from[3 * t + 1] = c1, from[3 * t + 2] = c2;
+        to[3 * t] = c1, to[3 * t + 1] = c2, to[3 * t + 2] = c0;
+        const std::uint32_t* const nb = &plan.cap_neighbours[3 * t];
+        if (!reversed) {
+            across[3 * t] = nb[0], across[3 * t + 1] = nb[1], across[3 * t + 2] = nb[2];
+            continue;
+        }
         for (std::uint32_t e = 0; e < 3; ++e) {
-            std::uint32_t o = plan.cap_neighbours[3 * t + e];
-            if (reversed && o != kNoCapNeighbour) o = o - o % 3 + (2 - o % 3);
-            across[3 * t + (reversed ? 2 - e : e)] = o;
+            std::uint32_t o = nb[e];
+            if (o != kNoCapNeighbour) o = o - o % 3 + (2 - o % 3);
+            across[3 * t + 2 - e] = o;
         }
     }
-    auto to = [&](std::uint32_t slot) { return from[slot % 3 == 2 ? slot - 2 : slot + 1]; };
-    std::vector<HalfedgeHandle> he(3 * n);
-    std::vector<char> on_rim(3 * n, 0);
+    HalfedgeHandle* const he = room(w.he, slots);
+    char* const on_rim = room(w.on_rim, slots);
     std::size_t rim_used = 0;
-    for (std::uint32_t slot = 0; slot < 3 * n; ++slot) {
+    for (std::size_t slot = 0; slot < slots; ++slot) {
         // A rim edge u -> v is u's own halfedge: separate_loop made every rim vertex's halfedge
         // its outgoing boundary halfedge (rim vertices are never on a boundary of the input: the
         // walk refuses those), so no search.
         const HalfedgeHandle b = m.halfedge_handle(vertex[from[slot]]);
-        if (b.is_valid() && m.is_boundary(b) && m.to_vertex_handle(b) == vertex[to(slot)]) {
-            he[slot] = b;
-            on_rim[slot] = 1;
-            ++rim_used;
-        }
+        const bool r =
+            b.is_valid() && m.is_boundary(b) && m.to_vertex_handle(b) == vertex[to[slot]];
+        on_rim[slot] = r;
+        if (r) he[slot] = b, ++rim_used;
     }
-    if (rim_used != rim.size()) return false;  // every rim edge once
-    std::vector<std::uint32_t> inner;          // the lower slot of each inner edge
-    inner.reserve(3 * n / 2);
-    for (std::uint32_t slot = 0; slot < 3 * n; ++slot) {
+    if (rim_used != rim.size()) return false;     // every rim edge once
+    std::vector<std::uint32_t>& inner = w.inner;  // the lower slot of each inner edge
+    inner.clear();
+    for (std::uint32_t slot = 0; slot < slots; ++slot) {
         if (on_rim[slot]) continue;
         const std::uint32_t o = across[slot];
         if (o == kNoCapNeighbour || on_rim[o] || across[o] != slot) return false;
-        if (from[o] != to(slot) || to(o) != from[slot]) return false;  // must run opposite ways
+        if (from[o] != to[slot] || to[o] != from[slot]) return false;  // must run opposite ways
         if (slot < o) inner.push_back(slot);
     }
     // Order of the new edges: by (lower, higher) vertex handle. The points are ranked by their
     // handle, then two stable counting passes (higher rank, then lower rank) over the edges in
     // slot order give what a sort by (handles, slot) gave.
-    std::vector<std::pair<int, std::uint32_t>> by_handle;
-    by_handle.reserve(plan.points.size());
-    std::vector<std::uint32_t> rank(plan.points.size(), kNoCapNeighbour);
-    for (const std::uint32_t p : from) rank[p] = 0;
+    std::vector<std::pair<int, std::uint32_t>>& by_handle = w.by_handle;
+    by_handle.clear();
+    std::vector<std::uint32_t>& rank = w.rank;
+    rank.assign(plan.points.size(), kNoCapNeighbour);
+    for (std::size_t slot = 0; slot < slots; ++slot) rank[from[slot]] = 0;
     for (std::uint32_t p = 0; p < plan.points.size(); ++p)
         if (rank[p] == 0) by_handle.emplace_back(vertex[p].idx(), p);
     if (!std::is_sorted(by_handle.begin(), by_handle.end()))
         std::sort(by_handle.begin(), by_handle.end());
     for (std::uint32_t r = 0; r < by_handle.size(); ++r) rank[by_handle[r].second] = r;
-    std::vector<std::uint32_t> lo(3 * n), hi(3 * n);
+    std::uint32_t* const lo = room(w.lo, slots);
+    std::uint32_t* const hi = room(w.hi, slots);
     for (const std::uint32_t slot : inner) {
-        const std::uint32_t a = rank[from[slot]], b = rank[to(slot)];
+        const std::uint32_t a = rank[from[slot]], b = rank[to[slot]];
         lo[slot] = std::min(a, b), hi[slot] = std::max(a, b);
     }
-    std::vector<std::uint32_t> count(by_handle.size() + 1), sorted(inner.size());
-    for (const std::vector<std::uint32_t>* key : {&hi, &lo}) {
-        std::fill(count.begin(), count.end(), 0u);
-        for (const std::uint32_t slot : inner) ++count[(*key)[slot] + 1];
-        for (std::size_t k = 1; k < count.size(); ++k) count[k] += count[k - 1];
-        for (const std::uint32_t slot : inner) sorted[count[(*key)[slot]]++] = slot;
-        inner.swap(sorted);
+    std::uint32_t* const count = room(w.count, by_handle.size() + 1);
+    std::uint32_t* edges = inner.data();
+    std::uint32_t* other = room(w.sorted, inner.size());
+    for (const std::uint32_t* key : {hi, lo}) {
+        std::fill(count, count + by_handle.size() + 1, 0u);
+        for (std::size_t i = 0; i < inner.size(); ++i) ++count[key[edges[i]] + 1];
+        for (std::size_t k = 1; k <= by_handle.size(); ++k) count[k] += count[k - 1];
+        for (std::size_t i = 0; i < inner.size(); ++i) other[count[key[edges[i]]]++] = edges[i];
+        std::swap(edges, other);
     }
     // Every edge and face allocated in one resize, handed out in the order OpenMesh's
     // new_edge / new_face would give them.
     const int ne = static_cast<int>(m.n_edges()), nf = static_cast<int>(m.n_faces());
     m.resize(m.n_vertices(), ne + inner.size(), nf + n);
     for (std::size_t i = 0; i < inner.size(); ++i) {
-        const std::uint32_t a = inner[i];
-        he[a] = make_edge(m, EdgeHandle(ne + static_cast<int>(i)), vertex[from[a]], vertex[to(a)]);
+        const std::uint32_t a = edges[i];
+        he[a] = make_edge(m, EdgeHandle(ne + static_cast<int>(i)), vertex[from[a]], vertex[to[a]]);
         he[across[a]] = m.opposite_halfedge_handle(he[a]);
     }
     for (std::size_t t = 0; t < n; ++t) {
         const FaceHandle f(nf + static_cast<int>(t));
-        m.set_halfedge_handle(f, he[3 * t]);
-        for (std::size_t k = 0; k < 3; ++k) {
-            m.set_face_handle(he[3 * t + k], f);
-            m.set_next_halfedge_handle(he[3 * t + k], he[3 * t + (k + 1) % 3]);
-            m.set_halfedge_handle(vertex[from[3 * t + k]], he[3 * t + k]);
-        }
+        const HalfedgeHandle h0 = he[3 * t], h1 = he[3 * t + 1], h2 = he[3 * t + 2];
+        m.set_halfedge_handle(f, h0);
+        m.set_face_handle(h0, f), m.set_face_handle(h1, f), m.set_face_handle(h2, f);
+        m.set_next_halfedge_handle(h0, h1);
+        m.set_next_halfedge_handle(h1, h2);
+        m.set_next_halfedge_handle(h2, h0);
+        m.set_halfedge_handle(vertex[from[3 * t]], h0);
+        m.set_halfedge_handle(vertex[from[3 * t + 1]], h1);
+        m.set_halfedge_handle(vertex[from[3 * t + 2]], h2);
         faces.push_back(f);
     }
     return true;
@@ -396,8 +419,8 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
             s.tree.insert(m, f);
     }
     // Caps: positive side faces -normal (reversed triangles), negative side +normal.
-    if (!add_cap(m, plan, rim, true, pos_rim, out.positive.cap_faces) ||
-        !add_cap(m, plan, dup, false, neg_rim, out.negative.cap_faces))
+    if (!add_cap(m, plan, rim, true, pos_rim, out.positive.cap_faces, s.cap_edit) ||
+        !add_cap(m, plan, dup, false, neg_rim, out.negative.cap_faces, s.cap_edit))
         return CutStatus::kInternalError;
     for (FaceHandle f : out.positive.cap_faces) {
         m.set_normal(f, -plane.normal());

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "display/cut/face_tree.hpp"
@@ -132,6 +133,13 @@ struct ContextState {
     Triangulator triangulator;
     std::vector<std::uint32_t> heap;         ///< seed search scratch
     std::vector<std::uint32_t> cap_scratch;  ///< per plan point, for the caps (cap_plan.cpp)
+    /// Scratch of the edit's caps (apply_plan.cpp add_cap), kept from cut to cut.
+    struct CapScratch {
+        std::vector<std::uint32_t> from, to, across, inner, rank, lo, hi, count, sorted;
+        std::vector<char> on_rim;
+        std::vector<mesh::HalfedgeHandle> he;
+        std::vector<std::pair<int, std::uint32_t>> by_handle;
+    } cap_edit;
 };
 
 }  // namespace kerf::cut::detail
