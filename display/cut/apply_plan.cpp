@@ -155,6 +155,19 @@ bool split_crossing_edges(ContextState& s, std::vector<VertexHandle>& rim) {
     return true;
 }
 
+// OpenMesh's find_halfedge(from, to) on the halfedge arrays, inline: the outgoing halfedges of
+// `from` clockwise from its own halfedge, as OpenMesh's circulator visits them.
+HalfedgeHandle find_halfedge(const TriMesh& m, VertexHandle from, VertexHandle to) {
+    const HalfedgeHandle start = m.halfedge_handle(from);
+    if (!start.is_valid()) return start;
+    HalfedgeHandle h = start;
+    do {
+        if (m.to_vertex_handle(h) == to) return h;
+        h = m.next_halfedge_handle(m.opposite_halfedge_handle(h));
+    } while (h != start);
+    return HalfedgeHandle();
+}
+
 // Makes allocated vertex d a copy of v's attributes.
 void duplicate_vertex(TriMesh& m, VertexHandle v, VertexHandle d) {
     m.set_point(d, m.point(v));
@@ -203,7 +216,7 @@ bool separate_loop(TriMesh& m, const std::vector<VertexHandle>& r,
     const std::size_t n = r.size();
     std::vector<HalfedgeHandle> h(n), x(n);
     for (std::size_t i = 0; i < n; ++i) {
-        h[i] = m.find_halfedge(r[i], r[(i + 1) % n]);
+        h[i] = find_halfedge(m, r[i], r[(i + 1) % n]);
         if (!h[i].is_valid() || m.is_boundary(h[i]) ||
             m.is_boundary(m.opposite_halfedge_handle(h[i])))
             return false;

@@ -247,25 +247,32 @@ public:
     // out of u and the one before it into u, so u's incoming edges are found through its own.
     bool build(std::size_t points) {
         const auto n = static_cast<std::uint32_t>(tris_.size());
-        nb_.assign(3 * std::size_t{n}, kNoCapNeighbour);
+        const std::size_t slots = 3 * std::size_t{n};
+        nb_.assign(slots, kNoCapNeighbour);
+        from_.resize(slots);
+        to_.resize(slots);
+        for (std::uint32_t i = 0; i < n; ++i) {
+            const Triangle& t = tris_[i];
+            from_[3 * i] = t.a, from_[3 * i + 1] = t.b, from_[3 * i + 2] = t.c;
+            to_[3 * i] = t.b, to_[3 * i + 1] = t.c, to_[3 * i + 2] = t.a;
+        }
         first_.assign(points + 1, 0);
-        for (const Triangle& t : tris_) ++first_[t.a + 1], ++first_[t.b + 1], ++first_[t.c + 1];
+        for (std::size_t k = 0; k < slots; ++k) ++first_[from_[k] + 1];
         for (std::size_t k = 1; k < first_.size(); ++k) first_[k] += first_[k - 1];
-        out_.resize(3 * std::size_t{n});
+        out_.resize(slots);
         fill_.assign(first_.begin(), first_.end() - 1);
-        for (std::uint32_t i = 0; i < n; ++i)
-            for (int e = 0; e < 3; ++e) out_[fill_[corner(tris_[i], e)]++] = 3 * i + e;
+        for (std::uint32_t k = 0; k < slots; ++k) out_[fill_[from_[k]]++] = k;
         seen_.assign(points, kNoCapNeighbour);  // per point w: the slot u -> w, this u's only
         for (std::uint32_t u = 0; u < points; ++u) {
             for (std::uint32_t k = first_[u]; k < first_[u + 1]; ++k) {
-                const std::uint32_t w = to(out_[k]);
-                if (seen_[w] != kNoCapNeighbour && from(seen_[w]) == u) return false;
+                const std::uint32_t w = to_[out_[k]];
+                if (seen_[w] != kNoCapNeighbour && from_[seen_[w]] == u) return false;
                 seen_[w] = out_[k];
             }
             for (std::uint32_t k = first_[u]; k < first_[u + 1]; ++k) {
                 const std::uint32_t in = before(out_[k]);  // x -> u
-                const std::uint32_t back = seen_[from(in)];
-                if (back == kNoCapNeighbour || from(back) != u || nb_[in] == back) continue;
+                const std::uint32_t back = seen_[from_[in]];
+                if (back == kNoCapNeighbour || from_[back] != u || nb_[in] == back) continue;
                 if (nb_[in] != kNoCapNeighbour || nb_[back] != kNoCapNeighbour) return false;
                 nb_[in] = back, nb_[back] = in;
             }
@@ -293,12 +300,6 @@ public:
     }
 
 private:
-    std::uint32_t from(std::uint32_t s) const {
-        return corner(tris_[s / 3], static_cast<int>(s % 3));
-    }
-    std::uint32_t to(std::uint32_t s) const {
-        return corner(tris_[s / 3], static_cast<int>(s % 3 + 1) % 3);
-    }
     static std::uint32_t before(std::uint32_t s) { return s - s % 3 + (s % 3 + 2) % 3; }
     void link(std::uint32_t s, std::uint32_t other) {
         nb_[s] = other;
@@ -307,6 +308,7 @@ private:
 
     std::vector<Triangle>& tris_;
     std::vector<std::uint32_t>& nb_;
+    std::vector<std::uint32_t> from_, to_;  ///< per slot, as the triangles were at build()
     std::vector<std::uint32_t> first_, out_, fill_, seen_;
 };
 
@@ -329,20 +331,19 @@ void delaunay_flips(const SectionPlan& plan, std::vector<Triangle>& tris, CapAdj
         bool flipped = false;
         for (std::uint32_t i = 0; i < tris.size(); ++i) {
             if (!active[i]) continue;
+            // Triangle i's corners, read once: it changes only by a flip, which ends its turn.
+            const std::uint32_t v[5] = {tris[i].a, tris[i].b, tris[i].c, tris[i].a, tris[i].b};
             for (int r = 0; r < 3 && !touched[i]; ++r) {
                 // Triangle i read from corner r: (a, b, c); edge c -> a is slot 3i + (r + 2) % 3,
                 // and the neighbour holds a -> c with apex d.
-                const Triangle& ti = tris[i];
-                const std::uint32_t a = CapAdjacency::corner(ti, r),
-                                    b = CapAdjacency::corner(ti, (r + 1) % 3),
-                                    c = CapAdjacency::corner(ti, (r + 2) % 3);
+                const std::uint32_t a = v[r], b = v[r + 1], c = v[r + 2];
                 const std::uint32_t si = 3 * i + static_cast<std::uint32_t>((r + 2) % 3);
                 const std::uint32_t sj = adj.across(si);
                 if (sj == kNoCapNeighbour) continue;
                 const std::uint32_t j = sj / 3;
                 if (touched[j] || j == i) continue;
-                const std::uint32_t d =
-                    CapAdjacency::corner(tris[j], static_cast<int>(sj % 3 + 2) % 3);
+                const std::uint32_t fj = sj - 3 * j;  // the slot's corner in triangle j
+                const std::uint32_t d = fj == 0 ? tris[j].c : (fj == 1 ? tris[j].a : tris[j].b);
                 const Vec2 &pa = plan.points[a].uv, &pb = plan.points[b].uv,
                            &pc = plan.points[c].uv, &pd = plan.points[d].uv;
                 const double adx = pa[0] - pd[0], ady = pa[1] - pd[1];
