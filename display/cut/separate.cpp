@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
@@ -54,6 +55,8 @@ struct Separator::State {
     std::uint32_t sweep_stamp = 0;
     std::vector<Vec2> poly;                 // scratch: the polygon being swept, counter-clockwise
     std::vector<mesh::VertexHandle> moved;  // vertices moved by the last call
+    std::vector<double> full_lift;          // lifts before keep_off (once it is called)
+    std::unordered_map<int, std::uint32_t> band_of;  // vertex index -> band index (keep_off)
     SeparationStats stats;
 
     mesh::TriMesh& mesh() { return ctx->mesh(); }
@@ -216,7 +219,13 @@ void Separator::keep_off(const Plane& other, const Vec3& lo, const Vec3& hi) {
     State& s = *s_;
     const double tol = s.ctx->tolerance_m();
     const double slope = s.plane.normal() | other.normal();  // d(distance to other) / d(lift)
-    for (BandVertex& b : s.band) {
+    if (s.full_lift.empty()) {
+        s.full_lift.reserve(s.band.size());
+        for (const BandVertex& b : s.band) s.full_lift.push_back(b.lift);
+    }
+    std::vector<std::pair<double, std::uint32_t>> heap;  // (scale, band index), smallest first
+    for (std::uint32_t i = 0; i < s.band.size(); ++i) {
+        BandVertex& b = s.band[i];
         const Vec3& p = b.origin;
         if (p[0] < lo[0] || p[1] < lo[1] || p[2] < lo[2] || p[0] > hi[0] || p[1] > hi[1] ||
             p[2] > hi[2])
@@ -225,7 +234,41 @@ void Separator::keep_off(const Plane& other, const Vec3& lo, const Vec3& hi) {
         const double change = b.lift * slope;                // at full lift
         if (std::abs(w) > tol && change * w >= 0) continue;  // moves away from it, or along it
         const double allowed = std::max(0.0, std::abs(w) - 2.0 * tol);
-        if (std::abs(change) > allowed) b.lift *= allowed / std::abs(change);
+        if (std::abs(change) > allowed) {
+            b.lift *= allowed / std::abs(change);
+            heap.emplace_back(s.full_lift[i] != 0 ? b.lift / s.full_lift[i] : 0.0, i);
+        }
+    }
+    if (heap.empty()) return;
+    // A vertex held back holds its neighbours back too, less with distance: the lift's share
+    // then changes across a face by its length over the ramp, not from 0 to 1, so faces over
+    // the earlier cut's cap do not fold where one corner stays and the next moves.
+    if (s.band_of.empty()) {
+        s.band_of.reserve(s.band.size());
+        for (std::uint32_t i = 0; i < s.band.size(); ++i) s.band_of.emplace(s.band[i].v.idx(), i);
+    }
+    const double ramp = kKeepOffRampKerfs * s.kerf;
+    const mesh::TriMesh& m = s.mesh();
+    const auto later = [](const auto& x, const auto& y) { return x.first > y.first; };
+    std::make_heap(heap.begin(), heap.end(), later);
+    while (!heap.empty()) {
+        std::pop_heap(heap.begin(), heap.end(), later);
+        const auto [scale, i] = heap.back();
+        heap.pop_back();
+        const BandVertex& b = s.band[i];
+        if (s.full_lift[i] != 0 && b.lift / s.full_lift[i] < scale - 1e-12) continue;  // stale
+        for (const auto v : m.vv_range(b.v)) {
+            const auto it = s.band_of.find(v.idx());
+            if (it == s.band_of.end()) continue;
+            BandVertex& n = s.band[it->second];
+            const double full = s.full_lift[it->second];
+            if (full == 0) continue;
+            const double to = scale + (n.origin - b.origin).norm() / ramp;
+            if (to >= 1.0 || to >= n.lift / full) continue;
+            n.lift = full * to;
+            heap.emplace_back(to, it->second);
+            std::push_heap(heap.begin(), heap.end(), later);
+        }
     }
 }
 

@@ -49,6 +49,10 @@ namespace kerf::cut {
 /// Depth of the band of vertices that moves, in kerfs (D above).
 inline constexpr double kBandDepthKerfs = 2.0;
 
+/// How far a vertex keep_off holds back holds its neighbours back, in kerfs: their share of the
+/// lift grows by one over this distance from it (along the band's edges).
+inline constexpr double kKeepOffRampKerfs = 8.0;
+
 /// What the separation has done so far.
 struct SeparationStats {
     std::uint32_t band_vertices = 0;     ///< vertices that may move (both sides, rim included)
@@ -76,8 +80,12 @@ public:
     /// localised cut may have sliced on one side only): a band vertex inside the box [lo, hi]
     /// that would move towards `other` moves less, stopping two tolerances short of it, and one
     /// on it (within the tolerance) does not move, so no side of the earlier cut passes through
-    /// the other one, left in place. The kerf then opens less there. Call before the first sweep.
-    /// O(band).
+    /// the other one, left in place. The kerf then opens less there. A vertex held back holds its
+    /// band neighbours back too, less with distance (its share of the lift plus the distance
+    /// over kKeepOffRampKerfs kerfs, along the band's edges): where one corner of a face stayed
+    /// and the next moved by the full lift, faces folded over the earlier cut's cap (a thin
+    /// wedge of bone). Call before the first sweep. O(band), plus O(v log v) for the v vertices
+    /// held back and their neighbours within the ramp.
     void keep_off(const Plane& other, const Vec3& lo, const Vec3& hi);
 
     /// Adds a convex polygon (either orientation, >= 3 points, plane coordinates, m) to the swept

@@ -95,14 +95,25 @@ inline std::vector<CrossingPair> crossing_face_pairs(
                (static_cast<std::uint64_t>(y & 0x1FFFFF) << 21) |
                static_cast<std::uint64_t>(z & 0x1FFFFF);
     };
+    // A face goes into the cells its plane passes through (not every cell of its box: a long
+    // tilted cap triangle's box holds thousands), and each pair sharing a cell is tested once.
     for (std::uint32_t i = 0; i < faces.size(); ++i) {
         const Face& f = faces[i];
+        mesh::TriMesh::Point n = OpenMesh::cross(f.p[1] - f.p[0], f.p[2] - f.p[0]);
+        const double len = n.norm();
+        if (len > 0) n /= len;
+        const double reach = 0.5 * cell_m * (std::abs(n[0]) + std::abs(n[1]) + std::abs(n[2]));
         for (auto x = cell_of(f.lo[0]); x <= cell_of(f.hi[0]); ++x)
             for (auto y = cell_of(f.lo[1]); y <= cell_of(f.hi[1]); ++y)
-                for (auto z = cell_of(f.lo[2]); z <= cell_of(f.hi[2]); ++z)
+                for (auto z = cell_of(f.lo[2]); z <= cell_of(f.hi[2]); ++z) {
+                    const mesh::TriMesh::Point centre((x + 0.5) * cell_m, (y + 0.5) * cell_m,
+                                                      (z + 0.5) * cell_m);
+                    if (len > 0 && std::abs(OpenMesh::dot(centre - f.p[0], n)) > reach * 1.001)
+                        continue;
                     grid[key(x, y, z)].push_back(i);
+                }
     }
-    std::vector<CrossingPair> out;
+    std::vector<std::uint64_t> candidates;
     for (const auto& [cell, items] : grid) {
         for (std::size_t i = 0; i < items.size(); ++i) {
             for (std::size_t j = i + 1; j < items.size(); ++j) {
@@ -112,15 +123,21 @@ inline std::vector<CrossingPair> crossing_face_pairs(
                 lo.maximize(b.lo);
                 hi.minimize(b.hi);
                 if (lo[0] > hi[0] || lo[1] > hi[1] || lo[2] > hi[2]) continue;
-                // Each pair in one cell only: the one holding the low corner of the boxes' overlap.
-                if (key(cell_of(lo[0]), cell_of(lo[1]), cell_of(lo[2])) != cell) continue;
-                int shared = 0;
-                for (const int va : a.v)
-                    shared += static_cast<int>(std::count(b.v.begin(), b.v.end(), va));
-                if (shared >= 2) continue;  // neighbours across an edge
-                if (detail::triangles_cross(a.p, b.p, eps_m)) out.push_back({a.idx, b.idx});
+                const auto [u, w] = std::minmax(items[i], items[j]);
+                candidates.push_back((std::uint64_t{u} << 32) | w);
             }
         }
+    }
+    std::sort(candidates.begin(), candidates.end());
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    std::vector<CrossingPair> out;
+    for (const std::uint64_t c : candidates) {
+        const Face& a = faces[c >> 32];
+        const Face& b = faces[c & 0xFFFFFFFFu];
+        int shared = 0;
+        for (const int va : a.v) shared += static_cast<int>(std::count(b.v.begin(), b.v.end(), va));
+        if (shared >= 2) continue;  // neighbours across an edge
+        if (detail::triangles_cross(a.p, b.p, eps_m)) out.push_back({a.idx, b.idx});
     }
     std::sort(out.begin(), out.end(), [](const CrossingPair& x, const CrossingPair& y) {
         return std::pair(x.a, x.b) < std::pair(y.a, y.b);
