@@ -6,7 +6,8 @@
 // localised cuts slice one side of an earlier withdrawn cut only: display/cut/README.md, Gradual
 // separation); with Separator::keep_off, 1 refused and faces cross after 131 (5,363 crossing
 // pairs summed over the cuts, from 60,341); with keep_off's ramp (kKeepOffRampKerfs), none
-// refused and faces cross after 35 (227 pairs). Prints what it found by sequence and cut.
+// refused and faces cross after 35 (227 pairs). The 6 sequences that pass run by default
+// (TheSequencesThatOpenCleanlyStayClean, about 25 s of CPU in the debug-checks build).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -27,22 +28,29 @@ namespace {
 
 constexpr int kSequences = 14;
 
-TEST(WithdrawnCutProbe, EveryCutIsSlicedAndNothingCrossesNearTheKerfs) {
-    if (std::getenv("KERF_WITHDRAWN_PROBE") == nullptr)
-        GTEST_SKIP() << "opt-in: KERF_WITHDRAWN_PROBE=1 (fails today, see the file comment)";
-    if (!rt::test::have_shared_meshes()) GTEST_SKIP() << "no " << rt::test::calcaneus_path();
+/// What the sequences (random seeds 1000 + sequence) did: CutBegins refused by status, and the
+/// cuts after which faces cross. Prints what it found by sequence and cut.
+struct ProbeResult {
+    int begins = 0, refused = 0, crossing_cuts = 0;
+};
+
+ProbeResult probe(const std::vector<int>& sequences) {
+    ProbeResult result;
     std::map<std::string, int> refusals;
-    int begins = 0, crossing_cuts = 0;
-    for (int sequence = 0; sequence < kSequences; ++sequence) {
+    for (const int sequence : sequences) {
         // Sequence 0 is WithdrawnCutContact.CutsThroughTurnedWithdrawnCutsAreSliced.
         auto scene = mesh::load_mesh_owned(rt::test::calcaneus_path(), LengthUnit::kMillimetre);
-        ASSERT_TRUE(scene) << scene.error().message();
+        if (!scene) {
+            ADD_FAILURE() << scene.error().message();
+            return result;
+        }
         cut::CutSession session(std::move(*scene));
         const auto after_cut = [&](int k, int cuts, const cut::ApplyReport& r) {
-            ++begins;
+            ++result.begins;
             if (r.outcome == cut::EventOutcome::kRefused) {
                 const std::string status(cut::to_string(r.status));
                 ++refusals[status];
+                ++result.refused;
                 std::printf("sequence %d cut %d of %d refused: %s\n", sequence, k, cuts,
                             status.c_str());
             }
@@ -57,22 +65,39 @@ TEST(WithdrawnCutProbe, EveryCutIsSlicedAndNothingCrossesNearTheKerfs) {
             };
             const auto crossing = cut::testing::crossing_face_pairs(m, 0.001, 1e-10, near_kerf);
             if (!crossing.empty()) {
-                ++crossing_cuts;
+                ++result.crossing_cuts;
                 std::printf("sequence %d after cut %d: %zu crossing face pairs (first %d, %d)\n",
                             sequence, k, crossing.size(), crossing[0].a, crossing[0].b);
             }
         };
         physics::test::apply_turned_withdrawn_sequence(session, 1000 + sequence, after_cut);
     }
-    int refused = 0;
-    std::printf("%d CutBegins; faces crossing after %d; refused:", begins, crossing_cuts);
-    for (const auto& [status, n] : refusals) {
-        std::printf(" %s %d", status.c_str(), n);
-        refused += n;
-    }
+    std::printf("%d CutBegins; faces crossing after %d; refused:", result.begins,
+                result.crossing_cuts);
+    for (const auto& [status, n] : refusals) std::printf(" %s %d", status.c_str(), n);
     std::printf("\n");
-    EXPECT_EQ(refused, 0);
-    EXPECT_EQ(crossing_cuts, 0);
+    return result;
+}
+
+TEST(WithdrawnCutProbe, EveryCutIsSlicedAndNothingCrossesNearTheKerfs) {
+    if (std::getenv("KERF_WITHDRAWN_PROBE") == nullptr)
+        GTEST_SKIP() << "opt-in: KERF_WITHDRAWN_PROBE=1 (fails today, see the file comment)";
+    if (!rt::test::have_shared_meshes()) GTEST_SKIP() << "no " << rt::test::calcaneus_path();
+    std::vector<int> all;
+    for (int sequence = 0; sequence < kSequences; ++sequence) all.push_back(sequence);
+    const ProbeResult r = probe(all);
+    EXPECT_EQ(r.refused, 0);
+    EXPECT_EQ(r.crossing_cuts, 0);
+}
+
+TEST(WithdrawnCutProbe, TheSequencesThatOpenCleanlyStayClean) {
+    // The sequences of the probe that pass today (6 of 14, 87 CutBegins), run by default so that
+    // they stay clean: on 1324355 (before keep_off's ramp) faces crossed in sequences 0, 3, 8,
+    // 11, 12 and 13 after 4, 3, 3, 1, 3 and 2 cuts, and sequence 8's cut 16 was refused.
+    if (!rt::test::have_shared_meshes()) GTEST_SKIP() << "no " << rt::test::calcaneus_path();
+    const ProbeResult r = probe({0, 3, 8, 11, 12, 13});
+    EXPECT_EQ(r.refused, 0);
+    EXPECT_EQ(r.crossing_cuts, 0);
 }
 
 }  // namespace
