@@ -69,6 +69,8 @@ struct Separator::State {
     void begin_sweep();
     void end_sweep();
     void retire(std::uint32_t index);
+    void spread(std::vector<std::pair<double, std::uint32_t>>& heap);
+    void hold_earlier_caps(const CrossSection& cut);
 };
 
 std::uint32_t Separator::State::cell_of(const Vec2& p) const noexcept {
@@ -209,6 +211,7 @@ Result<Separator, CutStatus> Separator::make(CutContext& ctx, const CrossSection
     s->ramp = kerf_width_m;
     s->collect_band(cut);
     s->build_grid();
+    s->hold_earlier_caps(cut);
     s->clearances.build(ctx.mesh(), cut, s->band, kerf_width_m);
     s->moved.reserve(s->band.size());  // sweeps never allocate
     ctx.note_vertices_moved(0.5 * kerf_width_m);
@@ -239,37 +242,77 @@ void Separator::keep_off(const Plane& other, const Vec3& lo, const Vec3& hi) {
             heap.emplace_back(s.full_lift[i] != 0 ? b.lift / s.full_lift[i] : 0.0, i);
         }
     }
+    s.spread(heap);
+}
+
+/// A vertex held back holds its neighbours back too, less with distance: the lift's share then
+/// changes across a face by its length over the ramp, not from 0 to 1, so faces near the held
+/// vertices do not fold where one corner stays and the next moves. `heap`: (share, band index)
+/// of the vertices held back.
+void Separator::State::spread(std::vector<std::pair<double, std::uint32_t>>& heap) {
     if (heap.empty()) return;
-    // A vertex held back holds its neighbours back too, less with distance: the lift's share
-    // then changes across a face by its length over the ramp, not from 0 to 1, so faces over
-    // the earlier cut's cap do not fold where one corner stays and the next moves.
-    if (s.band_of.empty()) {
-        s.band_of.reserve(s.band.size());
-        for (std::uint32_t i = 0; i < s.band.size(); ++i) s.band_of.emplace(s.band[i].v.idx(), i);
+    if (band_of.empty()) {
+        band_of.reserve(band.size());
+        for (std::uint32_t i = 0; i < band.size(); ++i) band_of.emplace(band[i].v.idx(), i);
     }
-    const double ramp = kKeepOffRampKerfs * s.kerf;
-    const mesh::TriMesh& m = s.mesh();
+    const double reach = kKeepOffRampKerfs * kerf;
+    const mesh::TriMesh& m = mesh();
     const auto later = [](const auto& x, const auto& y) { return x.first > y.first; };
     std::make_heap(heap.begin(), heap.end(), later);
     while (!heap.empty()) {
         std::pop_heap(heap.begin(), heap.end(), later);
         const auto [scale, i] = heap.back();
         heap.pop_back();
-        const BandVertex& b = s.band[i];
-        if (s.full_lift[i] != 0 && b.lift / s.full_lift[i] < scale - 1e-12) continue;  // stale
+        const BandVertex& b = band[i];
+        if (full_lift[i] != 0 && b.lift / full_lift[i] < scale - 1e-12) continue;  // stale
         for (const auto v : m.vv_range(b.v)) {
-            const auto it = s.band_of.find(v.idx());
-            if (it == s.band_of.end()) continue;
-            BandVertex& n = s.band[it->second];
-            const double full = s.full_lift[it->second];
+            const auto it = band_of.find(v.idx());
+            if (it == band_of.end()) continue;
+            BandVertex& n = band[it->second];
+            const double full = full_lift[it->second];
             if (full == 0) continue;
-            const double to = scale + (n.origin - b.origin).norm() / ramp;
+            const double to = scale + (n.origin - b.origin).norm() / reach;
             if (to >= 1.0 || to >= n.lift / full) continue;
             n.lift = full * to;
             heap.emplace_back(to, it->second);
             std::push_heap(heap.begin(), heap.end(), later);
         }
     }
+}
+
+/// Earlier caps are rim-only, so their triangles are long: one that reaches past the band's edge
+/// (distance D, where the lift's slope changes) is interpolated across that crease while a wall a
+/// few um above it follows the lift, and they cross. Its corners in the band (off this cut's rim)
+/// are held still, and their neighbours ramp up from them (spread).
+void Separator::State::hold_earlier_caps(const CrossSection& cut) {
+    OpenMesh::FPropHandleT<std::uint8_t> cap;
+    mesh::TriMesh& m = mesh();
+    if (!m.get_property_handle(cap, kCapFaceProperty)) return;
+    std::unordered_set<int> own;
+    for (const auto* side : {&cut.positive, &cut.negative})
+        for (const auto f : side->cap_faces) own.insert(f.idx());
+    if (band_of.empty()) {
+        band_of.reserve(band.size());
+        for (std::uint32_t i = 0; i < band.size(); ++i) band_of.emplace(band[i].v.idx(), i);
+    }
+    std::vector<std::pair<double, std::uint32_t>> heap;
+    for (std::uint32_t i = 0; i < band.size(); ++i) {
+        if (band[i].rim) continue;
+        for (const auto f : m.vf_range(band[i].v)) {
+            if (m.property(cap, f) == kCapNone || own.count(f.idx()) != 0) continue;
+            bool outside = false;
+            for (const auto w : m.fv_range(f)) outside |= band_of.count(w.idx()) == 0;
+            if (!outside) continue;
+            if (full_lift.empty()) {
+                full_lift.reserve(band.size());
+                for (const BandVertex& b : band) full_lift.push_back(b.lift);
+            }
+            band[i].lift = 0.0;
+            heap.emplace_back(0.0, i);
+            break;
+        }
+    }
+    spread(heap);
 }
 
 Separator::Separator(std::unique_ptr<State> s) noexcept : s_(std::move(s)) {}

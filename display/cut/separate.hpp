@@ -49,8 +49,9 @@ namespace kerf::cut {
 /// Depth of the band of vertices that moves, in kerfs (D above).
 inline constexpr double kBandDepthKerfs = 2.0;
 
-/// How far a vertex keep_off holds back holds its neighbours back, in kerfs: their share of the
-/// lift grows by one over this distance from it (along the band's edges).
+/// How far a vertex held back (keep_off, or a corner of an earlier cap's triangle that reaches
+/// past the band) holds its neighbours back, in kerfs: their share of the lift grows by one over
+/// this distance from it (along the band's edges).
 inline constexpr double kKeepOffRampKerfs = 8.0;
 
 /// What the separation has done so far.
