@@ -462,28 +462,20 @@ std::uint32_t CutSession::body_at(const Vec3& p) const noexcept {
         return b.pose.position_m == Vec3(0.0, 0.0, 0.0) && q[0] == 1.0 && q[1] == 0.0 &&
                q[2] == 0.0 && q[3] == 0.0;
     });
-    if (at_rest) {
+    const auto nearest = [&](auto&& position) {
         for (const auto v : s.mesh.vertices()) {
             const std::uint32_t b = s.mesh.property(s.vertex_body, v);
             if (b >= s.bodies.size()) continue;
-            const double d = (s.mesh.point(v) - p).sqrnorm();
+            const double d = (position(b, s.mesh.point(v)) - p).sqrnorm();
             if (d < best) {
                 best = d;
                 body = b;
             }
         }
         return body;
-    }
-    for (const auto v : s.mesh.vertices()) {
-        const std::uint32_t b = s.mesh.property(s.vertex_body, v);
-        if (b >= s.bodies.size()) continue;
-        const double d = (s.bodies[b].pose.to_world(s.mesh.point(v)) - p).sqrnorm();
-        if (d < best) {
-            best = d;
-            body = b;
-        }
-    }
-    return body;
+    };
+    if (at_rest) return nearest([](std::uint32_t, const Vec3& q) { return q; });
+    return nearest([&](std::uint32_t b, const Vec3& q) { return s.bodies[b].pose.to_world(q); });
 }
 
 std::unique_ptr<mesh::TriMesh> CutSession::release_owned() && {

@@ -69,6 +69,8 @@ struct Separator::State {
     void begin_sweep();
     void end_sweep();
     void retire(std::uint32_t index);
+    void index_band();
+    void keep_full_lifts();
     void spread(std::vector<std::pair<double, std::uint32_t>>& heap);
     void hold_earlier_caps(const CrossSection& cut);
 };
@@ -222,10 +224,7 @@ void Separator::keep_off(const Plane& other, const Vec3& lo, const Vec3& hi) {
     State& s = *s_;
     const double tol = s.ctx->tolerance_m();
     const double slope = s.plane.normal() | other.normal();  // d(distance to other) / d(lift)
-    if (s.full_lift.empty()) {
-        s.full_lift.reserve(s.band.size());
-        for (const BandVertex& b : s.band) s.full_lift.push_back(b.lift);
-    }
+    s.keep_full_lifts();
     std::vector<std::pair<double, std::uint32_t>> heap;  // (scale, band index), smallest first
     for (std::uint32_t i = 0; i < s.band.size(); ++i) {
         BandVertex& b = s.band[i];
@@ -245,16 +244,27 @@ void Separator::keep_off(const Plane& other, const Vec3& lo, const Vec3& hi) {
     s.spread(heap);
 }
 
+/// band_of, once.
+void Separator::State::index_band() {
+    if (!band_of.empty()) return;
+    band_of.reserve(band.size());
+    for (std::uint32_t i = 0; i < band.size(); ++i) band_of.emplace(band[i].v.idx(), i);
+}
+
+/// full_lift, once: the lifts before anything held a vertex back.
+void Separator::State::keep_full_lifts() {
+    if (!full_lift.empty()) return;
+    full_lift.reserve(band.size());
+    for (const BandVertex& b : band) full_lift.push_back(b.lift);
+}
+
 /// A vertex held back holds its neighbours back too, less with distance: the lift's share then
 /// changes across a face by its length over the ramp, not from 0 to 1, so faces near the held
 /// vertices do not fold where one corner stays and the next moves. `heap`: (share, band index)
 /// of the vertices held back.
 void Separator::State::spread(std::vector<std::pair<double, std::uint32_t>>& heap) {
     if (heap.empty()) return;
-    if (band_of.empty()) {
-        band_of.reserve(band.size());
-        for (std::uint32_t i = 0; i < band.size(); ++i) band_of.emplace(band[i].v.idx(), i);
-    }
+    index_band();
     const double reach = kKeepOffRampKerfs * kerf;
     const mesh::TriMesh& m = mesh();
     const auto later = [](const auto& x, const auto& y) { return x.first > y.first; };
@@ -291,10 +301,7 @@ void Separator::State::hold_earlier_caps(const CrossSection& cut) {
     std::unordered_set<int> own;
     for (const auto* side : {&cut.positive, &cut.negative})
         for (const auto f : side->cap_faces) own.insert(f.idx());
-    if (band_of.empty()) {
-        band_of.reserve(band.size());
-        for (std::uint32_t i = 0; i < band.size(); ++i) band_of.emplace(band[i].v.idx(), i);
-    }
+    index_band();
     std::vector<std::pair<double, std::uint32_t>> heap;
     for (std::uint32_t i = 0; i < band.size(); ++i) {
         if (band[i].rim) continue;
@@ -303,10 +310,7 @@ void Separator::State::hold_earlier_caps(const CrossSection& cut) {
             bool outside = false;
             for (const auto w : m.fv_range(f)) outside |= band_of.count(w.idx()) == 0;
             if (!outside) continue;
-            if (full_lift.empty()) {
-                full_lift.reserve(band.size());
-                for (const BandVertex& b : band) full_lift.push_back(b.lift);
-            }
+            keep_full_lifts();
             band[i].lift = 0.0;
             heap.emplace_back(0.0, i);
             break;
