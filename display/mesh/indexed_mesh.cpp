@@ -88,15 +88,14 @@ std::size_t edit_headroom_faces(std::size_t faces) noexcept {
 }
 
 std::size_t build_tri_mesh_into(const IndexedMesh& in, TriMesh& m, std::size_t spare_faces) {
-    // The connectivity OpenMesh's add_face would build, face by face, on flat arrays
-    // (detail/halfedge_build.hpp), then written into the mesh in one pass.
+    // The connectivity OpenMesh's add_face would build, face by face, written straight into the
+    // mesh's arrays (detail/halfedge_build.hpp).
     std::size_t detached = 0;
     const std::size_t n_in = in.positions_m.size();
     m.reserve(n_in + spare_faces / 2, in.triangles.size() * 3 / 2 + 2 * spare_faces,
               in.triangles.size() + spare_faces);
-    detail::HalfedgeBuilder builder;
-    builder.reserve(n_in, in.triangles.size() * 3 / 2, in.triangles.size());
-    for (std::size_t i = 0; i < n_in; ++i) builder.add_vertex();
+    detail::HalfedgeBuilder builder(m);
+    builder.add_vertices(n_in);
     std::vector<std::uint32_t> copied_from;  // the source vertex of each detached copy
     for (const Triangle& t : in.triangles) {
         const auto a = static_cast<std::int32_t>(t[0]);
@@ -112,7 +111,7 @@ std::size_t build_tri_mesh_into(const IndexedMesh& in, TriMesh& m, std::size_t s
         }
         builder.add_face(copies[0], copies[1], copies[2]);
     }
-    builder.write_into(m);
+    builder.finish();
     const bool has_materials = in.materials.size() == n_in;
     const auto set_vertex = [&](std::size_t v, std::size_t src) {
         const VertexHandle vh(static_cast<int>(v));
@@ -122,7 +121,7 @@ std::size_t build_tri_mesh_into(const IndexedMesh& in, TriMesh& m, std::size_t s
     };
     for (std::size_t v = 0; v < n_in; ++v) set_vertex(v, v);
     for (std::size_t k = 0; k < copied_from.size(); ++k) set_vertex(n_in + k, copied_from[k]);
-    builder.write_normals(m);  // m.update_normals(), bit for bit
+    builder.write_normals();  // m.update_normals(), bit for bit
     return detached;
 }
 

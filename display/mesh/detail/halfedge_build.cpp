@@ -27,66 +27,84 @@
 //   POSSIBILITY OF SUCH DAMAGE.
 #include "display/mesh/detail/halfedge_build.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <utility>
 
 namespace kerf::mesh::detail {
 
-void HalfedgeBuilder::reserve(std::size_t vertices, std::size_t edges, std::size_t faces) {
-    vertex_out_.reserve(vertices);
-    halfedges_.reserve(2 * edges);
-    face_halfedge_.reserve(faces);
+void HalfedgeBuilder::make_room(std::size_t vertices, std::size_t edges, std::size_t faces) {
+    // Steps of a few hundred kB: each step's elements are constructed just before add_face
+    // writes them, so they are still in cache (a step is not a reallocation: build_tri_mesh_into
+    // reserves the mesh's arrays first).
+    constexpr std::size_t kStep = std::size_t{1} << 14;
+    const auto grown = [](std::size_t have, std::size_t need) {
+        return need <= have ? have : std::max(need, have + kStep);
+    };
+    const std::size_t nv = m_.n_vertices(), ne = m_.n_edges(), nf = m_.n_faces();
+    if (vertices <= nv && edges <= ne && faces <= nf) return;
+    m_.resize(grown(nv, vertices), grown(ne, edges), grown(nf, faces));
+}
+
+void HalfedgeBuilder::add_vertices(std::size_t count) {
+    // Exactly this many: the vertices the caller numbers are not spare.
+    const std::size_t nv = vertices_ + count;
+    if (nv > m_.n_vertices()) m_.resize(nv, m_.n_edges(), m_.n_faces());
+    vertices_ = nv;
 }
 
 std::int32_t HalfedgeBuilder::add_vertex() {
-    vertex_out_.push_back(kNone);
-    return static_cast<std::int32_t>(vertex_out_.size() - 1);
+    make_room(vertices_ + 1, edges_, faces_);
+    return static_cast<std::int32_t>(vertices_++);
 }
+
+void HalfedgeBuilder::finish() { m_.resize(vertices_, edges_, faces_); }
 
 // OpenMesh: is_boundary(VertexHandle): no outgoing half-edge, or one without a face.
 bool HalfedgeBuilder::is_boundary_vertex(std::int32_t v) const {
-    const std::int32_t h = vertex_out_[static_cast<std::size_t>(v)];
-    return h == kNone || halfedges_[static_cast<std::size_t>(h)].face == kNone;
+    const std::int32_t h = out(v);
+    return h == kNone || face(h) == kNone;
 }
 
 // OpenMesh: find_halfedge() walks the outgoing half-edges clockwise (next of the opposite) from
 // the vertex's half-edge until it is back at the start or meets an unset link.
-std::int32_t HalfedgeBuilder::find_halfedge(std::int32_t from, std::int32_t to) const {
-    const std::int32_t start = vertex_out_[static_cast<std::size_t>(from)];
+std::int32_t HalfedgeBuilder::find_halfedge(std::int32_t from, std::int32_t to_vertex) const {
+    const std::int32_t start = out(from);
     std::int32_t h = start;
     while (h != kNone) {
-        if (halfedges_[static_cast<std::size_t>(h)].to == to) return h;
-        h = halfedges_[static_cast<std::size_t>(h ^ 1)].next;
+        if (to(h) == to_vertex) return h;
+        h = next(h ^ 1);
         if (h == start) break;
     }
     return kNone;
 }
 
-// OpenMesh: new_edge(start, end) appends an edge whose first half-edge points to `end`.
-std::int32_t HalfedgeBuilder::new_edge(std::int32_t from, std::int32_t to) {
-    const auto h = static_cast<std::int32_t>(halfedges_.size());
-    halfedges_.push_back({kNone, to, kNone, kNone});
-    halfedges_.push_back({kNone, from, kNone, kNone});
+// OpenMesh: new_edge(start, end) appends an edge whose first half-edge points to `end` (a new
+// element's links are all unset).
+std::int32_t HalfedgeBuilder::new_edge(std::int32_t from, std::int32_t to_vertex) {
+    make_room(vertices_, edges_ + 1, faces_);
+    const auto h = static_cast<std::int32_t>(2 * edges_++);
+    m_.set_vertex_handle(HalfedgeHandle(h), VertexHandle(to_vertex));
+    m_.set_vertex_handle(HalfedgeHandle(h + 1), VertexHandle(from));
     return h;
 }
 
 // OpenMesh: set_next_halfedge_handle() also sets the previous link of `next`.
-void HalfedgeBuilder::set_next(std::int32_t h, std::int32_t next) {
-    halfedges_[static_cast<std::size_t>(h)].next = next;
-    halfedges_[static_cast<std::size_t>(next)].prev = h;
+void HalfedgeBuilder::set_next(std::int32_t h, std::int32_t next_h) {
+    m_.set_next_halfedge_handle(HalfedgeHandle(h), HalfedgeHandle(next_h));
 }
 
 // OpenMesh: the first boundary half-edge clockwise from the vertex's half-edge becomes it.
 void HalfedgeBuilder::adjust_outgoing_halfedge(std::int32_t v) {
-    const std::int32_t start = vertex_out_[static_cast<std::size_t>(v)];
+    const std::int32_t start = out(v);
     std::int32_t h = start;
     while (h != kNone) {
         if (is_boundary_halfedge(h)) {
-            vertex_out_[static_cast<std::size_t>(v)] = h;
+            set_out(v, h);
             return;
         }
-        h = halfedges_[static_cast<std::size_t>(h ^ 1)].next;
+        h = next(h ^ 1);
         if (h == start) return;
     }
 }
@@ -103,9 +121,6 @@ std::int32_t HalfedgeBuilder::add_face(std::int32_t a, std::int32_t b, std::int3
     std::array<EdgeData, n> edge{};
     std::array<std::pair<std::int32_t, std::int32_t>, 6 * n> next_cache{};
     std::size_t cached = 0;
-    const auto at = [this](std::int32_t h) -> Halfedge& {
-        return halfedges_[static_cast<std::size_t>(h)];
-    };
 
     // Test for topological errors.
     for (std::size_t i = 0, ii = 1; i < n; ++i, ++ii, ii %= n) {
@@ -121,17 +136,17 @@ std::int32_t HalfedgeBuilder::add_face(std::int32_t a, std::int32_t b, std::int3
         if (edge[i].is_new || edge[ii].is_new) continue;
         const std::int32_t inner_prev = edge[i].halfedge;
         const std::int32_t inner_next = edge[ii].halfedge;
-        if (at(inner_prev).next == inner_next) continue;
+        if (next(inner_prev) == inner_next) continue;
         // Search a free gap, between boundary_prev and boundary_next.
         const std::int32_t outer_prev = inner_next ^ 1;
         std::int32_t boundary_prev = outer_prev;
         do {
-            boundary_prev = at(boundary_prev).next ^ 1;
+            boundary_prev = next(boundary_prev) ^ 1;
         } while (!is_boundary_halfedge(boundary_prev));
-        const std::int32_t boundary_next = at(boundary_prev).next;
+        const std::int32_t boundary_next = next(boundary_prev);
         if (boundary_prev == inner_prev) return kNone;  // patch re-linking failed
-        const std::int32_t patch_start = at(inner_prev).next;
-        const std::int32_t patch_end = at(inner_next).prev;
+        const std::int32_t patch_start = next(inner_prev);
+        const std::int32_t patch_end = prev(inner_next);
         next_cache[cached++] = {boundary_prev, patch_start};
         next_cache[cached++] = {patch_end, boundary_next};
         next_cache[cached++] = {inner_prev, inner_next};
@@ -143,8 +158,9 @@ std::int32_t HalfedgeBuilder::add_face(std::int32_t a, std::int32_t b, std::int3
     }
 
     // Create the face.
-    const auto f = static_cast<std::int32_t>(face_halfedge_.size());
-    face_halfedge_.push_back(edge[n - 1].halfedge);
+    make_room(vertices_, edges_, faces_ + 1);
+    const auto f = static_cast<std::int32_t>(faces_++);
+    m_.set_halfedge_handle(FaceHandle(f), HalfedgeHandle(edge[n - 1].halfedge));
 
     // Set up the half-edges.
     for (std::size_t i = 0, ii = 1; i < n; ++i, ++ii, ii %= n) {
@@ -152,30 +168,30 @@ std::int32_t HalfedgeBuilder::add_face(std::int32_t a, std::int32_t b, std::int3
         const std::int32_t inner_prev = edge[i].halfedge;
         const std::int32_t inner_next = edge[ii].halfedge;
         const int id = (edge[i].is_new ? 1 : 0) | (edge[ii].is_new ? 2 : 0);
-        std::int32_t& out = vertex_out_[static_cast<std::size_t>(vh)];
+        const std::int32_t vh_out = out(vh);
         if (id != 0) {
             const std::int32_t outer_prev = inner_next ^ 1;
             const std::int32_t outer_next = inner_prev ^ 1;
             switch (id) {
                 case 1: {  // prev is new, next is old
-                    const std::int32_t boundary_prev = at(inner_next).prev;
+                    const std::int32_t boundary_prev = prev(inner_next);
                     next_cache[cached++] = {boundary_prev, outer_next};
-                    out = outer_next;
+                    set_out(vh, outer_next);
                     break;
                 }
                 case 2: {  // next is new, prev is old
-                    const std::int32_t boundary_next = at(inner_prev).next;
+                    const std::int32_t boundary_next = next(inner_prev);
                     next_cache[cached++] = {outer_prev, boundary_next};
-                    out = boundary_next;
+                    set_out(vh, boundary_next);
                     break;
                 }
                 default: {  // both are new
-                    if (out == kNone) {
-                        out = outer_next;
+                    if (vh_out == kNone) {
+                        set_out(vh, outer_next);
                         next_cache[cached++] = {outer_prev, outer_next};
                     } else {
-                        const std::int32_t boundary_next = out;
-                        const std::int32_t boundary_prev = at(boundary_next).prev;
+                        const std::int32_t boundary_next = vh_out;
+                        const std::int32_t boundary_prev = prev(boundary_next);
                         next_cache[cached++] = {boundary_prev, outer_next};
                         next_cache[cached++] = {outer_prev, boundary_next};
                     }
@@ -184,9 +200,9 @@ std::int32_t HalfedgeBuilder::add_face(std::int32_t a, std::int32_t b, std::int3
             }
             next_cache[cached++] = {inner_prev, inner_next};  // inner link
         } else {
-            edge[ii].needs_adjust = out == inner_next;
+            edge[ii].needs_adjust = vh_out == inner_next;
         }
-        at(edge[i].halfedge).face = f;
+        m_.set_face_handle(HalfedgeHandle(edge[i].halfedge), FaceHandle(f));
     }
 
     // Process the next-half-edge cache, then adjust the vertices' half-edges.
@@ -197,55 +213,33 @@ std::int32_t HalfedgeBuilder::add_face(std::int32_t a, std::int32_t b, std::int3
     return f;
 }
 
-void HalfedgeBuilder::write_into(TriMesh& m) const {
-    m.resize(n_vertices(), n_edges(), n_faces());
-    for (std::size_t h = 0; h < halfedges_.size(); ++h) {
-        const Halfedge& e = halfedges_[h];
-        const HalfedgeHandle hh(static_cast<int>(h));
-        m.set_vertex_handle(hh, VertexHandle(e.to));
-        m.set_face_handle(hh, FaceHandle(e.face));
-        if (e.next != kNone) m.set_next_halfedge_handle(hh, HalfedgeHandle(e.next));
-    }
-    // set_next_halfedge_handle() set each target's previous link from the last half-edge written
-    // before it, which need not be the last one add_face linked: write the previous links as built.
-    for (std::size_t h = 0; h < halfedges_.size(); ++h) {
-        const std::int32_t prev = halfedges_[h].prev;
-        if (prev != kNone)
-            m.set_prev_halfedge_handle(HalfedgeHandle(static_cast<int>(h)), HalfedgeHandle(prev));
-    }
-    for (std::size_t v = 0; v < vertex_out_.size(); ++v)
-        m.set_halfedge_handle(VertexHandle(static_cast<int>(v)), HalfedgeHandle(vertex_out_[v]));
-    for (std::size_t f = 0; f < face_halfedge_.size(); ++f)
-        m.set_halfedge_handle(FaceHandle(static_cast<int>(f)), HalfedgeHandle(face_halfedge_[f]));
-}
-
-void HalfedgeBuilder::write_normals(TriMesh& m) const {
+void HalfedgeBuilder::write_normals() const {
     // TriMeshT::calc_face_normal(f): the corners from the face's half-edge on, through
     // PolyMeshT's three-point form (which TriMeshT hides).
-    const TriMesh::PolyMesh& poly = m;
-    for (std::size_t f = 0; f < face_halfedge_.size(); ++f) {
-        const Halfedge& h0 = halfedges_[static_cast<std::size_t>(face_halfedge_[f])];
-        const Halfedge& h1 = halfedges_[static_cast<std::size_t>(h0.next)];
-        const Halfedge& h2 = halfedges_[static_cast<std::size_t>(h1.next)];
-        m.set_normal(
-            FaceHandle(static_cast<int>(f)),
-            poly.calc_face_normal(m.point(VertexHandle(h0.to)), m.point(VertexHandle(h1.to)),
-                                  m.point(VertexHandle(h2.to))));
+    const TriMesh::PolyMesh& poly = m_;
+    for (std::size_t f = 0; f < faces_; ++f) {
+        const FaceHandle fh(static_cast<int>(f));
+        const HalfedgeHandle h0 = m_.halfedge_handle(fh);
+        const HalfedgeHandle h1 = m_.next_halfedge_handle(h0);
+        const HalfedgeHandle h2 = m_.next_halfedge_handle(h1);
+        m_.set_normal(fh, poly.calc_face_normal(m_.point(m_.to_vertex_handle(h0)),
+                                                m_.point(m_.to_vertex_handle(h1)),
+                                                m_.point(m_.to_vertex_handle(h2))));
     }
     // PolyMeshT::calc_vertex_normal(v): the faces around v summed from zero, clockwise from its
     // half-edge (as ConstVertexFaceIter visits them), then scaled to unit length unless zero.
-    for (std::size_t v = 0; v < vertex_out_.size(); ++v) {
+    for (std::size_t v = 0; v < vertices_; ++v) {
         TriMesh::Normal n(0.0, 0.0, 0.0);
-        const std::int32_t start = vertex_out_[v];
+        const std::int32_t start = out(static_cast<std::int32_t>(v));
         for (std::int32_t h = start; h != kNone;) {
-            const std::int32_t f = halfedges_[static_cast<std::size_t>(h)].face;
-            if (f != kNone) n += m.normal(FaceHandle(f));
-            h = halfedges_[static_cast<std::size_t>(h ^ 1)].next;
+            const std::int32_t f = face(h);
+            if (f != kNone) n += m_.normal(FaceHandle(f));
+            h = next(h ^ 1);
             if (h == start) break;
         }
         const double length = OpenMesh::norm(n);
         if (length != 0.0) n *= (1.0 / length);
-        m.set_normal(VertexHandle(static_cast<int>(v)), n);
+        m_.set_normal(VertexHandle(static_cast<int>(v)), n);
     }
 }
 
