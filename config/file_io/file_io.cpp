@@ -9,6 +9,7 @@
 #include <cinttypes>
 #include <cstdio>
 #include <cstring>
+#include <utility>
 
 namespace kerf::files {
 
@@ -63,9 +64,9 @@ std::filesystem::path temp_name_for(const std::filesystem::path& target) {
 
 }  // namespace
 
-Result<std::vector<std::byte>, FileError> read_regular_file(const std::filesystem::path& path,
-                                                            std::uint64_t max_bytes) {
-    const std::string p = path.string();
+Result<RegularFile, FileError> RegularFile::open(const std::filesystem::path& path,
+                                                 std::uint64_t max_bytes) {
+    std::string p = path.string();
     // O_NONBLOCK: opening a FIFO must not wait for a writer; it is refused below anyway.
     const int fd = ::open(p.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
     if (fd < 0) {
@@ -90,7 +91,49 @@ Result<std::vector<std::byte>, FileError> read_regular_file(const std::filesyste
                              "is " + std::to_string(st.st_size) + " bytes, more than the " +
                                  std::to_string(max_bytes) + "-byte limit for an input"}};
     }
-    std::vector<std::byte> bytes(std::size_t(st.st_size));
+    return RegularFile(fd, std::move(p), std::uint64_t(st.st_size), max_bytes);
+}
+
+RegularFile::RegularFile(RegularFile&& other) noexcept
+    : fd_(std::exchange(other.fd_, -1)),
+      path_(std::move(other.path_)),
+      size_(other.size_),
+      max_bytes_(other.max_bytes_) {}
+
+RegularFile& RegularFile::operator=(RegularFile&& other) noexcept {
+    if (this != &other) {
+        if (fd_ >= 0) ::close(fd_);
+        fd_ = std::exchange(other.fd_, -1);
+        path_ = std::move(other.path_);
+        size_ = other.size_;
+        max_bytes_ = other.max_bytes_;
+    }
+    return *this;
+}
+
+RegularFile::~RegularFile() {
+    if (fd_ >= 0) ::close(fd_);
+}
+
+FileError RegularFile::read_error(int e) const {
+    return FileError{FileErrc::kIo, path_, "read failed: " + errno_text(e)};
+}
+
+Result<std::size_t, FileError> RegularFile::read(std::span<std::byte> buffer) {
+    std::size_t got = 0;
+    while (got < buffer.size()) {
+        const ssize_t n = ::read(fd_, buffer.data() + got, buffer.size() - got);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) return Err{read_error(errno)};
+        if (n == 0) break;
+        got += std::size_t(n);
+    }
+    return got;
+}
+
+Result<std::vector<std::byte>, FileError> RegularFile::read_whole() {
+    if (::lseek(fd_, 0, SEEK_SET) != 0) return Err{read_error(errno)};
+    std::vector<std::byte> bytes(static_cast<std::size_t>(size_));
     std::size_t got = 0;
     for (;;) {
         if (got == bytes.size()) {
@@ -98,40 +141,37 @@ Result<std::vector<std::byte>, FileError> read_regular_file(const std::filesyste
             // common case, a file read whole at its stat size, then neither copies nor zero-fills
             // a second buffer twice its size). Beyond the cap: refused; else read on, within it.
             std::byte probe{};
-            ssize_t more = ::read(fd, &probe, 1);
-            while (more < 0 && errno == EINTR) more = ::read(fd, &probe, 1);
-            if (bytes.size() >= max_bytes) {
-                ::close(fd);
+            ssize_t more = ::read(fd_, &probe, 1);
+            while (more < 0 && errno == EINTR) more = ::read(fd_, &probe, 1);
+            if (bytes.size() >= max_bytes_) {
                 if (more > 0) {
-                    return Err{FileError{FileErrc::kTooLarge, p,
-                                         "grew past the " + std::to_string(max_bytes) +
+                    return Err{FileError{FileErrc::kTooLarge, path_,
+                                         "grew past the " + std::to_string(max_bytes_) +
                                              "-byte limit while being read"}};
                 }
                 return bytes;
             }
-            if (more < 0) {
-                const int e = errno;
-                ::close(fd);
-                return Err{FileError{FileErrc::kIo, p, "read failed: " + errno_text(e)}};
-            }
+            if (more < 0) return Err{read_error(errno)};
             if (more == 0) break;
-            bytes.resize(std::min<std::uint64_t>(max_bytes, bytes.size() * 2 + 4096));
+            bytes.resize(std::min<std::uint64_t>(max_bytes_, bytes.size() * 2 + 4096));
             bytes[got++] = probe;
             continue;
         }
-        const ssize_t n = ::read(fd, bytes.data() + got, bytes.size() - got);
+        const ssize_t n = ::read(fd_, bytes.data() + got, bytes.size() - got);
         if (n < 0 && errno == EINTR) continue;
-        if (n < 0) {
-            const int e = errno;
-            ::close(fd);
-            return Err{FileError{FileErrc::kIo, p, "read failed: " + errno_text(e)}};
-        }
+        if (n < 0) return Err{read_error(errno)};
         if (n == 0) break;
         got += std::size_t(n);
     }
-    ::close(fd);
     bytes.resize(got);
     return bytes;
+}
+
+Result<std::vector<std::byte>, FileError> read_regular_file(const std::filesystem::path& path,
+                                                            std::uint64_t max_bytes) {
+    auto file = RegularFile::open(path, max_bytes);
+    if (!file) return Err{std::move(file).error()};
+    return file->read_whole();
 }
 
 bool same_file(const std::filesystem::path& a, const std::filesystem::path& b) {

@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,38 @@ inline constexpr std::uint64_t kDefaultMaxInputBytes = 2ull << 30;
 /// directory, FIFO, socket or device and a file larger than `max_bytes`, naming which.
 Result<std::vector<std::byte>, FileError> read_regular_file(const std::filesystem::path& path,
                                                             std::uint64_t max_bytes);
+
+/// A regular file open for reading in pieces (a large input parsed as it is read, without a
+/// buffer of its size): open() makes read_regular_file's checks and gives its errors.
+class RegularFile {
+public:
+    /// Opens `path` for reading if it is a regular file of at most `max_bytes`.
+    static Result<RegularFile, FileError> open(const std::filesystem::path& path,
+                                               std::uint64_t max_bytes);
+    RegularFile(RegularFile&& other) noexcept;
+    RegularFile& operator=(RegularFile&& other) noexcept;
+    RegularFile(const RegularFile&) = delete;
+    RegularFile& operator=(const RegularFile&) = delete;
+    ~RegularFile();  ///< closes it
+
+    /// Its size when opened, bytes (it may change while it is read).
+    std::uint64_t size() const noexcept { return size_; }
+    /// Reads on from where the last read stopped until `buffer` is full or the file ends: the
+    /// bytes read (fewer than asked only at the end of the file).
+    Result<std::size_t, FileError> read(std::span<std::byte> buffer);
+    /// The whole file from its start, wherever reading stopped: what read_regular_file() gives.
+    Result<std::vector<std::byte>, FileError> read_whole();
+
+private:
+    RegularFile(int fd, std::string path, std::uint64_t size, std::uint64_t max_bytes)
+        : fd_(fd), path_(std::move(path)), size_(size), max_bytes_(max_bytes) {}
+    FileError read_error(int e) const;
+
+    int fd_ = -1;
+    std::string path_;
+    std::uint64_t size_ = 0;
+    std::uint64_t max_bytes_ = 0;
+};
 
 /// True if `a` and `b` name the same existing file (device and inode), whatever their paths.
 bool same_file(const std::filesystem::path& a, const std::filesystem::path& b);

@@ -1,5 +1,6 @@
 #include "display/mesh/mesh_io.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <system_error>
@@ -21,12 +22,56 @@ MeshError unknown_format(const std::filesystem::path& path) {
         "extension '" + path.extension().string() + "' is not one of .stl .obj .ply .off");
 }
 
-Result<std::vector<std::byte>, MeshError> read_file(const std::filesystem::path& path) {
+/// A binary STL parsed as it is read, a megabyte at a time: no buffer of the file's size (50 MB
+/// for a 1M-triangle file, every page of it faulted in, and a hole in the heap that the mesh
+/// does not fit). nullopt where the file is something else, or changed while it was read: the
+/// caller then reads it whole, as every other file, and gets what parsing that gives.
+std::optional<Result<IndexedMesh, MeshError>> parse_stl_streamed(files::RegularFile& file,
+                                                                 const std::filesystem::path& path,
+                                                                 LengthUnit units) {
+    std::byte header[detail::kStlHeaderBytes];
+    auto got = file.read(header);
+    if (!got || *got != sizeof header) return std::nullopt;
+    const std::uint64_t count = std::uint64_t{std::to_integer<std::uint32_t>(header[80])} |
+                                std::uint64_t{std::to_integer<std::uint32_t>(header[81])} << 8 |
+                                std::uint64_t{std::to_integer<std::uint32_t>(header[82])} << 16 |
+                                std::uint64_t{std::to_integer<std::uint32_t>(header[83])} << 24;
+    if (count == 0 || file.size() != detail::kStlHeaderBytes + count * detail::kStlFacetBytes)
+        return std::nullopt;
+    const std::string name = path.string();
+    const detail::ParseContext ctx{name, metres_per_unit(units)};
+    detail::BinaryStlParser parser(static_cast<std::uint32_t>(count), ctx);
+    constexpr std::size_t kChunkFacets = 20'000;
+    std::vector<std::byte> chunk(kChunkFacets * detail::kStlFacetBytes);
+    for (std::uint64_t left = count; left > 0;) {
+        const std::size_t facets =
+            static_cast<std::size_t>(std::min<std::uint64_t>(left, kChunkFacets));
+        const std::span<std::byte> piece(chunk.data(), facets * detail::kStlFacetBytes);
+        got = file.read(piece);
+        if (!got || *got != piece.size()) return std::nullopt;  // shrank, or unreadable
+        if (auto e = parser.add_facets(piece))
+            return Result<IndexedMesh, MeshError>{Err{std::move(*e)}};
+        left -= facets;
+    }
+    std::byte probe[1];
+    got = file.read(probe);
+    if (!got || *got != 0) return std::nullopt;  // grew
+    return Result<IndexedMesh, MeshError>{std::move(parser).finish()};
+}
+
+/// The file's welded contents, as parse_indexed() gives them from its bytes.
+Result<IndexedMesh, MeshError> read_indexed(const std::filesystem::path& path, Format format,
+                                            LengthUnit units) {
     // Regular files only, never blocking on a FIFO, never more than the cap (a link to /dev/zero
     // is a character device: refused before a byte is read).
-    auto bytes = files::read_regular_file(path, files::kDefaultMaxInputBytes);
+    auto file = files::RegularFile::open(path, files::kDefaultMaxInputBytes);
+    if (!file) return Err{io_error(path, file.error().what)};
+    if (format == Format::kStl) {
+        if (auto streamed = parse_stl_streamed(*file, path, units)) return std::move(*streamed);
+    }
+    auto bytes = file->read_whole();
     if (!bytes) return Err{io_error(path, bytes.error().what)};
-    return std::move(*bytes);
+    return parse_indexed(*bytes, format, units, path.string());
 }
 
 }  // namespace
@@ -96,9 +141,10 @@ Result<LoadedMesh, MeshError> load_mesh_file(const std::filesystem::path& path, 
     if (!format) {
         return Err{unknown_format(path)};
     }
-    auto bytes = read_file(path);
-    if (!bytes) return Err{std::move(bytes).error()};
-    return parse_mesh(*bytes, *format, units, path.string());
+    auto indexed = read_indexed(path, *format, units);
+    if (!indexed) return Err{std::move(indexed).error()};
+    BuiltMesh built = build_tri_mesh(*indexed);
+    return LoadedMesh{std::move(*indexed), std::move(built.mesh), built.detached_triangles};
 }
 
 Result<std::unique_ptr<TriMesh>, MeshError> load_mesh_owned(const std::filesystem::path& path,
@@ -107,16 +153,10 @@ Result<std::unique_ptr<TriMesh>, MeshError> load_mesh_owned(const std::filesyste
     if (!format) {
         return Err{unknown_format(path)};
     }
-    IndexedMesh indexed;
-    {
-        auto bytes = read_file(path);
-        if (!bytes) return Err{std::move(bytes).error()};
-        auto parsed = parse_indexed(*bytes, *format, units, path.string());
-        if (!parsed) return Err{std::move(parsed).error()};
-        indexed = std::move(*parsed);
-    }  // the file's bytes are freed here
+    auto indexed = read_indexed(path, *format, units);  // the file's bytes are freed here
+    if (!indexed) return Err{std::move(indexed).error()};
     auto mesh = std::make_unique<TriMesh>();
-    build_tri_mesh_into(indexed, *mesh, edit_headroom_faces(indexed.triangles.size()));
+    build_tri_mesh_into(*indexed, *mesh, edit_headroom_faces(indexed->triangles.size()));
     return mesh;
 }
 

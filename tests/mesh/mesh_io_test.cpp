@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "display/mesh/shapes.hpp"
 #include "display/mesh/validate.hpp"
@@ -109,6 +110,56 @@ TEST(MeshIo, LoadMeshOwnedReadsWhatLoadMeshReads) {
     ASSERT_FALSE(unknown);
     EXPECT_EQ(unknown.error().message(),
               load_mesh(dir / "tube.xyz", LengthUnit::kMillimetre).error().message());
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
+}
+
+// A binary STL file is parsed as it is read, a piece at a time (no buffer of its size): it must
+// give exactly what parsing its bytes in memory gives — the same welded mesh, and for a bad file
+// the same error, also where the bad facet lies pieces into the file, or the size is not the
+// header's (those files are read whole).
+TEST(MeshIo, ABinaryStlFileReadInPiecesGivesWhatItsBytesGive) {
+    const auto dir =
+        std::filesystem::temp_directory_path() /
+        ("kerf-pieces-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+    std::filesystem::create_directories(dir);
+    const TriMesh torus = make_torus(0.03, 0.01, 240, 120);  // 57,600 facets: three pieces
+    const std::string good = serialize_mesh(torus, Format::kStl, LengthUnit::kMillimetre);
+    const auto write = [&](const std::string& name, const std::string& bytes) {
+        const auto path = dir / name;
+        std::ofstream(path, std::ios::binary) << bytes;
+        return path;
+    };
+    const auto expect_same = [&](const std::string& name, const std::string& bytes) {
+        SCOPED_TRACE(name);
+        const auto path = write(name, bytes);
+        auto from_file = load_mesh_file(path, LengthUnit::kMillimetre);
+        auto from_bytes =
+            parse_indexed(as_bytes(bytes), Format::kStl, LengthUnit::kMillimetre, path.string());
+        ASSERT_EQ(bool(from_file), bool(from_bytes));
+        if (!from_bytes) {
+            EXPECT_EQ(from_file.error().message(), from_bytes.error().message());
+            EXPECT_EQ(load_mesh_owned(path, LengthUnit::kMillimetre).error().message(),
+                      from_bytes.error().message());
+            return;
+        }
+        EXPECT_EQ(from_file->indexed.triangles, from_bytes->triangles);
+        ASSERT_EQ(from_file->indexed.positions_m.size(), from_bytes->positions_m.size());
+        for (std::size_t v = 0; v < from_bytes->positions_m.size(); ++v)
+            ASSERT_EQ(from_file->indexed.positions_m[v], from_bytes->positions_m[v]) << v;
+        auto owned = load_mesh_owned(path, LengthUnit::kMillimetre);
+        ASSERT_TRUE(owned) << owned.error().message();
+        EXPECT_EQ((*owned)->n_faces(), from_bytes->triangles.size());
+        EXPECT_EQ((*owned)->n_vertices(), from_bytes->positions_m.size());
+    };
+    expect_same("good.stl", good);
+    std::string bad = good;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    std::memcpy(bad.data() + 84 + 45'000 * 50 + 12 + 24 + 8, &nan, 4);  // facet 45,000, corner 3
+    expect_same("nan.stl", bad);
+    expect_same("trailing.stl", good + "x");
+    expect_same("truncated.stl", good.substr(0, good.size() - 7));
+    expect_same("empty_count.stl", good.substr(0, 80) + std::string(4, '\0'));
     std::error_code ec;
     std::filesystem::remove_all(dir, ec);
 }

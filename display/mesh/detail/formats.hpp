@@ -2,6 +2,9 @@
 // in metres; writers take metres and write file units (`metres_per_unit` of the file).
 #pragma once
 
+#include <cstdint>
+#include <memory>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -15,6 +18,33 @@ Result<IndexedMesh, MeshError> parse_stl(std::span<const std::byte> bytes, const
 Result<IndexedMesh, MeshError> parse_obj(std::span<const std::byte> bytes, const ParseContext& ctx);
 Result<IndexedMesh, MeshError> parse_ply(std::span<const std::byte> bytes, const ParseContext& ctx);
 Result<IndexedMesh, MeshError> parse_off(std::span<const std::byte> bytes, const ParseContext& ctx);
+
+inline constexpr std::size_t kStlHeaderBytes = 84;  ///< binary STL: 80 bytes, then the count
+inline constexpr std::size_t kStlFacetBytes = 50;   ///< normal, 3 corners, attribute count
+
+class FloatBitsWelder;
+
+/// A binary STL's facets parsed as they come, in file order (a large file need not be in memory
+/// whole): what parse_stl() does with a binary file of `count` facets, the same welding, errors
+/// and offsets.
+class BinaryStlParser {
+public:
+    /// @pre count > 0 (parse_stl() reports an empty file)
+    BinaryStlParser(std::uint32_t count, const ParseContext& ctx);
+    ~BinaryStlParser();
+    /// The next whole facets (kStlFacetBytes each; a partial one at the end is ignored, as are
+    /// facets beyond `count`).
+    std::optional<MeshError> add_facets(std::span<const std::byte> facets);
+    /// The facets so far, welded (all `count` of them once every one was added).
+    IndexedMesh finish() &&;
+
+private:
+    const ParseContext& ctx_;
+    std::uint32_t count_;
+    std::uint32_t next_ = 0;  ///< index of the next facet
+    IndexedMesh out_;
+    std::unique_ptr<FloatBitsWelder> welder_;
+};
 
 std::string write_stl(const IndexedMesh& m, double metres_per_unit, bool binary);
 std::string write_obj(const IndexedMesh& m, double metres_per_unit);

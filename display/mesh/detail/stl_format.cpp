@@ -17,8 +17,8 @@
 namespace kerf::mesh::detail {
 namespace {
 
-constexpr std::size_t kHeaderBytes = 84;
-constexpr std::size_t kFacetBytes = 50;
+constexpr std::size_t kHeaderBytes = kStlHeaderBytes;
+constexpr std::size_t kFacetBytes = kStlFacetBytes;
 
 std::uint32_t read_u32_le(const std::byte* p) {
     std::uint32_t v = 0;
@@ -41,6 +41,8 @@ bool starts_with_solid(std::string_view text) {
 bool has_nul(std::string_view text) {
     return text.substr(0, 1024).find('\0') != std::string_view::npos;
 }
+
+}  // namespace
 
 /// Welds binary STL corners on the file's float bits, with the bits kept in the table so that a
 /// lookup never reads a point back. For a scale s with 2^-800 <= |s| <= 2^800 (every LengthUnit's,
@@ -104,6 +106,8 @@ private:
     std::size_t used_ = 0;
 };
 
+namespace {
+
 constexpr bool float_bits_weld_exactly(double metres_per_unit) {
     const double s = metres_per_unit < 0 ? -metres_per_unit : metres_per_unit;
     return s >= 0x1p-800 && s <= 0x1p800;
@@ -127,35 +131,58 @@ MeshError non_finite(const ParseContext& ctx, std::uint32_t f, std::size_t offse
                      "triangle " + std::to_string(f) + " has a NaN or infinite coordinate");
 }
 
+}  // namespace
+
+BinaryStlParser::BinaryStlParser(std::uint32_t count, const ParseContext& ctx)
+    : ctx_(ctx), count_(count) {
+    out_.triangles.reserve(count);
+    const std::size_t expected = count / 2 + 2;  // a closed mesh: V = F/2 + 2 - 2*genus per shell
+    out_.positions_m.reserve(expected);
+    welder_ = std::make_unique<FloatBitsWelder>(expected);
+}
+
+BinaryStlParser::~BinaryStlParser() = default;
+
+std::optional<MeshError> BinaryStlParser::add_facets(std::span<const std::byte> facets) {
+    const std::size_t n = facets.size() / kFacetBytes;
+    for (std::size_t i = 0; i < n && next_ < count_; ++i, ++next_) {
+        const std::uint32_t f = next_;
+        const std::size_t base = kHeaderBytes + std::size_t{f} * kFacetBytes;
+        const std::byte* facet = facets.data() + i * kFacetBytes;
+        Triangle t{};
+        for (std::size_t k = 0; k < 3; ++k) {
+            const std::byte* v = facet + 12 + 12 * k;
+            const FloatBitsWelder::Key key{read_u32_le(v), read_u32_le(v + 4), read_u32_le(v + 8)};
+            if (!finite_bits(key.x) || !finite_bits(key.y) || !finite_bits(key.z))
+                return non_finite(ctx_, f, base + 12 + 12 * k);
+            bool added = false;
+            const auto index = static_cast<std::uint32_t>(out_.positions_m.size());
+            t[k] = welder_->find_or_add(
+                {zero_as_plus(key.x), zero_as_plus(key.y), zero_as_plus(key.z)}, index, added);
+            if (added) {
+                out_.positions_m.push_back(*to_metres(read_f32_le(v), read_f32_le(v + 4),
+                                                      read_f32_le(v + 8), ctx_.metres_per_unit));
+            }
+        }
+        out_.triangles.push_back(t);
+    }
+    return std::nullopt;
+}
+
+IndexedMesh BinaryStlParser::finish() && {
+    welder_.reset();
+    return std::move(out_);
+}
+
+namespace {
+
 Result<IndexedMesh, MeshError> parse_binary(std::span<const std::byte> bytes,
                                             const ParseContext& ctx) {
     const std::uint32_t count = read_u32_le(bytes.data() + 80);
     if (count == 0) return Err{ctx.error(MeshErrc::kEmpty, 0, 80, "binary STL with 0 triangles")};
-    IndexedMesh out;
-    out.triangles.reserve(count);
-    const std::size_t expected = count / 2 + 2;  // a closed mesh: V = F/2 + 2 - 2*genus per shell
-    out.positions_m.reserve(expected);
-    FloatBitsWelder welder(expected);
-    for (std::uint32_t f = 0; f < count; ++f) {
-        const std::size_t base = kHeaderBytes + std::size_t{f} * kFacetBytes;
-        Triangle t{};
-        for (std::size_t k = 0; k < 3; ++k) {
-            const std::byte* v = bytes.data() + base + 12 + 12 * k;
-            const FloatBitsWelder::Key key{read_u32_le(v), read_u32_le(v + 4), read_u32_le(v + 8)};
-            if (!finite_bits(key.x) || !finite_bits(key.y) || !finite_bits(key.z))
-                return Err{non_finite(ctx, f, base + 12 + 12 * k)};
-            bool added = false;
-            const auto next = static_cast<std::uint32_t>(out.positions_m.size());
-            t[k] = welder.find_or_add(
-                {zero_as_plus(key.x), zero_as_plus(key.y), zero_as_plus(key.z)}, next, added);
-            if (added) {
-                out.positions_m.push_back(*to_metres(read_f32_le(v), read_f32_le(v + 4),
-                                                     read_f32_le(v + 8), ctx.metres_per_unit));
-            }
-        }
-        out.triangles.push_back(t);
-    }
-    return out;
+    BinaryStlParser parser(count, ctx);
+    if (auto e = parser.add_facets(bytes.subspan(kHeaderBytes))) return Err{std::move(*e)};
+    return std::move(parser).finish();
 }
 
 // Reads "vertex x y z" three times between "outer loop" and "endloop".
