@@ -37,21 +37,24 @@ namespace kerf::mesh::detail {
 void HalfedgeBuilder::make_room(std::size_t vertices, std::size_t edges, std::size_t faces) {
     // Steps of a few hundred kB: each step's elements are constructed just before add_face
     // writes them, so they are still in cache (a step is not a reallocation: build_tri_mesh_into
-    // reserves the mesh's arrays first).
+    // reserves the mesh's arrays first). The mesh's sizes are kept here: n_vertices() and the
+    // like are virtual calls.
+    if (vertices <= room_.vertices && edges <= room_.edges && faces <= room_.faces) return;
     constexpr std::size_t kStep = std::size_t{1} << 14;
     const auto grown = [](std::size_t have, std::size_t need) {
         return need <= have ? have : std::max(need, have + kStep);
     };
-    const std::size_t nv = m_.n_vertices(), ne = m_.n_edges(), nf = m_.n_faces();
-    if (vertices <= nv && edges <= ne && faces <= nf) return;
-    m_.resize(grown(nv, vertices), grown(ne, edges), grown(nf, faces));
+    room_ = {grown(room_.vertices, vertices), grown(room_.edges, edges), grown(room_.faces, faces)};
+    m_.resize(room_.vertices, room_.edges, room_.faces);
 }
 
 void HalfedgeBuilder::add_vertices(std::size_t count) {
     // Exactly this many: the vertices the caller numbers are not spare.
-    const std::size_t nv = vertices_ + count;
-    if (nv > m_.n_vertices()) m_.resize(nv, m_.n_edges(), m_.n_faces());
-    vertices_ = nv;
+    vertices_ += count;
+    if (vertices_ > room_.vertices) {
+        room_.vertices = vertices_;
+        m_.resize(room_.vertices, room_.edges, room_.faces);
+    }
 }
 
 std::int32_t HalfedgeBuilder::add_vertex() {

@@ -73,10 +73,14 @@ private:
     /// Grows the mesh's arrays to hold at least these counts (in steps).
     void make_room(std::size_t vertices, std::size_t edges, std::size_t faces);
 
+    struct Counts {
+        std::size_t vertices = 0, edges = 0, faces = 0;
+    };
     TriMesh& m_;
-    std::size_t vertices_ = 0;  ///< the elements added; the mesh's arrays may hold more
+    std::size_t vertices_ = 0;  ///< the elements added
     std::size_t edges_ = 0;
     std::size_t faces_ = 0;
+    Counts room_;  ///< the mesh's sizes: the elements added and the spare ones after them
 };
 
 }  // namespace kerf::mesh::detail
