@@ -197,6 +197,10 @@ int main(int argc, char** argv) {
     const kerf::mesh::Point at_mm = at * 1e3, seed_mm = seed * 1e3;
     const std::size_t n_faces = m.n_faces();
     foot->mesh = kerf::mesh::make_mesh();  // the children start from the file, not this copy
+    // A child's peak resident size (wait4's ru_maxrss) starts at this process's resident size when
+    // it forks, whatever it execs: give the freed foot back first, or every child, `kerf cut` and
+    // the peer alike, peaks at 170 MiB at least (the 1M foot).
+    malloc_trim(0);
 
     std::vector<double> mesh_b, ctx_b, load_s, build_s, load_cpu, build_cpu, idle_b, idle_cpu,
         build_idle_cpu;
