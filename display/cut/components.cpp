@@ -36,9 +36,12 @@ Body make_body(const mesh::TriMesh& m, std::vector<mesh::FaceHandle> faces,
     Body b;
     if (!std::is_sorted(faces.begin(), faces.end())) std::sort(faces.begin(), faces.end());
     b.faces = std::move(faces);
-    b.bbox_min_m = mesh::Point(1e300, 1e300, 1e300);
-    b.bbox_max_m = mesh::Point(-1e300, -1e300, -1e300);
-    std::size_t lo = vertex_seen.size(), hi = 0;  // the range of the vertices stamped here
+    // The sums in locals, not in `b` (whose vertex list grows in the loop, so the compiler kept
+    // them in memory: a store and a load on every face's chain): the same operations in the same
+    // order, so the same bits as Point::minimize / maximize and `volume_m3 +=` would give.
+    double volume = 0.0;
+    double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+    std::size_t first = vertex_seen.size(), last = 0;  // the range of the vertices stamped here
     for (const auto f : b.faces) {
         // The corners as fv_range() gives them (from the face's half-edge, following next),
         // straight from the half-edge arrays: a circulator costs several times more.
@@ -55,24 +58,29 @@ Body make_body(const mesh::TriMesh& m, std::vector<mesh::FaceHandle> faces,
             auto& seen = vertex_seen[vi];
             if (seen == stamp) continue;
             seen = stamp;
-            lo = std::min(lo, vi);
-            hi = std::max(hi, vi);
+            first = std::min(first, vi);
+            last = std::max(last, vi);
             b.vertices.push_back(v);
-            b.bbox_min_m.minimize(p[k]);
-            b.bbox_max_m.maximize(p[k]);
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = std::min(lo[a], p[k][a]);
+                hi[a] = std::max(hi[a], p[k][a]);
+            }
         }
-        b.volume_m3 += OpenMesh::dot(p[0], OpenMesh::cross(p[1], p[2])) / 6.0;
+        volume += OpenMesh::dot(p[0], OpenMesh::cross(p[1], p[2])) / 6.0;
     }
+    b.volume_m3 = volume;
+    b.bbox_min_m = mesh::Point(lo[0], lo[1], lo[2]);
+    b.bbox_max_m = mesh::Point(hi[0], hi[1], hi[2]);
     // The vertices in index order. A body's vertices usually lie together (a bone's in its
     // file): when their range is at most kScanWidth times their number, scan the stamps over it
     // instead of sorting, and keep the scan only if it found exactly the vertices stamped here
     // (a caller may have used the same stamp before).
     constexpr std::size_t kScanWidth = 4;
     const std::size_t n = b.vertices.size();
-    if (n > 0 && hi - lo < kScanWidth * n) {
+    if (n > 0 && last - first < kScanWidth * n) {
         std::vector<mesh::VertexHandle> in_order;
         in_order.reserve(n);
-        for (std::size_t i = lo; i <= hi; ++i) {
+        for (std::size_t i = first; i <= last; ++i) {
             if (vertex_seen[i] == stamp) in_order.emplace_back(static_cast<int>(i));
         }
         if (in_order.size() == n) {
@@ -89,14 +97,25 @@ std::vector<Body> find_components(const mesh::TriMesh& m) {
     // order; a breadth-first search through circulators was most of this function on a 1M mesh),
     // each component's root its lowest face.
     const std::size_t nf = m.n_faces();
+    // live(m, f) with the face count and the status array read once (n_faces() is a virtual
+    // call): the same test.
+    const OpenMesh::Attributes::StatusInfo* const face_status =
+        m.has_face_status() ? m.property(m.face_status_pph()).data_vector().data() : nullptr;
+    const auto is_live = [nf, face_status](mesh::FaceHandle f) {
+        const int i = f.idx();
+        return i >= 0 && static_cast<std::size_t>(i) < nf &&
+               !(face_status != nullptr && face_status[i].deleted());
+    };
+    const OpenMesh::Attributes::StatusInfo* const edge_status =
+        m.has_edge_status() ? m.property(m.edge_status_pph()).data_vector().data() : nullptr;
     std::vector<std::uint32_t> parent(nf);
     std::iota(parent.begin(), parent.end(), 0u);
-    for (std::size_t e = 0; e < m.n_edges(); ++e) {
-        if (m.has_edge_status() && m.status(mesh::EdgeHandle(static_cast<int>(e))).deleted())
-            continue;
+    const std::size_t ne = m.n_edges();
+    for (std::size_t e = 0; e < ne; ++e) {
+        if (edge_status != nullptr && edge_status[e].deleted()) continue;
         const auto h = mesh::HalfedgeHandle(static_cast<int>(2 * e));
         const auto f0 = m.face_handle(h), f1 = m.face_handle(m.opposite_halfedge_handle(h));
-        if (!live(m, f0) || !live(m, f1)) continue;
+        if (!is_live(f0) || !is_live(f1)) continue;
         const auto a = find_root(parent, static_cast<std::uint32_t>(f0.idx()));
         const auto b = find_root(parent, static_cast<std::uint32_t>(f1.idx()));
         if (a != b) parent[std::max(a, b)] = std::min(a, b);
@@ -107,7 +126,7 @@ std::vector<Body> find_components(const mesh::TriMesh& m) {
     std::vector<std::vector<mesh::FaceHandle>> faces;
     for (std::size_t i = 0; i < nf; ++i) {
         const mesh::FaceHandle f(static_cast<int>(i));
-        if (!live(m, f)) continue;
+        if (!is_live(f)) continue;
         const std::uint32_t root = find_root(parent, static_cast<std::uint32_t>(i));
         if (body_of_root[root] == kNone) {
             body_of_root[root] = static_cast<std::uint32_t>(faces.size());
