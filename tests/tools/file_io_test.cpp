@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <utility>
 
 namespace kerf::files {
 namespace {
@@ -64,6 +66,37 @@ TEST_F(FileIo, AFileAboveTheCapIsAClearError) {
               std::string::npos)
         << bytes.error().what;
     EXPECT_TRUE(read_regular_file(dir_ / "big", 1000));
+}
+
+// RegularFile: open() refuses what read_regular_file refuses, with the same error; read() gives
+// the file piece by piece, short only at its end; read_whole() gives the whole file wherever
+// reading stopped.
+TEST_F(FileIo, ARegularFileReadsInPiecesAndWhole) {
+    put(dir_ / "a.txt", "0123456789");
+    auto file = RegularFile::open(dir_ / "a.txt", 100);
+    ASSERT_TRUE(file) << file.error().message();
+    EXPECT_EQ(file->size(), 10u);
+    std::byte piece[4];
+    std::string got;
+    for (;;) {
+        auto n = file->read(piece);
+        ASSERT_TRUE(n) << n.error().message();
+        got.append(reinterpret_cast<const char*>(piece), *n);
+        if (*n < sizeof piece) break;
+        EXPECT_EQ(*n, sizeof piece);
+    }
+    EXPECT_EQ(got, "0123456789");
+    auto whole = file->read_whole();
+    ASSERT_TRUE(whole) << whole.error().message();
+    EXPECT_EQ(std::string(reinterpret_cast<const char*>(whole->data()), whole->size()),
+              "0123456789");
+    for (const auto& [path, cap] : {std::pair{dir_ / "a.txt", std::uint64_t{9}},
+                                    std::pair{fs::path("/dev/zero"), kDefaultMaxInputBytes},
+                                    std::pair{dir_ / "absent", kDefaultMaxInputBytes}}) {
+        auto refused = RegularFile::open(path, cap);
+        ASSERT_FALSE(refused) << path;
+        EXPECT_EQ(refused.error().message(), read_regular_file(path, cap).error().message());
+    }
 }
 
 // A file longer than fstat said (one that grew, or a /proc file, whose size reads 0) is read
