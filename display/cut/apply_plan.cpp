@@ -202,17 +202,9 @@ HalfedgeHandle detach(TriMesh& m, HalfedgeHandle o, EdgeHandle edge, VertexHandl
 }
 
 // Cuts one loop apart: rim vertices r (positive side keeps them) and their duplicates d.
-using RimEdges = std::vector<std::pair<std::uint64_t, HalfedgeHandle>>;
-
-std::uint64_t edge_key(VertexHandle a, VertexHandle b) {
-    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a.idx())) << 32) |
-           static_cast<std::uint32_t>(b.idx());
-}
-
 // The new edges are the allocated edges next_edge, next_edge + 1, ... (advanced).
 bool separate_loop(TriMesh& m, const std::vector<VertexHandle>& r,
-                   const std::vector<VertexHandle>& d, int& next_edge, RimEdges& pos_rim,
-                   RimEdges& neg_rim) {
+                   const std::vector<VertexHandle>& d, int& next_edge) {
     const std::size_t n = r.size();
     std::vector<HalfedgeHandle> h(n), x(n);
     for (std::size_t i = 0; i < n; ++i) {
@@ -246,8 +238,6 @@ bool separate_loop(TriMesh& m, const std::vector<VertexHandle>& r,
         m.set_next_halfedge_handle(y, m.opposite_halfedge_handle(x[(i + 1) % n]));
         m.set_halfedge_handle(r[(i + 1) % n], o);
         m.set_halfedge_handle(d[i], y);
-        pos_rim.emplace_back(edge_key(r[(i + 1) % n], r[i]), o);
-        neg_rim.emplace_back(edge_key(d[i], d[(i + 1) % n]), y);
     }
     return true;
 }
@@ -259,15 +249,88 @@ T* room(std::vector<T>& v, std::size_t n) {
     return v.data();
 }
 
+// What the positive side's cap (built first) leaves for the negative side's: its rim slots, its
+// inner edges in their order (in CapScratch: `inner`, by the positive side's slots) and whether
+// that order can be the negative side's too (no two edges with the same ranks, no inner edge
+// between two slots of one triangle, its points ranked in plan order).
+struct CapMirror {
+    const char* on_rim = nullptr;
+    std::size_t inner = 0;
+    bool derivable = false;
+};
+
+// The slot of the other side's cap triangle edge that runs slot `s` the other way (one side's
+// triangles are the other's with corners b and c swapped: slot 3t + k is slot 3t + (2 - k)).
+std::uint32_t mirrored(std::uint32_t s) { return s - s % 3 + (2 - s % 3); }
+
+// Checks that every edge of one side's cap triangles that is not on its rim (`on_rim`) is paired
+// with the slot across it, which runs the other way and is not on the rim, and orders these inner
+// edges (each by its lower slot) by the (lower, higher) rank of their vertex handles, as
+// OpenMesh's new_edge in sorted order numbered them: the points are ranked by their handle
+// (w.rank), then two stable counting passes (higher rank, then lower rank) over the edges in slot
+// order give what a sort by (handles, slot) gave, into w.inner. False when the pairing fails;
+// `derivable` (see CapMirror) is set.
+bool order_cap_edges(const SectionPlan& plan, const std::vector<VertexHandle>& vertex,
+                     std::size_t slots, const std::uint32_t* from, const std::uint32_t* to,
+                     const std::uint32_t* across, const char* on_rim, CapScratch& w,
+                     bool& derivable) {
+    std::vector<std::uint32_t>& inner = w.inner;  // the lower slot of each inner edge
+    inner.clear();
+    bool one_triangle = false;  // an edge between two slots of one triangle
+    for (std::uint32_t slot = 0; slot < slots; ++slot) {
+        if (on_rim[slot]) continue;
+        const std::uint32_t o = across[slot];
+        if (o == kNoCapNeighbour || on_rim[o] || across[o] != slot) return false;
+        if (from[o] != to[slot] || to[o] != from[slot]) return false;  // run opposite ways
+        if (slot < o) inner.push_back(slot), one_triangle |= o / 3 == slot / 3;
+    }
+    std::vector<std::pair<int, std::uint32_t>>& by_handle = w.by_handle;
+    by_handle.clear();
+    std::vector<std::uint32_t>& rank = w.rank;
+    rank.assign(plan.points.size(), kNoCapNeighbour);
+    for (std::size_t slot = 0; slot < slots; ++slot) rank[from[slot]] = 0;
+    for (std::uint32_t p = 0; p < plan.points.size(); ++p)
+        if (rank[p] == 0) by_handle.emplace_back(vertex[p].idx(), p);
+    const bool plan_order = std::is_sorted(by_handle.begin(), by_handle.end());
+    if (!plan_order) std::sort(by_handle.begin(), by_handle.end());
+    for (std::uint32_t r = 0; r < by_handle.size(); ++r) rank[by_handle[r].second] = r;
+    std::uint32_t* const lo = room(w.lo, slots);
+    std::uint32_t* const hi = room(w.hi, slots);
+    for (const std::uint32_t slot : inner) {
+        const std::uint32_t a = rank[from[slot]], b = rank[to[slot]];
+        lo[slot] = std::min(a, b), hi[slot] = std::max(a, b);
+    }
+    std::uint32_t* const count = room(w.count, by_handle.size() + 1);
+    std::uint32_t* edges = inner.data();
+    std::uint32_t* other = room(w.sorted, inner.size());
+    for (const std::uint32_t* key : {hi, lo}) {
+        std::fill(count, count + by_handle.size() + 1, 0u);
+        for (std::size_t i = 0; i < inner.size(); ++i) ++count[key[edges[i]] + 1];
+        for (std::size_t k = 1; k <= by_handle.size(); ++k) count[k] += count[k - 1];
+        for (std::size_t i = 0; i < inner.size(); ++i) other[count[key[edges[i]]]++] = edges[i];
+        std::swap(edges, other);
+    }
+    bool tied = false;
+    for (std::size_t i = 1; i < inner.size() && !tied; ++i)
+        tied = lo[edges[i]] == lo[edges[i - 1]] && hi[edges[i]] == hi[edges[i - 1]];
+    derivable = plan_order && !one_triangle && !tied;
+    return true;  // two passes: the order is back in `inner`
+}
+
 // Closes the rim loops of one side with the plan's cap triangles on that side's vertices
 // (`vertex` per plan point; `reversed`: corners b and c swapped, so the cap faces the other way).
 // Built directly on the halfedge arrays: every triangle edge is either a rim boundary halfedge or
 // an inner edge shared by two cap triangles, paired by the plan (SectionPlan::cap_neighbours), so
 // no search around vertices (OpenMesh's add_face would scan a fan vertex's whole one-ring for
 // every triangle) and no sort of the edges (they are numbered in the order of their two vertex
-// handles, as OpenMesh's new_edge in sorted order gave them, by two counting passes).
+// handles, as OpenMesh's new_edge in sorted order gave them, by two counting passes). The positive
+// side (reversed) is built first and fills `mirror`; the negative side then takes the positive
+// side's pairing checks and edge order, mirrored, when its rim slots are the positive side's
+// mirrored and its points rank alike (its duplicates are numbered in plan order, so whenever the
+// positive side's handles rise with the plan order too: no on-plane vertex out of order).
 bool add_cap(TriMesh& m, const SectionPlan& plan, const std::vector<VertexHandle>& vertex,
-             bool reversed, RimEdges& rim, std::vector<FaceHandle>& faces, CapScratch& w) {
+             bool reversed, std::size_t rim_edges, std::vector<FaceHandle>& faces, CapScratch& w,
+             CapMirror& mirror) {
     const std::size_t n = plan.cap_triangles.size();
     const std::size_t slots = 3 * n;
     // Per slot 3t + k of this side (the edge from corner k to corner k + 1 of triangle t as built
@@ -295,7 +358,7 @@ bool add_cap(TriMesh& m, const SectionPlan& plan, const std::vector<VertexHandle
         }
     }
     HalfedgeHandle* const he = room(w.he, slots);
-    char* const on_rim = room(w.on_rim, slots);
+    char* const on_rim = room(w.on_rim, 2 * slots) + (reversed ? 0 : slots);
     std::size_t rim_used = 0;
     for (std::size_t slot = 0; slot < slots; ++slot) {
         // A rim edge u -> v is u's own halfedge: separate_loop made every rim vertex's halfedge
@@ -307,50 +370,43 @@ bool add_cap(TriMesh& m, const SectionPlan& plan, const std::vector<VertexHandle
         on_rim[slot] = r;
         if (r) he[slot] = b, ++rim_used;
     }
-    if (rim_used != rim.size()) return false;     // every rim edge once
-    std::vector<std::uint32_t>& inner = w.inner;  // the lower slot of each inner edge
-    inner.clear();
-    for (std::uint32_t slot = 0; slot < slots; ++slot) {
-        if (on_rim[slot]) continue;
-        const std::uint32_t o = across[slot];
-        if (o == kNoCapNeighbour || on_rim[o] || across[o] != slot) return false;
-        if (from[o] != to[slot] || to[o] != from[slot]) return false;  // must run opposite ways
-        if (slot < o) inner.push_back(slot);
+    if (rim_used != rim_edges) return false;  // every rim edge once
+    std::uint32_t* edges = nullptr;
+    std::size_t n_inner = 0;
+    // The negative side as the positive side's mirror: the same pairing (so the same checks
+    // pass), the same inner edges and, ranked alike, the same order by ranks.
+    bool alike = !reversed && mirror.derivable;
+    for (std::size_t t = 0; t < n && alike; ++t)
+        alike = on_rim[3 * t] == mirror.on_rim[3 * t + 2] &&
+                on_rim[3 * t + 1] == mirror.on_rim[3 * t + 1] &&
+                on_rim[3 * t + 2] == mirror.on_rim[3 * t];
+    if (alike) {
+        const std::vector<std::uint32_t>& rank = w.rank;  // the positive side's: points in use
+        int last = -1;
+        for (std::uint32_t p = 0; p < plan.points.size() && alike; ++p) {
+            if (rank[p] == kNoCapNeighbour) continue;
+            alike = vertex[p].idx() >= last;
+            last = vertex[p].idx();
+        }
     }
-    // Order of the new edges: by (lower, higher) vertex handle. The points are ranked by their
-    // handle, then two stable counting passes (higher rank, then lower rank) over the edges in
-    // slot order give what a sort by (handles, slot) gave.
-    std::vector<std::pair<int, std::uint32_t>>& by_handle = w.by_handle;
-    by_handle.clear();
-    std::vector<std::uint32_t>& rank = w.rank;
-    rank.assign(plan.points.size(), kNoCapNeighbour);
-    for (std::size_t slot = 0; slot < slots; ++slot) rank[from[slot]] = 0;
-    for (std::uint32_t p = 0; p < plan.points.size(); ++p)
-        if (rank[p] == 0) by_handle.emplace_back(vertex[p].idx(), p);
-    if (!std::is_sorted(by_handle.begin(), by_handle.end()))
-        std::sort(by_handle.begin(), by_handle.end());
-    for (std::uint32_t r = 0; r < by_handle.size(); ++r) rank[by_handle[r].second] = r;
-    std::uint32_t* const lo = room(w.lo, slots);
-    std::uint32_t* const hi = room(w.hi, slots);
-    for (const std::uint32_t slot : inner) {
-        const std::uint32_t a = rank[from[slot]], b = rank[to[slot]];
-        lo[slot] = std::min(a, b), hi[slot] = std::max(a, b);
-    }
-    std::uint32_t* const count = room(w.count, by_handle.size() + 1);
-    std::uint32_t* edges = inner.data();
-    std::uint32_t* other = room(w.sorted, inner.size());
-    for (const std::uint32_t* key : {hi, lo}) {
-        std::fill(count, count + by_handle.size() + 1, 0u);
-        for (std::size_t i = 0; i < inner.size(); ++i) ++count[key[edges[i]] + 1];
-        for (std::size_t k = 1; k <= by_handle.size(); ++k) count[k] += count[k - 1];
-        for (std::size_t i = 0; i < inner.size(); ++i) other[count[key[edges[i]]]++] = edges[i];
-        std::swap(edges, other);
+    if (alike) {
+        n_inner = mirror.inner;
+        edges = room(w.sorted, n_inner);
+        for (std::size_t i = 0; i < n_inner; ++i) edges[i] = mirrored(w.inner[i]);
+    } else {
+        if (!order_cap_edges(plan, vertex, slots, from, to, across, on_rim, w, mirror.derivable))
+            return false;
+        edges = w.inner.data();
+        n_inner = w.inner.size();
+        mirror.on_rim = on_rim;
+        mirror.inner = n_inner;
+        mirror.derivable = reversed && mirror.derivable;
     }
     // Every edge and face allocated in one resize, handed out in the order OpenMesh's
     // new_edge / new_face would give them.
     const int ne = static_cast<int>(m.n_edges()), nf = static_cast<int>(m.n_faces());
-    m.resize(m.n_vertices(), ne + inner.size(), nf + n);
-    for (std::size_t i = 0; i < inner.size(); ++i) {
+    m.resize(m.n_vertices(), ne + n_inner, nf + n);
+    for (std::size_t i = 0; i < n_inner; ++i) {
         const std::uint32_t a = edges[i];
         he[a] = make_edge(m, EdgeHandle(ne + static_cast<int>(i)), vertex[from[a]], vertex[to[a]]);
         he[across[a]] = m.opposite_halfedge_handle(he[a]);
@@ -398,7 +454,6 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
     out.clear();
     out.plane = plane;
     std::vector<VertexHandle> dup(plan.points.size());
-    RimEdges pos_rim, neg_rim;
     // One duplicate vertex and one detaching edge per rim point, allocated in one resize and
     // handed out in loop order (the handles add_vertex / new_edge would give one at a time).
     int rim_points = 0;
@@ -413,7 +468,7 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
             d[i] = dup[l.first + i] = VertexHandle(next_vertex++);
             duplicate_vertex(m, r[i], d[i]);
         }
-        if (!separate_loop(m, r, d, next_edge, pos_rim, neg_rim)) return CutStatus::kInternalError;
+        if (!separate_loop(m, r, d, next_edge)) return CutStatus::kInternalError;
         std::vector<Vec2> uv(l.count);
         for (std::uint32_t i = 0; i < l.count; ++i) uv[i] = plan.points[l.first + i].uv;
         out.loops_2d.push_back(std::move(uv));
@@ -432,8 +487,11 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
             s.tree.insert(m, f);
     }
     // Caps: positive side faces -normal (reversed triangles), negative side +normal.
-    if (!add_cap(m, plan, rim, true, pos_rim, out.positive.cap_faces, s.cap_edit) ||
-        !add_cap(m, plan, dup, false, neg_rim, out.negative.cap_faces, s.cap_edit))
+    // (One rim halfedge per rim point on each side.)
+    CapMirror mirror;
+    const auto rim_edges = static_cast<std::size_t>(rim_points);
+    if (!add_cap(m, plan, rim, true, rim_edges, out.positive.cap_faces, s.cap_edit, mirror) ||
+        !add_cap(m, plan, dup, false, rim_edges, out.negative.cap_faces, s.cap_edit, mirror))
         return CutStatus::kInternalError;
     for (FaceHandle f : out.positive.cap_faces) {
         m.set_normal(f, -plane.normal());

@@ -136,35 +136,40 @@ GroupResult try_triangulate_group(ContextState& s, const Plane& plane,
     };
     std::vector<Gap> gaps;
     std::vector<std::uint32_t> removed;  // plan indices of left-out points, grouped per gap
+    std::vector<double> off;             // per point of a loop: |distance from the plane|
     for (const PlanLoop* l : loops) {
         const std::size_t before = uv.size();
-        auto pt = [&](std::uint32_t k) { return plan.points[l->first + (k % l->count)].uv; };
+        const std::uint32_t count = l->count;
+        auto pt = [&](std::uint32_t k) -> const Vec2& { return plan.points[l->first + k].uv; };
+        auto wrap = [&](std::uint32_t k) { return k >= count ? k - count : k; };  // k < 2 count
         std::vector<char> keep(l->count, 1);
         std::uint32_t kept = l->count;
-        auto off = [&](std::uint32_t k) {
-            return std::abs(plane.signed_distance(plan.points[l->first + (k % l->count)].position));
-        };
+        // Each point's distance from the plane, once (the straightness test of a point and of
+        // its two neighbours reads it).
+        off.resize(l->count);
+        for (std::uint32_t k = 0; k < l->count; ++k)
+            off[k] = std::abs(plane.signed_distance(plan.points[l->first + k].position));
         for (std::uint32_t k = 0; k < l->count; ++k) {
-            const std::uint32_t prev = k + l->count - 1;
-            const double off_plane = std::max({off(prev), off(k), off(k + 1)});
+            const std::uint32_t prev = k == 0 ? l->count - 1 : k - 1;
+            const std::uint32_t next = k + 1 == l->count ? 0 : k + 1;
+            const double off_plane = std::max({off[prev], off[k], off[next]});
             if (kept > 3 && !forced[l->first + k] &&
-                straight(pt(prev), pt(k), pt(k + 1), off_plane, min_cross))
+                straight(pt(prev), pt(k), pt(next), off_plane, min_cross))
                 keep[k] = 0, --kept;
         }
         std::uint32_t start = 0;
         while (!keep[start]) ++start;
-        for (std::uint32_t j = 0; j < l->count; ++j) {
-            const std::uint32_t k = (start + j) % l->count;
+        for (std::uint32_t j = 0; j < count; ++j) {
+            const std::uint32_t k = wrap(start + j);
             if (!keep[k]) continue;
             index.push_back(l->first + k);
             uv.push_back(pt(k));
             std::uint32_t n = 1;
-            while (!keep[(k + n) % l->count]) ++n;
+            while (!keep[wrap(k + n)]) ++n;  // a kept point within one turn: n < count
             if (n > 1) {
-                gaps.push_back(Gap{l->first + k, l->first + (k + n) % l->count,
+                gaps.push_back(Gap{l->first + k, l->first + wrap(k + n),
                                    static_cast<std::uint32_t>(removed.size()), n - 1});
-                for (std::uint32_t q = 1; q < n; ++q)
-                    removed.push_back(l->first + (k + q) % l->count);
+                for (std::uint32_t q = 1; q < n; ++q) removed.push_back(l->first + wrap(k + q));
             }
         }
         sizes.push_back(uv.size() - before);
@@ -260,8 +265,18 @@ public:
         for (std::size_t k = 0; k < slots; ++k) ++first_[from_[k] + 1];
         for (std::size_t k = 1; k < first_.size(); ++k) first_[k] += first_[k - 1];
         out_.resize(slots);
+        in_.resize(slots);
         fill_.assign(first_.begin(), first_.end() - 1);
-        for (std::uint32_t k = 0; k < slots; ++k) out_[fill_[from_[k]]++] = k;
+        for (std::uint32_t i = 0; i < n; ++i) {
+            // Slot 3i + e leaves corner e; the slot before it in the triangle enters it.
+            const std::uint32_t k = 3 * i;
+            std::uint32_t at = fill_[from_[k]]++;
+            out_[at] = k, in_[at] = k + 2;
+            at = fill_[from_[k + 1]]++;
+            out_[at] = k + 1, in_[at] = k;
+            at = fill_[from_[k + 2]]++;
+            out_[at] = k + 2, in_[at] = k + 1;
+        }
         seen_.assign(points, kNoCapNeighbour);  // per point w: the slot u -> w, this u's only
         for (std::uint32_t u = 0; u < points; ++u) {
             for (std::uint32_t k = first_[u]; k < first_[u + 1]; ++k) {
@@ -270,7 +285,7 @@ public:
                 seen_[w] = out_[k];
             }
             for (std::uint32_t k = first_[u]; k < first_[u + 1]; ++k) {
-                const std::uint32_t in = before(out_[k]);  // x -> u
+                const std::uint32_t in = in_[k];  // x -> u, before out_[k] in its triangle
                 const std::uint32_t back = seen_[from_[in]];
                 if (back == kNoCapNeighbour || from_[back] != u || nb_[in] == back) continue;
                 if (nb_[in] != kNoCapNeighbour || nb_[back] != kNoCapNeighbour) return false;
@@ -300,7 +315,6 @@ public:
     }
 
 private:
-    static std::uint32_t before(std::uint32_t s) { return s - s % 3 + (s % 3 + 2) % 3; }
     void link(std::uint32_t s, std::uint32_t other) {
         nb_[s] = other;
         if (other != kNoCapNeighbour) nb_[other] = s;
@@ -309,7 +323,7 @@ private:
     std::vector<Triangle>& tris_;
     std::vector<std::uint32_t>& nb_;
     std::vector<std::uint32_t> from_, to_;  ///< per slot, as the triangles were at build()
-    std::vector<std::uint32_t> first_, out_, fill_, seen_;
+    std::vector<std::uint32_t> first_, out_, in_, fill_, seen_;
 };
 
 // Lawson flips towards the Delaunay triangulation of the cap (in the plane frame): an inner edge
@@ -332,12 +346,13 @@ void delaunay_flips(const SectionPlan& plan, std::vector<Triangle>& tris, CapAdj
         for (std::uint32_t i = 0; i < tris.size(); ++i) {
             if (!active[i]) continue;
             // Triangle i's corners, read once: it changes only by a flip, which ends its turn.
-            const std::uint32_t v[5] = {tris[i].a, tris[i].b, tris[i].c, tris[i].a, tris[i].b};
+            const std::uint32_t v[3] = {tris[i].a, tris[i].b, tris[i].c};
+            static constexpr int kNext[3] = {1, 2, 0}, kPrev[3] = {2, 0, 1};
             for (int r = 0; r < 3 && !touched[i]; ++r) {
                 // Triangle i read from corner r: (a, b, c); edge c -> a is slot 3i + (r + 2) % 3,
                 // and the neighbour holds a -> c with apex d.
-                const std::uint32_t a = v[r], b = v[r + 1], c = v[r + 2];
-                const std::uint32_t si = 3 * i + static_cast<std::uint32_t>((r + 2) % 3);
+                const std::uint32_t a = v[r], b = v[kNext[r]], c = v[kPrev[r]];
+                const std::uint32_t si = 3 * i + static_cast<std::uint32_t>(kPrev[r]);
                 const std::uint32_t sj = adj.across(si);
                 if (sj == kNoCapNeighbour) continue;
                 const std::uint32_t j = sj / 3;
@@ -390,6 +405,10 @@ bool triangulate_group(ContextState& s, const Plane& plane,
 // a pinch at a vertex. O(cap triangles x valence).
 bool pinched_along_an_edge(const ContextState& s) {
     const SectionPlan& plan = s.plan;
+    // Only a cap edge between two on-plane vertices can be one (none in most cuts).
+    const auto on_plane = std::count_if(plan.points.begin(), plan.points.end(),
+                                        [](const PlanPoint& p) { return !p.key.edge; });
+    if (on_plane < 2) return false;
     std::vector<std::uint32_t> next(plan.points.size(), 0);
     for (const PlanLoop& l : plan.loops)
         for (std::uint32_t i = 0; i < l.count; ++i) next[l.first + i] = l.first + (i + 1) % l.count;
@@ -443,9 +462,11 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
         const Vec3& a = plan.points[t.a].position;
         const Vec3& b = plan.points[t.b].position;
         const Vec3& c = plan.points[t.c].position;
-        const Vec3 n = cross(sub(b, a), sub(c, a));
+        const Vec3 ab = sub(b, a), ac = sub(c, a);
+        const Vec3 n = cross(ab, ac);
         const double n2 = sqrnorm(n);
-        return !s.too_small(a, b, c, n2) && dot(n, normal) > cosine * std::sqrt(n2);
+        return !s.too_small(a, b, c, n2, sqrnorm(ab), sqrnorm(ac)) &&
+               dot(n, normal) > cosine * std::sqrt(n2);
     };
     auto good = [&](const Triangle& t) { return facing(t, 0.5); };
     auto acceptable = [&](const Triangle& t) { return facing(t, kMinCapCosine); };

@@ -70,6 +70,11 @@ struct ContextState {
     /// The same, given twice2 = |(b - a) x (c - a)|² as computed above (callers that need the
     /// cross product anyway pass it: same value, same answer).
     bool too_small(const Vec3& a, const Vec3& b, const Vec3& c, double twice2) const {
+        return too_small(a, b, c, twice2, sqrdist(b, a), sqrdist(a, c));
+    }
+    /// The same, given also ab = |b - a|² and ca = |a - c|² (callers that have the edges).
+    bool too_small(const Vec3& a, const Vec3& b, const Vec3& c, double twice2, double ab,
+                   double ca) const {
         const double floor = kMinTriangleRelativeArea * scale_m * scale_m;
         if (!(twice2 > 4.0 * floor * floor)) return true;
         const double loss = 4.0 * std::sqrt(3.0) * float_rounding_m;  // per metre of edge
@@ -77,7 +82,6 @@ struct ContextState {
         // (kept + loss L)² <= 2 kept² + 2 loss² L²: enough room without a square root. First
         // with 2.000000001 (ab + ca), which bounds the longest edge² (bc <= 2 (ab + ca), with room
         // for rounding), so the common case skips the third edge: the same answer either way.
-        const double ab = sqrdist(b, a), ca = sqrdist(a, c);
         if (twice2 > 2.0 * (kept * kept + loss * loss * (2.000000001 * (ab + ca)))) return false;
         const double bc = sqrdist(c, b);
         const double longest2 = std::max({ab, bc, ca});

@@ -19,16 +19,56 @@ using mesh::VertexHandle;
 
 constexpr std::size_t kMaxSeedSearchFaces = 20000;
 
+// Where a face's segment starts and ends, for the sides sg[0..2] (-1, 0, +1) of its vertices
+// read round the face: the positive run's first vertex k (its predecessor not positive) and last
+// vertex `last`; between vertices i and i + 1 lies edge h[i], a cut point when they are on
+// opposite sides, else the non-positive vertex is on the plane and is the cut point. The segment
+// runs from the cut point after the run (edge h[last], or vertex `after`) to the one before it
+// (edge or vertex `before`). Indexed by 9 (sg[0] + 1) + 3 (sg[1] + 1) + (sg[2] + 1).
+struct SegmentEnds {
+    bool crosses = false;  ///< vertices on both sides
+    std::uint8_t before = 0, last = 0, after = 0;
+    bool to_edge = false, from_edge = false;
+};
+
+constexpr std::array<SegmentEnds, 27> make_segment_table() {
+    std::array<SegmentEnds, 27> table{};
+    for (int i = 0; i < 27; ++i) {
+        const int sg[3] = {i / 9 - 1, i / 3 % 3 - 1, i % 3 - 1};
+        if (!((sg[0] > 0 || sg[1] > 0 || sg[2] > 0) && (sg[0] < 0 || sg[1] < 0 || sg[2] < 0)))
+            continue;
+        int k = 0;
+        while (!(sg[k] > 0 && sg[(k + 2) % 3] <= 0)) ++k;
+        int j = k;
+        while (sg[(j + 1) % 3] > 0) j = (j + 1) % 3;
+        const int before = (k + 2) % 3, after = (j + 1) % 3;
+        SegmentEnds& e = table[static_cast<std::size_t>(i)];
+        e.crosses = true;
+        e.before = static_cast<std::uint8_t>(before);
+        e.last = static_cast<std::uint8_t>(j);
+        e.after = static_cast<std::uint8_t>(after);
+        e.to_edge = sg[before] < 0;
+        e.from_edge = sg[after] < 0;
+    }
+    return table;
+}
+
+constexpr std::array<SegmentEnds, 27> kSegments = make_segment_table();
+
 // Walks cross-section loops on the unedited mesh.
 class Walker {
 public:
     Walker(ContextState& s, const Plane& plane)
-        : s_(s), m_(s.mesh), plane_(plane), tol_(s.tolerance_m) {}
+        : s_(s),
+          m_(s.mesh),
+          plane_(plane),
+          tol_(s.tolerance_m),
+          any_snapped_(s.snapped != nullptr && !s.snapped->empty()) {}
 
     // -1, 0 (within tol, or snapped) or +1.
     int side(VertexHandle v) const {
         const int sd = plane_.side(m_.point(v), tol_);
-        if (sd == 0 || s_.snapped == nullptr || s_.snapped->empty()) return sd;
+        if (sd == 0 || !any_snapped_) return sd;
         return std::binary_search(s_.snapped->begin(), s_.snapped->end(), v.idx()) ? 0 : sd;
     }
 
@@ -53,7 +93,8 @@ public:
     // halfedge. False when the face does not cross. Read round the face from h[0] as vertices
     // and the cut points between them (on-plane vertices and crossing edges), the positive
     // vertices form one run (a triangle has at most two, and then they are neighbours): the
-    // segment runs from the cut point after that run to the one before it.
+    // segment runs from the cut point after that run to the one before it (kSegments: per side
+    // pattern, those two places).
     bool segment(FaceHandle f, CutPointKey& from, CutPointKey& to) const {
         HalfedgeHandle h[3];
         h[0] = m_.halfedge_handle(f);
@@ -62,20 +103,12 @@ public:
         VertexHandle v[3];
         int sg[3];
         for (int k = 0; k < 3; ++k) v[k] = m_.from_vertex_handle(h[k]), sg[k] = side(v[k]);
-        if (!((sg[0] > 0 || sg[1] > 0 || sg[2] > 0) && (sg[0] < 0 || sg[1] < 0 || sg[2] < 0)))
-            return false;
-        // The run's first vertex k (its predecessor not positive) and last vertex j.
-        int k = 0;
-        while (!(sg[k] > 0 && sg[(k + 2) % 3] <= 0)) ++k;
-        int j = k;
-        while (sg[(j + 1) % 3] > 0) j = (j + 1) % 3;
-        // Between vertices i and i + 1 lies edge h[i]: a cut point when they are on opposite
-        // sides, else the non-positive vertex is on the plane and is the cut point.
-        const int before = (k + 2) % 3, after = (j + 1) % 3;
-        to = sg[before] < 0 ? CutPointKey{m_.edge_handle(h[before]).idx(), true}
-                            : CutPointKey{v[before].idx(), false};
-        from = sg[after] < 0 ? CutPointKey{m_.edge_handle(h[j]).idx(), true}
-                             : CutPointKey{v[after].idx(), false};
+        const SegmentEnds& c = kSegments[9 * (sg[0] + 1) + 3 * (sg[1] + 1) + (sg[2] + 1)];
+        if (!c.crosses) return false;
+        to = c.to_edge ? CutPointKey{m_.edge_handle(h[c.before]).idx(), true}
+                       : CutPointKey{v[c.before].idx(), false};
+        from = c.from_edge ? CutPointKey{m_.edge_handle(h[c.last]).idx(), true}
+                           : CutPointKey{v[c.after].idx(), false};
         return true;
     }
 
@@ -234,6 +267,7 @@ private:
     TriMesh& m_;
     const Plane& plane_;
     double tol_;
+    bool any_snapped_;  // s.snapped holds vertices (it does not change while a plan is made)
 };
 
 bool inside(const SectionPlan& plan, const PlanLoop& loop, const Vec2& q) {
@@ -253,11 +287,19 @@ bool inside(const SectionPlan& plan, const PlanLoop& loop, const Vec2& q) {
 }  // namespace
 
 bool loop_nested(const SectionPlan& plan, const PlanLoop& inner, const PlanLoop& outer) {
+    for (const SectionPlan::Nesting& n : plan.nesting)
+        if (n.inner_first == inner.first && n.inner_count == inner.count &&
+            n.outer_first == outer.first && n.outer_count == outer.count)
+            return n.nested;
     const std::uint32_t samples = std::min<std::uint32_t>(9, inner.count);
     std::uint32_t votes = 0;
-    for (std::uint32_t k = 0; k < samples; ++k)
+    // Until the majority is settled either way.
+    for (std::uint32_t k = 0; k < samples && 2 * votes <= samples && 2 * (k - votes) < samples; ++k)
         votes += inside(plan, outer, plan.points[inner.first + k * inner.count / samples].uv);
-    return 2 * votes > samples;
+    const bool nested = 2 * votes > samples;
+    plan.nesting.push_back(
+        SectionPlan::Nesting{inner.first, inner.count, outer.first, outer.count, nested});
+    return nested;
 }
 
 namespace {
@@ -462,6 +504,7 @@ void SectionPlan::clear() {
     cap_points.clear();
     cap_triangles.clear();
     cap_neighbours.clear();
+    nesting.clear();
 }
 
 namespace {
@@ -515,6 +558,18 @@ void merge_close_points(ContextState& s) {
     auto close = [&](const PlanPoint& p, const PlanPoint& q) {
         return sqrdist(p.position, q.position) <= tol * tol;
     };
+    // Every merge joins two neighbours on a selected loop: with no such pair within tol (the
+    // common case) nothing below would change, so the loops are left as they are.
+    bool any_close = false;
+    for (const PlanLoop& l : plan.loops) {
+        if (!l.selected || l.count == 0) continue;
+        const PlanPoint* const p = &plan.points[l.first];
+        for (std::uint32_t i = 0; i + 1 < l.count && !any_close; ++i)
+            any_close = close(p[i], p[i + 1]);
+        any_close = any_close || close(p[l.count - 1], p[0]);
+        if (any_close) break;
+    }
+    if (!any_close) return;
     // Per kept point: which of its loop neighbours was merged into it (at most one per side).
     constexpr char kFromBefore = 1, kFromAfter = 2;
     std::vector<PlanPoint> points;
@@ -578,6 +633,7 @@ void merge_close_points(ContextState& s) {
         l.first = first;
         l.count = static_cast<std::uint32_t>(points.size()) - first;
     }
+    if (points.size() != plan.points.size()) plan.nesting.clear();  // the loops changed
     plan.points.swap(points);
 }
 
@@ -733,7 +789,29 @@ void propose_snap(ContextState& s, const Plane& plane, std::span<const VertexHan
 CutStatus check_split_areas(ContextState& s, const Plane& plane) {
     const SectionPlan& plan = s.plan;
     const TriMesh& m = s.mesh;
-    auto small = [&](const Vec3& a, const Vec3& b, const Vec3& c) { return s.too_small(a, b, c); };
+    // s.too_small(a, b, c) from the edges b - a and c - a and their squared lengths, which the
+    // parts of one face share (up to sign): its first two tests on them, with the bounds worked
+    // out once (the same operations, so the same answers), and only a triangle they leave open
+    // asks too_small itself.
+    const double floor = kMinTriangleRelativeArea * s.scale_m * s.scale_m;
+    const double min_twice2 = 4.0 * floor * floor;
+    const double loss = 4.0 * std::sqrt(3.0) * s.float_rounding_m;
+    const double kept = ContextState::kFileMargin * floor;
+    const double kept2 = kept * kept, loss2 = loss * loss;
+    struct Edge {
+        Vec3 d;       // to - from
+        double len2;  // |d|²
+    };
+    auto edge = [](const Vec3& from, const Vec3& to) {
+        const Vec3 d = sub(to, from);
+        return Edge{d, sqrnorm(d)};
+    };
+    auto small = [&](const Vec3& a, const Vec3& b, const Vec3& c, const Edge& ab, const Edge& ac) {
+        const double twice2 = sqrnorm(cross(ab.d, ac.d));
+        if (!(twice2 > min_twice2)) return true;
+        if (twice2 > 2.0 * (kept2 + loss2 * (2.000000001 * (ab.len2 + ac.len2)))) return false;
+        return s.too_small(a, b, c, twice2, ab.len2, ac.len2);
+    };
     CutStatus status = CutStatus::kOk;
     for (const PlanLoop& l : plan.loops) {
         if (!l.selected) continue;
@@ -759,15 +837,27 @@ CutStatus check_split_areas(ContextState& s, const Plane& plane) {
                 bool bad = false;
                 if (!o.key.edge) {
                     if (o.key.id != corners[2].idx()) continue;
-                    bad = small(x, pp, z) || small(pp, y, z);  // split through on-plane z
+                    // Split through on-plane z: (x, P, z), (P, y, z).
+                    const Edge xp = edge(x, pp), xz = edge(x, z), py = edge(pp, y),
+                               pz = edge(pp, z);
+                    bad = small(x, pp, z, xp, xz) || small(pp, y, z, py, pz);
                 } else if (o.key.id == m.edge_handle(hn).idx()) {
-                    // Q on y-z: lone vertex y; the quad x, P, Q, z takes either diagonal.
-                    bad = small(pp, y, qq) || small(x, pp, z) || small(pp, qq, z) ||
-                          small(x, pp, qq) || small(x, qq, z);
+                    // Q on y-z: lone vertex y; the quad x, P, Q, z takes either diagonal:
+                    // (P, y, Q), (x, P, z), (P, Q, z), (x, P, Q), (x, Q, z).
+                    const Edge py = edge(pp, y), pq = edge(pp, qq), xp = edge(x, pp),
+                               xz = edge(x, z), pz = edge(pp, z), xq = edge(x, qq);
+                    bad = small(pp, y, qq, py, pq) || small(x, pp, z, xp, xz) ||
+                          small(pp, qq, z, pq, pz) || small(x, pp, qq, xp, xq) ||
+                          small(x, qq, z, xq, xz);
                 } else if (o.key.id == m.edge_handle(m.next_halfedge_handle(hn)).idx()) {
-                    // Q on z-x: lone vertex x; the quad P, y, z, Q takes either diagonal.
-                    bad = small(x, pp, qq) || small(pp, y, z) || small(pp, z, qq) ||
-                          small(pp, y, qq) || small(qq, y, z);
+                    // Q on z-x: lone vertex x; the quad P, y, z, Q takes either diagonal:
+                    // (x, P, Q), (P, y, z), (P, z, Q), (P, y, Q), (Q, y, z).
+                    const Edge xp = edge(x, pp), xq = edge(x, qq), py = edge(pp, y),
+                               pz = edge(pp, z), pq = edge(pp, qq), qy = edge(qq, y),
+                               qz = edge(qq, z);
+                    bad = small(x, pp, qq, xp, xq) || small(pp, y, z, py, pz) ||
+                          small(pp, z, qq, pz, pq) || small(pp, y, qq, py, pq) ||
+                          small(qq, y, z, qy, qz);
                 } else {
                     continue;
                 }

@@ -70,6 +70,14 @@ struct SectionPlan {
     /// slot of the same edge, run the other way, in the neighbouring cap triangle, or
     /// kNoCapNeighbour on the rim.
     std::vector<std::uint32_t> cap_neighbours;
+    /// loop_nested()'s answers so far, by the two loops' points (the loop selection and the cap
+    /// groups ask the same question of the same loops): loops are only appended until
+    /// merge_close_points rewrites them, which clears it.
+    struct Nesting {
+        std::uint32_t inner_first, inner_count, outer_first, outer_count;
+        bool nested;
+    };
+    mutable std::vector<Nesting> nesting;
 
     void clear();
 };
@@ -160,7 +168,8 @@ CutStatus plan_snapped(ContextState& s, const Plane& plane, std::vector<std::int
 /// (kCapTriangulationFailed if a loop cannot be capped without slivers or tilted triangles).
 CutStatus plan_caps(ContextState& s, const Plane& plane);
 
-/// Whether loop `inner` lies inside loop `outer` (a majority of up to 9 of its points does).
+/// Whether loop `inner` lies inside loop `outer` (a majority of up to 9 of its points does);
+/// remembered in plan.nesting.
 bool loop_nested(const SectionPlan& plan, const PlanLoop& inner, const PlanLoop& outer);
 
 /// Closest distance from `p` to triangle `f`, m.
