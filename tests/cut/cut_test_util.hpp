@@ -53,8 +53,9 @@ inline FaceSnapshot snapshot(const kerf::mesh::TriMesh& m, int first = 0, int la
     return s;
 }
 
-/// A new mesh made of the faces of `m` for which `keep(face)` holds (positions, vertex normals and
-/// texture coordinates).
+/// A new mesh made of the faces of `m` for which `keep(face)` holds, with every vertex attribute
+/// mesh_hash() reads (position, normal, texture coordinates, colour, material): a copy's hash is
+/// then as deterministic as the original's.
 template <class Keep>
 kerf::mesh::TriMesh extract_faces(const kerf::mesh::TriMesh& m, Keep&& keep) {
     kerf::mesh::TriMesh out;
@@ -69,6 +70,8 @@ kerf::mesh::TriMesh extract_faces(const kerf::mesh::TriMesh& m, Keep&& keep) {
                 // A slice of the copy interpolates them (valgrind: uninitialised otherwise).
                 out.set_normal(map[v.idx()], m.normal(v));
                 out.set_texcoord2D(map[v.idx()], m.texcoord2D(v));
+                out.set_color(map[v.idx()], m.color(v));
+                out.data(map[v.idx()]).set_material(m.data(v).material());
             }
             vs[k++] = map[v.idx()];
         }

@@ -6,7 +6,9 @@
 
 #include <numbers>
 
+#include "display/cut/mesh_hash.hpp"
 #include "display/mesh/shapes.hpp"
+#include "tests/cut/cut_test_util.hpp"
 #include "tests/cut/test_shapes.hpp"
 
 namespace kerf::cut::testing {
@@ -61,6 +63,39 @@ TEST(MeshChecks, ReportsAFlippedTriangle) {
     auto f = *m.faces().begin();
     m.set_normal(f, -m.normal(f));
     EXPECT_NONFATAL_FAILURE(expect_face_normals_agree(m), "winding disagrees");
+}
+
+// The slab and sequence references are copies made by extract_faces and compared by mesh_hash,
+// which reads every vertex attribute: a copy that left one unwritten (colour and material were)
+// hashed differently from run to run (valgrind: uninitialised reads).
+TEST(MeshChecks, ExtractFacesCopiesEveryAttributeTheHashReads) {
+    auto m = uv_sphere_by_rings(1.0, 8, 16);
+    for (auto v : m.vertices()) {
+        const auto i = static_cast<unsigned char>(v.idx());
+        m.set_normal(v, TriMesh::Normal(0, 0, 1));
+        m.set_texcoord2D(v, TriMesh::TexCoord2D(0.25f * i, 0.5f));
+        m.set_color(v, TriMesh::Color(i, static_cast<unsigned char>(255 - i), 7));
+        m.data(v).set_material(v.idx() % 2 ? mesh::Material::kCancellous
+                                           : mesh::Material::kCutSurface);
+    }
+    const TriMesh all = extract_faces(m, [](mesh::FaceHandle) { return true; });
+    ASSERT_EQ(all.n_vertices(), m.n_vertices());
+    // The copy numbers vertices in the order the faces first use them: compare by position.
+    std::size_t matched = 0;
+    for (auto w : all.vertices()) {
+        for (auto v : m.vertices()) {
+            if (m.point(v) != all.point(w)) continue;
+            EXPECT_EQ(all.normal(w), m.normal(v));
+            EXPECT_EQ(all.texcoord2D(w), m.texcoord2D(v));
+            EXPECT_EQ(all.color(w), m.color(v));
+            EXPECT_EQ(all.data(w).material(), m.data(v).material());
+            ++matched;
+            break;
+        }
+    }
+    EXPECT_EQ(matched, all.n_vertices());
+    const TriMesh again = extract_faces(m, [](mesh::FaceHandle) { return true; });
+    EXPECT_EQ(mesh_hash(again), mesh_hash(all));
 }
 
 }  // namespace
