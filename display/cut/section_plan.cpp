@@ -297,8 +297,12 @@ bool loop_nested(const SectionPlan& plan, const PlanLoop& inner, const PlanLoop&
     for (std::uint32_t k = 0; k < samples && 2 * votes <= samples && 2 * (k - votes) < samples; ++k)
         votes += inside(plan, outer, plan.points[inner.first + k * inner.count / samples].uv);
     const bool nested = 2 * votes > samples;
-    plan.nesting.push_back(
-        SectionPlan::Nesting{inner.first, inner.count, outer.first, outer.count, nested});
+    // A cut has a few loops; one through many shells has thousands of pairs, which a list
+    // searched on every call would make quadratic in them: only the first few are remembered.
+    constexpr std::size_t kRemembered = 32;
+    if (plan.nesting.size() < kRemembered)
+        plan.nesting.push_back(
+            SectionPlan::Nesting{inner.first, inner.count, outer.first, outer.count, nested});
     return nested;
 }
 

@@ -72,7 +72,8 @@ struct SectionPlan {
     std::vector<std::uint32_t> cap_neighbours;
     /// loop_nested()'s answers so far, by the two loops' points (the loop selection and the cap
     /// groups ask the same question of the same loops): loops are only appended until
-    /// merge_close_points rewrites them, which clears it.
+    /// merge_close_points rewrites them, which clears it. The first 32 answers only (a bounded
+    /// search per question).
     struct Nesting {
         std::uint32_t inner_first, inner_count, outer_first, outer_count;
         bool nested;
