@@ -32,10 +32,7 @@ std::optional<Result<IndexedMesh, MeshError>> parse_stl_streamed(files::RegularF
     std::byte header[detail::kStlHeaderBytes];
     auto got = file.read(header);
     if (!got || *got != sizeof header) return std::nullopt;
-    const std::uint64_t count = std::uint64_t{std::to_integer<std::uint32_t>(header[80])} |
-                                std::uint64_t{std::to_integer<std::uint32_t>(header[81])} << 8 |
-                                std::uint64_t{std::to_integer<std::uint32_t>(header[82])} << 16 |
-                                std::uint64_t{std::to_integer<std::uint32_t>(header[83])} << 24;
+    const std::uint64_t count = detail::stl_facet_count(header);
     if (count == 0 || file.size() != detail::kStlHeaderBytes + count * detail::kStlFacetBytes)
         return std::nullopt;
     const std::string name = path.string();

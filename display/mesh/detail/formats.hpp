@@ -2,6 +2,7 @@
 // in metres; writers take metres and write file units (`metres_per_unit` of the file).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -21,6 +22,14 @@ Result<IndexedMesh, MeshError> parse_off(std::span<const std::byte> bytes, const
 
 inline constexpr std::size_t kStlHeaderBytes = 84;  ///< binary STL: 80 bytes, then the count
 inline constexpr std::size_t kStlFacetBytes = 50;   ///< normal, 3 corners, attribute count
+
+/// The facet count of a binary STL: the little-endian 32-bit word after the 80-byte header.
+/// @pre `header` holds at least kStlHeaderBytes bytes
+inline std::uint32_t stl_facet_count(const std::byte* header) {
+    std::uint32_t v = 0;
+    for (int i = 83; i >= 80; --i) v = (v << 8) | std::to_integer<std::uint32_t>(header[i]);
+    return v;
+}
 
 class FloatBitsWelder;
 

@@ -199,7 +199,7 @@ namespace {
 
 Result<IndexedMesh, MeshError> parse_binary(std::span<const std::byte> bytes,
                                             const ParseContext& ctx) {
-    const std::uint32_t count = read_u32_le(bytes.data() + 80);
+    const std::uint32_t count = stl_facet_count(bytes.data());
     if (count == 0) return Err{ctx.error(MeshErrc::kEmpty, 0, 80, "binary STL with 0 triangles")};
     BinaryStlParser parser(count, ctx);
     if (auto e = parser.add_facets(bytes.subspan(kHeaderBytes))) return Err{std::move(*e)};
@@ -322,7 +322,7 @@ Result<IndexedMesh, MeshError> parse_stl(std::span<const std::byte> bytes,
                                          const ParseContext& ctx) {
     const std::string_view text = as_text(bytes);
     if (bytes.size() >= kHeaderBytes) {
-        const std::uint64_t count = read_u32_le(bytes.data() + 80);
+        const std::uint64_t count = stl_facet_count(bytes.data());
         const std::uint64_t expected = kHeaderBytes + count * kFacetBytes;
         if (expected == bytes.size()) return parse_binary(bytes, ctx);
         if (!starts_with_solid(text) || has_nul(text)) {
