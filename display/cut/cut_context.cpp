@@ -69,8 +69,8 @@ void ContextState::rebuild() {
         mesh.property(mesh.vertex_status_pph()).data_vector().data();
     for (int i = 0; i < nv; ++i) {
         if (vertex_status[i].deleted()) continue;
-        lo.minimize(points[i]);
-        hi.maximize(points[i]);
+        minimize(lo, points[i]);  // Vec3::minimize written out (vec_ops.hpp)
+        maximize(hi, points[i]);
     }
     scale_m = mesh.n_vertices() == 0 ? 0.0 : (hi - lo).norm();
     tolerance_m = Plane::tolerance_for_scale(scale_m);

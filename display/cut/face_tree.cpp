@@ -11,6 +11,8 @@
 #include <new>
 #include <numeric>
 
+#include "display/cut/vec_ops.hpp"
+
 #if defined(__SSE2__)
 #include <immintrin.h>
 #endif
@@ -50,7 +52,7 @@ float round_up(double x) {
 // round_down (up = false) or round_up (up = true) of a0, a1, b0, b1 in the four lanes, with SSE2:
 // the same conversion (cvtpd2ps, as static_cast<float>), the same comparison back in double and
 // the same one-float step of the bits, lane by lane.
-__m128 round4(__m128d a, __m128d b, bool up) {
+[[gnu::always_inline]] inline __m128 round4(__m128d a, __m128d b, bool up) {
     const __m128 fa = _mm_cvtpd_ps(a), fb = _mm_cvtpd_ps(b);
     const __m128d back_a = _mm_cvtps_pd(fa), back_b = _mm_cvtps_pd(fb);
     const __m128d wrong_a = up ? _mm_cmplt_pd(back_a, a) : _mm_cmpgt_pd(back_a, a);
@@ -160,6 +162,65 @@ Keyed* radix_sort(Keyed* v, Keyed* tmp, std::size_t n) {
     return v;
 }
 
+#if defined(__SSE2__)
+// A face's box on SSE2 lanes (also the pass over the faces' arithmetic, below), each operation
+// the one the scalar expression beside it performs, so every float and double is bit-identical:
+// std::min(a, b), which is b < a ? b : a, is minpd(b, a); std::max(a, b), a < b ? b : a, is
+// maxpd(b, a). OpenMesh's Vec3 operations, which the scalar forms used, are std::transform
+// loops that gcc -O2 leaves going through memory.
+
+/// A point as its (x, y) lanes and its z (low lane).
+struct Lanes3 {
+    __m128d xy, z;
+};
+
+inline Lanes3 lanes_of(const Vec3& p) {
+    return {_mm_loadu_pd(p.data()), _mm_load_sd(p.data() + 2)};
+}
+
+/// A face's box, rounded outwards: lo in `down`, hi in `up` (lanes x, y, z, z).
+struct BoxLanes {
+    __m128 down, up;
+};
+
+/// Vec3::minimize / maximize from p0 by p1, then p2 (std::min(std::min(p0, p1), p2) per
+/// coordinate), then the six roundings four lanes at a time (the third coordinate twice).
+[[gnu::always_inline]] inline BoxLanes box_lanes(const Lanes3& p0, const Lanes3& p1,
+                                                 const Lanes3& p2) {
+    const __m128d lo_xy = _mm_min_pd(p2.xy, _mm_min_pd(p1.xy, p0.xy));
+    const __m128d hi_xy = _mm_max_pd(p2.xy, _mm_max_pd(p1.xy, p0.xy));
+    const __m128d lo_z = _mm_min_sd(p2.z, _mm_min_sd(p1.z, p0.z));
+    const __m128d hi_z = _mm_max_sd(p2.z, _mm_max_sd(p1.z, p0.z));
+    return {round4(lo_xy, _mm_unpacklo_pd(lo_z, lo_z), false),
+            round4(hi_xy, _mm_unpacklo_pd(hi_z, hi_z), true)};
+}
+
+/// Writes the box: lo[0..2] and hi[0] in one 16-byte store, hi[1..2] in 8 bytes.
+inline void store_box(const BoxLanes& b, FaceTree::Box& out) {
+    static_assert(sizeof(FaceTree::Box) == 6 * sizeof(float));
+    auto* const f = reinterpret_cast<float*>(&out);
+    const __m128 z_and_x = _mm_shuffle_ps(b.down, b.up, _MM_SHUFFLE(0, 0, 2, 2));
+    _mm_storeu_ps(f, _mm_shuffle_ps(b.down, z_and_x, _MM_SHUFFLE(2, 0, 1, 0)));
+    _mm_storel_pi(reinterpret_cast<__m64*>(f + 4),
+                  _mm_shuffle_ps(b.up, b.up, _MM_SHUFFLE(3, 3, 2, 1)));
+}
+
+FaceTree::Box rounded_box(const Vec3& p0, const Vec3& p1, const Vec3& p2) {
+    FaceTree::Box b;
+    store_box(box_lanes(lanes_of(p0), lanes_of(p1), lanes_of(p2)), b);
+    return b;
+}
+#else
+FaceTree::Box rounded_box(const Vec3& p0, const Vec3& p1, const Vec3& p2) {
+    FaceTree::Box b;
+    for (int a = 0; a < 3; ++a) {
+        b.lo[a] = round_down(std::min(std::min(p0[a], p1[a]), p2[a]));
+        b.hi[a] = round_up(std::max(std::max(p0[a], p1[a]), p2[a]));
+    }
+    return b;
+}
+#endif
+
 }  // namespace
 
 FaceTree::Item FaceTree::item_of(const mesh::TriMesh& mesh, mesh::FaceHandle f) {
@@ -173,24 +234,9 @@ FaceTree::Item FaceTree::item_of(const mesh::TriMesh& mesh, mesh::FaceHandle f) 
 
 inline FaceTree::Item FaceTree::item_from(std::int32_t face, const Vec3& p0, const Vec3& p1,
                                           const Vec3& p2) {
-    // Vec3::minimize / maximize from p0 by p1, then p2, written out per coordinate (OpenMesh's
-    // std::transform loops go through memory at -O2): the same std::min / std::max calls.
-    double lo[3], hi[3];
-    for (int a = 0; a < 3; ++a) {
-        lo[a] = std::min(std::min(p0[a], p1[a]), p2[a]);
-        hi[a] = std::max(std::max(p0[a], p1[a]), p2[a]);
-    }
     Item e;
     e.face = face;
-#if defined(__SSE2__)
-    // The six roundings four lanes at a time (the third coordinate twice): the same floats.
-    float down[4], up[4];
-    _mm_storeu_ps(down, round4(_mm_loadu_pd(lo), _mm_set1_pd(lo[2]), false));
-    _mm_storeu_ps(up, round4(_mm_loadu_pd(hi), _mm_set1_pd(hi[2]), true));
-    for (int a = 0; a < 3; ++a) e.box.lo[a] = down[a], e.box.hi[a] = up[a];
-#else
-    for (int a = 0; a < 3; ++a) e.box.lo[a] = round_down(lo[a]), e.box.hi[a] = round_up(hi[a]);
-#endif
+    e.box = rounded_box(p0, p1, p2);
     return e;
 }
 
@@ -212,6 +258,38 @@ std::array<float, 3> centre_of(const FaceTree::Box& b) {
 }
 
 }  // namespace
+
+void FaceTree::write_codes(const Box* boxes, std::size_t n, void* keys) const noexcept {
+    auto* const out = static_cast<Keyed*>(keys);
+#if defined(__SSE2__)
+    // code_of(centre_of(box)) for each box, the arithmetic on lanes (the same operations: the
+    // float centre, (c - lo) * scale in double, std::min(x, 2^21 - 1) as minpd(2^21 - 1, x),
+    // a NaN or negative x to 0, truncated to an integer), then the spread by table.
+    const __m128d lo_xy = _mm_loadu_pd(code_lo_), lo_z = _mm_load_sd(code_lo_ + 2);
+    const __m128d scale = _mm_set1_pd(code_scale_), top = _mm_set1_pd(2097151.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto* const f = reinterpret_cast<const float*>(boxes + i);
+        const __m128 lo = _mm_loadu_ps(f);        // lo0 lo1 lo2 hi0
+        const __m128 tail = _mm_loadu_ps(f + 2);  // lo2 hi0 hi1 hi2
+        const __m128 hi = _mm_shuffle_ps(tail, tail, _MM_SHUFFLE(3, 3, 2, 1));
+        const __m128 c = _mm_mul_ps(_mm_set1_ps(0.5f), _mm_add_ps(lo, hi));
+        const __m128d x_xy = _mm_mul_pd(_mm_sub_pd(_mm_cvtps_pd(c), lo_xy), scale);
+        const __m128d x_z = _mm_mul_sd(_mm_sub_sd(_mm_cvtps_pd(_mm_movehl_ps(c, c)), lo_z), scale);
+        const __m128d q_xy =
+            _mm_and_pd(_mm_cmpge_pd(x_xy, _mm_setzero_pd()), _mm_min_pd(top, x_xy));
+        const __m128d q_z = _mm_and_pd(_mm_cmpge_sd(x_z, _mm_setzero_pd()), _mm_min_sd(top, x_z));
+        const __m128i qi_xy = _mm_cvttpd_epi32(q_xy);
+        const auto qx = static_cast<std::uint32_t>(_mm_cvtsi128_si32(qi_xy));
+        const auto qy = static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_srli_si128(qi_xy, 4)));
+        const auto qz = static_cast<std::uint32_t>(_mm_cvttsd_si32(q_z));
+        out[i] = Keyed{spread_21_bits(qx) | spread_21_bits(qy) << 1 | spread_21_bits(qz) << 2,
+                       static_cast<std::uint32_t>(i)};
+    }
+#else
+    for (std::size_t i = 0; i < n; ++i)
+        out[i] = Keyed{code_of(centre_of(boxes[i]).data()), static_cast<std::uint32_t>(i)};
+#endif
+}
 
 bool FaceTree::enlarge(Box& b, const Box& by) noexcept {
     bool grew = false;
@@ -331,6 +409,218 @@ std::uint32_t FaceTree::point_mask(const Group& g, const PointLanes& q) noexcept
 
 #endif
 
+namespace {
+
+/// What the pass over the faces measures besides their boxes (FaceTree::build's first step).
+struct FaceScan {
+    std::size_t count = 0;               ///< boxes written: the live faces, in face order
+    bool every_face_live = true;         ///< no deleted face met
+    std::vector<std::int32_t> faces_of;  ///< each box's face, from the first deleted face on
+    double centre_lo[3] = {1e300, 1e300, 1e300};     ///< the box of the boxes' centres, as
+    double centre_hi[3] = {-1e300, -1e300, -1e300};  ///< Vec3::minimize / maximize grow it
+    double longest_sq = 0.0;             ///< the longest edge no flagged face borders, squared
+    std::size_t boundary_halfedges = 0;  ///< the faces' halfedges with no face opposite
+    double max_abs = 0.0;                ///< the largest max_abs_of of the boxes
+};
+
+/// The three halfedges of face `fi` and the faces across them (-1: none).
+struct FaceRing {
+    mesh::HalfedgeHandle h0, h1, h2;
+    int across0, across1, across2;
+};
+
+inline FaceRing ring_of(const mesh::TriMesh& mesh, int fi) {
+    FaceRing r;
+    r.h0 = mesh.halfedge_handle(mesh::FaceHandle(fi));
+    r.h1 = mesh.next_halfedge_handle(r.h0);
+    r.h2 = mesh.next_halfedge_handle(r.h1);
+    r.across0 = mesh.face_handle(mesh.opposite_halfedge_handle(r.h0)).idx();
+    r.across1 = mesh.face_handle(mesh.opposite_halfedge_handle(r.h1)).idx();
+    r.across2 = mesh.face_handle(mesh.opposite_halfedge_handle(r.h2)).idx();
+    return r;
+}
+
+/// Whether an edge between faces f (live) and g (-1: none) counts for the longest edge: neither
+/// is flagged.
+template <bool kFlagged>
+inline bool edge_counts(const std::uint8_t* flagged, int f, int g) {
+    return !kFlagged || (flagged[f] == 0 && (g < 0 || flagged[g] == 0));
+}
+
+#if defined(__SSE2__)
+/// (a - b).sqrnorm(), in the low lane: (dx² + dy²) + dz², as OpenMesh sums it.
+inline __m128d sqrdist_sd(const Lanes3& a, const Lanes3& b) {
+    const __m128d dxy = _mm_sub_pd(a.xy, b.xy), dz = _mm_sub_sd(a.z, b.z);
+    const __m128d sq = _mm_mul_pd(dxy, dxy);
+    return _mm_add_sd(_mm_add_sd(sq, _mm_unpackhi_pd(sq, sq)), _mm_mul_sd(dz, dz));
+}
+
+/// The pass's running measures, in registers.
+class ScanLanes {
+public:
+    /// Widens the centres' box by the box's centre (centre_of's floats, 0.5f * (lo + hi)):
+    /// lo = std::min(lo, c), hi = std::max(hi, c). In float, from +/-inf: FaceScan's double box
+    /// starts at +/-1e300, above / below every float but infinity, and takes the same values
+    /// (write() maps an infinite bound that no centre passed back to 1e300).
+    void add_centre(const BoxLanes& b) {
+        const __m128 c = _mm_mul_ps(_mm_set1_ps(0.5f), _mm_add_ps(b.down, b.up));
+        lo_ = _mm_min_ps(c, lo_);
+        hi_ = _mm_max_ps(c, hi_);
+    }
+    /// The largest |coordinate|, as max_abs_of: maxps(x, m) is x > m ? x : m, so a NaN x leaves
+    /// m and is remembered apart (max_abs_of is infinite for it).
+    void add_abs(const BoxLanes& b) {
+        const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+        abs_ = _mm_max_ps(_mm_and_ps(b.down, abs_mask), abs_);
+        abs_ = _mm_max_ps(_mm_and_ps(b.up, abs_mask), abs_);
+        nan_ = _mm_or_ps(nan_, _mm_cmpunord_ps(b.down, b.up));
+    }
+    /// longest = std::max(longest, l)
+    void add_length(__m128d l) { longest_ = _mm_max_sd(l, longest_); }
+
+    void write(FaceScan& out) const {
+        float lo[4], hi[4];
+        _mm_storeu_ps(lo, lo_);
+        _mm_storeu_ps(hi, hi_);
+        for (int a = 0; a < 3; ++a) {
+            out.centre_lo[a] = lo[a] == kInf ? 1e300 : double(lo[a]);
+            out.centre_hi[a] = hi[a] == -kInf ? -1e300 : double(hi[a]);
+        }
+        out.longest_sq = _mm_cvtsd_f64(longest_);
+        float m[4];
+        _mm_storeu_ps(m, abs_);
+        out.max_abs = _mm_movemask_ps(nan_) != 0
+                          ? std::numeric_limits<double>::infinity()
+                          : std::max({0.0, double(m[0]), double(m[1]), double(m[2])});
+    }
+
+private:
+    __m128 lo_ = _mm_set1_ps(kInf), hi_ = _mm_set1_ps(-kInf);
+    __m128d longest_ = _mm_setzero_pd();
+    __m128 abs_ = _mm_setzero_ps(), nan_ = _mm_setzero_ps();
+};
+
+/// Measures live face `fi`: its box into `box`, its edges.
+template <bool kFlagged>
+[[gnu::always_inline]] inline void scan_face(const mesh::TriMesh& mesh, const Vec3* points,
+                                             const std::uint8_t* flagged, int fi,
+                                             FaceTree::Box& box, ScanLanes& lanes,
+                                             std::size_t& boundary) {
+    const FaceRing r = ring_of(mesh, fi);
+    const Lanes3 p0 = lanes_of(points[mesh.to_vertex_handle(r.h0).idx()]);
+    const Lanes3 p1 = lanes_of(points[mesh.to_vertex_handle(r.h1).idx()]);
+    const Lanes3 p2 = lanes_of(points[mesh.to_vertex_handle(r.h2).idx()]);
+    const BoxLanes b = box_lanes(p0, p1, p2);
+    store_box(b, box);
+    lanes.add_centre(b);
+    lanes.add_abs(b);
+    boundary += static_cast<std::size_t>((r.across0 < 0) + (r.across1 < 0) + (r.across2 < 0));
+    // The face's edges: h0 runs p2 -> p0, h1 p0 -> p1, h2 p1 -> p2, |d|² the same either way
+    // along an edge. An edge counts unless a face on either side is flagged.
+    if (edge_counts<kFlagged>(flagged, fi, r.across0)) lanes.add_length(sqrdist_sd(p0, p2));
+    if (edge_counts<kFlagged>(flagged, fi, r.across1)) lanes.add_length(sqrdist_sd(p1, p0));
+    if (edge_counts<kFlagged>(flagged, fi, r.across2)) lanes.add_length(sqrdist_sd(p2, p1));
+}
+#else
+/// The pass's running measures.
+class ScanLanes {
+public:
+    void add_centre(const FaceTree::Box& b) {
+        const auto c = centre_of(b);
+        for (int a = 0; a < 3; ++a) lo_[a] = std::min(lo_[a], double(c[a]));
+        for (int a = 0; a < 3; ++a) hi_[a] = std::max(hi_[a], double(c[a]));
+    }
+    void add_abs(const FaceTree::Box& b) { max_abs_ = std::max(max_abs_, max_abs_of(b)); }
+    void add_length(double l) { longest_ = std::max(longest_, l); }
+    void write(FaceScan& out) const {
+        for (int a = 0; a < 3; ++a) out.centre_lo[a] = lo_[a], out.centre_hi[a] = hi_[a];
+        out.longest_sq = longest_;
+        out.max_abs = max_abs_;
+    }
+
+private:
+    double lo_[3] = {1e300, 1e300, 1e300}, hi_[3] = {-1e300, -1e300, -1e300};
+    double longest_ = 0.0, max_abs_ = 0.0;
+};
+
+template <bool kFlagged>
+[[gnu::always_inline]] inline void scan_face(const mesh::TriMesh& mesh, const Vec3* points,
+                                             const std::uint8_t* flagged, int fi,
+                                             FaceTree::Box& box, ScanLanes& lanes,
+                                             std::size_t& boundary) {
+    const FaceRing r = ring_of(mesh, fi);
+    const Vec3& p0 = points[mesh.to_vertex_handle(r.h0).idx()];
+    const Vec3& p1 = points[mesh.to_vertex_handle(r.h1).idx()];
+    const Vec3& p2 = points[mesh.to_vertex_handle(r.h2).idx()];
+    box = rounded_box(p0, p1, p2);
+    lanes.add_centre(box);
+    lanes.add_abs(box);
+    boundary += static_cast<std::size_t>((r.across0 < 0) + (r.across1 < 0) + (r.across2 < 0));
+    if (edge_counts<kFlagged>(flagged, fi, r.across0)) lanes.add_length(sqrdist(p0, p2));
+    if (edge_counts<kFlagged>(flagged, fi, r.across1)) lanes.add_length(sqrdist(p1, p0));
+    if (edge_counts<kFlagged>(flagged, fi, r.across2)) lanes.add_length(sqrdist(p2, p1));
+}
+#endif
+
+/// The pass over the faces: each live face's box into boxes[0, count), in face order, and the
+/// measures of FaceScan. While no face is deleted the loop keeps no list of faces (a box's face
+/// is its position).
+template <bool kFlagged>
+FaceScan scan_faces(const mesh::TriMesh& mesh, const std::uint8_t* flagged, FaceTree::Box* boxes) {
+    FaceScan out;
+    ScanLanes lanes;
+    const auto nf = static_cast<int>(mesh.n_faces());
+    const Vec3* const points = mesh.points();
+    const OpenMesh::Attributes::StatusInfo* const status =
+        mesh.property(mesh.face_status_pph()).data_vector().data();
+    std::size_t count = 0, boundary = 0;
+    int fi = 0;
+    for (; fi < nf && !status[fi].deleted(); ++fi)
+        scan_face<kFlagged>(mesh, points, flagged, fi, boxes[count++], lanes, boundary);
+    if (fi < nf) {
+        out.every_face_live = false;
+        out.faces_of.resize(count);
+        std::iota(out.faces_of.begin(), out.faces_of.end(), 0);
+        for (; fi < nf; ++fi) {
+            if (status[fi].deleted()) continue;
+            scan_face<kFlagged>(mesh, points, flagged, fi, boxes[count++], lanes, boundary);
+            out.faces_of.push_back(fi);
+        }
+    }
+    lanes.write(out);
+    out.count = count;
+    out.boundary_halfedges = boundary;
+    return out;
+}
+
+/// Whether any of the n bytes at p is non-zero, eight at a time.
+bool any_nonzero(const std::uint8_t* p, std::size_t n) {
+    std::uint64_t any = 0;
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        std::uint64_t w;
+        std::memcpy(&w, p + i, sizeof w);
+        any |= w;
+    }
+    for (; i < n; ++i) any |= p[i];
+    return any != 0;
+}
+
+/// Whether the pass met every edge from a face, so that its longest edge is the mesh's: no
+/// element is deleted and the faces account for every edge (interior edges twice, boundary
+/// edges once).
+bool scan_met_every_edge(const mesh::TriMesh& mesh, const FaceScan& scan) {
+    if (!scan.every_face_live) return false;
+    const std::size_t ne = mesh.n_edges();
+    const OpenMesh::Attributes::StatusInfo* const edge_status =
+        mesh.property(mesh.edge_status_pph()).data_vector().data();
+    std::size_t live_edges = 0;
+    for (std::size_t ei = 0; ei < ne; ++ei) live_edges += !edge_status[ei].deleted();
+    return live_edges == ne && 3 * scan.count == 2 * live_edges - scan.boundary_halfedges;
+}
+
+}  // namespace
+
 double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_faces) {
     margin_m_ = 0.0;
     items_.clear();
@@ -344,75 +634,23 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
     pending_.clear();
     leaves_ = padded_leaves_ = 0;
     last_leaf_ = 0;
-    // One pass over the faces: items, the box of their centres and the longest edge; then each
-    // item's Morton code in that box. The scratch arrays are written before they are read: no
-    // zero-filling.
+    // One pass over the faces: their boxes, the box of their centres and the longest edge; then
+    // each box's Morton code in that box. The scratch arrays are written before they are read:
+    // no zero-filling.
     const std::size_t capacity = mesh.n_faces();
-    // Each face's box in face order; a face's number is its position while every face is live
-    // (faces_of holds them from the first deleted face on).
+    // Each live face's box in face order (a face's number is its position while every face is
+    // live; scan.faces_of holds them from the first deleted face on).
     auto unsorted = std::make_unique_for_overwrite<Box[]>(capacity);
-    std::vector<std::int32_t> faces_of;
-    std::size_t count = 0;
-    Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
-    double longest_sq = 0.0;
-    std::size_t boundary_halfedges = 0;
-    bool every_face_live = true;
-    const auto nf = static_cast<int>(capacity);
-    const bool any_flagged =
-        flagged_faces != nullptr &&
-        std::any_of(flagged_faces, flagged_faces + capacity, [](std::uint8_t f) { return f != 0; });
-    const mesh::TriMesh::Point* const points = mesh.points();
-    const OpenMesh::Attributes::StatusInfo* const face_status =
-        mesh.property(mesh.face_status_pph()).data_vector().data();
-    for (int fi = 0; fi < nf; ++fi) {
-        const mesh::FaceHandle f(fi);
-        if (face_status[fi].deleted()) {
-            if (every_face_live) {
-                faces_of.resize(count);
-                std::iota(faces_of.begin(), faces_of.end(), 0);
-            }
-            every_face_live = false;
-            continue;
-        }
-        const mesh::HalfedgeHandle h0 = mesh.halfedge_handle(f);
-        const mesh::HalfedgeHandle h1 = mesh.next_halfedge_handle(h0);
-        const mesh::HalfedgeHandle h2 = mesh.next_halfedge_handle(h1);
-        const Vec3& p0 = points[mesh.to_vertex_handle(h0).idx()];
-        const Vec3& p1 = points[mesh.to_vertex_handle(h1).idx()];
-        const Vec3& p2 = points[mesh.to_vertex_handle(h2).idx()];
-        const Item e = item_from(fi, p0, p1, p2);
-        unsorted[count++] = e.box;
-        if (!every_face_live) faces_of.push_back(fi);
-        const auto c = centre_of(e.box);
-        lo.minimize(Vec3(c[0], c[1], c[2]));
-        hi.maximize(Vec3(c[0], c[1], c[2]));
-        // The face's edges: h0 runs p2 -> p0, h1 p0 -> p1, h2 p1 -> p2, |d|² the same either
-        // way along an edge. An edge counts unless a face on either side is flagged.
-        const int o0 = mesh.face_handle(mesh.opposite_halfedge_handle(h0)).idx();
-        const int o1 = mesh.face_handle(mesh.opposite_halfedge_handle(h1)).idx();
-        const int o2 = mesh.face_handle(mesh.opposite_halfedge_handle(h2)).idx();
-        boundary_halfedges += static_cast<std::size_t>((o0 < 0) + (o1 < 0) + (o2 < 0));
-        const double l0 = (p0 - p2).sqrnorm(), l1 = (p1 - p0).sqrnorm(), l2 = (p2 - p1).sqrnorm();
-        if (!any_flagged) {  // longest_sq first: a NaN length is skipped, as in a pass over edges
-            longest_sq = std::max(longest_sq, l0);
-            longest_sq = std::max(longest_sq, l1);
-            longest_sq = std::max(longest_sq, l2);
-        } else if (flagged_faces[fi] == 0) {
-            if (o0 < 0 || flagged_faces[o0] == 0) longest_sq = std::max(longest_sq, l0);
-            if (o1 < 0 || flagged_faces[o1] == 0) longest_sq = std::max(longest_sq, l1);
-            if (o2 < 0 || flagged_faces[o2] == 0) longest_sq = std::max(longest_sq, l2);
-        }
-    }
-    // Every edge was met from a face, so the pass measured them all, when no element is deleted
-    // and the faces account for every edge (interior edges twice, boundary edges once).
-    std::size_t live_edges = 0;
-    const auto ne = static_cast<int>(mesh.n_edges());
-    const OpenMesh::Attributes::StatusInfo* const edge_status =
-        mesh.property(mesh.edge_status_pph()).data_vector().data();
-    for (int ei = 0; ei < ne; ++ei) live_edges += !edge_status[ei].deleted();
-    const bool measured = every_face_live && live_edges == mesh.n_edges() &&
-                          3 * count == 2 * live_edges - boundary_halfedges;
-    const double longest_edge_sq = measured ? longest_sq : -1.0;
+    const bool any_flagged = flagged_faces != nullptr && any_nonzero(flagged_faces, capacity);
+    FaceScan scan = any_flagged ? scan_faces<true>(mesh, flagged_faces, unsorted.get())
+                                : scan_faces<false>(mesh, nullptr, unsorted.get());
+    const double longest_edge_sq = scan_met_every_edge(mesh, scan) ? scan.longest_sq : -1.0;
+    const std::size_t count = scan.count;
+    const bool every_face_live = scan.every_face_live;
+    const std::vector<std::int32_t>& faces_of = scan.faces_of;
+    max_abs_ = scan.max_abs;
+    const Vec3 lo(scan.centre_lo[0], scan.centre_lo[1], scan.centre_lo[2]);
+    const Vec3 hi(scan.centre_hi[0], scan.centre_hi[1], scan.centre_hi[2]);
     if (count == 0) return longest_edge_sq;
     const Vec3 ext = hi - lo;
     for (int a = 0; a < 3; ++a) code_lo_[a] = lo[a];
@@ -432,8 +670,7 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
         std::memcpy(&key, reinterpret_cast<const unsigned char*>(keyed) + 12 * k, sizeof key);
         return key;
     };
-    for (std::size_t i = 0; i < count; ++i)
-        scratch[i] = Keyed{code_of(centre_of(unsorted[i]).data()), static_cast<std::uint32_t>(i)};
+    write_codes(unsorted.get(), count, scratch);
     if (const Keyed* sorted = radix_sort(scratch, keyed, count); sorted != keyed)
         std::memmove(keyed, sorted, count * sizeof(Keyed));  // an even number of passes ran
     leaves_ = static_cast<std::uint32_t>((count + kLeafItems - 1) / kLeafItems);
@@ -472,7 +709,6 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
                 b.lo[a] = std::min(b.lo[a], by.lo[a]);
                 b.hi[a] = std::max(b.hi[a], by.hi[a]);
             }
-            max_abs_ = std::max(max_abs_, max_abs_of(by));
         }
         Group& g = group_of(leaves_level, leaf);
         for (int a = 0; a < 3; ++a) {

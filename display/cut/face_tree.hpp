@@ -163,6 +163,9 @@ private:
     static bool enlarge(Group& g, std::uint32_t lane, const Box& by) noexcept;
     // Morton code of a point in the quantisation of the last build.
     std::uint64_t code_of(const float* point) const noexcept;
+    // Writes {code_of(centre of boxes[i]), i} for each of the n boxes into keys (the sort's
+    // 12-byte keys, face_tree.cpp).
+    void write_codes(const Box* boxes, std::size_t n, void* keys) const noexcept;
 
     std::uint32_t leaf_count() const noexcept { return leaves_; }
     // The group holding node k of stored level `level` (level 0 is the top).
