@@ -32,7 +32,10 @@ ContextState::ContextState(mesh::TriMesh& m) : mesh(m) {
     mesh.add_property(e_stamp);
     mesh.add_property(f_stamp);
     if (!mesh.get_property_handle(cap, kCapFaceProperty)) mesh.add_property(cap, kCapFaceProperty);
-    rebuild();
+    // The stamps were just added, so add_property wrote every one 0 (value-initialised) and the
+    // generation is 1: clear_stamps() would write 6 MB again on a 1M-face mesh.
+    index();
+    reserve_headroom();
 }
 
 ContextState::~ContextState() {
@@ -62,6 +65,12 @@ bool ContextState::degenerate_in_a_float_file(const Vec3& a, const Vec3& b, cons
 }
 
 void ContextState::rebuild() {
+    index();
+    clear_stamps();
+    reserve_headroom();
+}
+
+void ContextState::index() {
     Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
     const auto nv = static_cast<int>(mesh.n_vertices());
     const mesh::TriMesh::Point* points = mesh.points();
@@ -104,8 +113,6 @@ void ContextState::rebuild() {
         const mesh::FaceHandle f(static_cast<int>(at - tags.begin()));
         if (!mesh.status(f).deleted()) cap_faces.push_back(f);
     }
-    clear_stamps();
-    reserve_headroom();
 }
 
 void ContextState::reserve_headroom() {

@@ -112,6 +112,59 @@ struct Keyed {
 #pragma pack(pop)
 static_assert(sizeof(Keyed) == 12);
 
+// The sort's digits: 13 bits per pass from bit kSkippedBits up (see radix_sort).
+constexpr int kDigitBits = 13, kSkippedBits = 26, kPasses = 3;
+static_assert(kSkippedBits + kDigitBits * kPasses >= 63);
+constexpr std::uint32_t kRadix = 1u << kDigitBits, kDigitMask = kRadix - 1;
+
+// (a.code, a.index) < (b.code, b.index)
+inline bool key_before(const Keyed& a, const Keyed& b) {
+    return a.code != b.code ? a.code < b.code : a.index < b.index;
+}
+
+// The digit counts of the three passes, count[pass * kRadix + digit], in one read of the keys
+// (the three increments written out: the loop over the passes cost twice the instructions).
+void count_digits(const Keyed* v, std::size_t n, std::uint32_t* count) {
+    static_assert(kPasses == 3);
+    std::uint32_t* const c0 = count;
+    std::uint32_t* const c1 = count + kRadix;
+    std::uint32_t* const c2 = count + 2 * std::size_t{kRadix};
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint64_t c = v[i].code;
+        ++c0[(c >> kSkippedBits) & kDigitMask];
+        ++c1[(c >> (kSkippedBits + kDigitBits)) & kDigitMask];
+        ++c2[(c >> (kSkippedBits + 2 * kDigitBits)) & kDigitMask];
+    }
+}
+
+// Sorts v[0, k) by (code, index) by insertion: the runs radix_sort leaves are short (2 to 22 keys
+// on the 1M foot), where a std::sort call cost more than its sorting. Any sort gives the same
+// order: the indices are distinct.
+void insertion_sort(Keyed* v, std::size_t k) {
+    for (std::size_t i = 1; i < k; ++i) {
+        const Keyed x = v[i];
+        std::size_t j = i;
+        for (; j > 0 && key_before(x, v[j - 1]); --j) v[j] = v[j - 1];
+        v[j] = x;
+    }
+}
+
+// Sorts each run of v[0, n) equal in the code's bits from kSkippedBits up by (code, index):
+// by insertion up to kInsertionRun keys, else std::sort (so a crowded cell costs O(k log k)).
+void sort_runs(Keyed* v, std::size_t n) {
+    constexpr std::size_t kInsertionRun = 32;
+    for (std::size_t i = 0; i < n;) {
+        const std::uint64_t high = v[i].code >> kSkippedBits;
+        std::size_t j = i + 1;
+        while (j < n && v[j].code >> kSkippedBits == high) ++j;
+        if (j - i <= kInsertionRun)
+            insertion_sort(v + i, j - i);
+        else
+            std::sort(v + i, v + j, key_before);
+        i = j;
+    }
+}
+
 // Sorts v[0, n) (in order of index) by (code, index), the order a stable sort by code gives.
 // `tmp` holds n; returns the array holding the result (v or tmp). O(n) for the codes of a
 // surface's face centres.
@@ -124,41 +177,24 @@ static_assert(sizeof(Keyed) == 12);
 // centres fall in one cell 1/5,000 of the box across: on the 1M-face foot 269k runs of 2 to 22
 // keys (549k keys), sorted in 3 ms, where the two passes left out took about 8. 13-bit digits
 // keep the 8,192 write positions of a pass in cache: 16-bit digits (four passes) were slower on
-// the 1M-face foot's codes. Passes whose digit is the same for every code are skipped; a run is
-// sorted with std::sort, so crowded cells cost O(k log k), never O(k²).
+// the 1M-face foot's codes. Passes whose digit is the same for every code are skipped.
 Keyed* radix_sort(Keyed* v, Keyed* tmp, std::size_t n) {
-    constexpr int kBits = 13, kSkippedBits = 26, kPasses = 3;
-    static_assert(kSkippedBits + kBits * kPasses >= 63);
-    constexpr std::uint32_t kRadix = 1u << kBits, kMask = kRadix - 1;
     std::vector<std::uint32_t> count(std::size_t{kRadix} * kPasses, 0u);
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::uint64_t c = v[i].code;
-        for (int pass = 0; pass < kPasses; ++pass)
-            ++count[pass * std::size_t{kRadix} + ((c >> (kSkippedBits + kBits * pass)) & kMask)];
-    }
+    count_digits(v, n, count.data());
     for (int pass = 0; pass < kPasses && n > 0; ++pass) {
         std::uint32_t* c = count.data() + pass * std::size_t{kRadix};
-        const int shift = kSkippedBits + kBits * pass;
-        if (c[(v[0].code >> shift) & kMask] == n) continue;
+        const int shift = kSkippedBits + kDigitBits * pass;
+        if (c[(v[0].code >> shift) & kDigitMask] == n) continue;
         std::uint32_t sum = 0;
         for (std::uint32_t d = 0; d < kRadix; ++d) {
             const std::uint32_t here = c[d];
             c[d] = sum;
             sum += here;
         }
-        for (std::size_t i = 0; i < n; ++i) tmp[c[(v[i].code >> shift) & kMask]++] = v[i];
+        for (std::size_t i = 0; i < n; ++i) tmp[c[(v[i].code >> shift) & kDigitMask]++] = v[i];
         std::swap(v, tmp);
     }
-    auto before = [](const Keyed& a, const Keyed& b) {
-        return a.code != b.code ? a.code < b.code : a.index < b.index;
-    };
-    for (std::size_t i = 0; i < n;) {
-        const std::uint64_t high = v[i].code >> kSkippedBits;
-        std::size_t j = i + 1;
-        while (j < n && v[j].code >> kSkippedBits == high) ++j;
-        if (j - i > 1) std::sort(v + i, v + j, before);
-        i = j;
-    }
+    sort_runs(v, n);
     return v;
 }
 
@@ -621,6 +657,57 @@ bool scan_met_every_edge(const mesh::TriMesh& mesh, const FaceScan& scan) {
 
 }  // namespace
 
+namespace {
+
+// A leaf's box folded from an empty one item by item, as enlarging its lane per item would (the
+// same std::min / std::max in the same order: the same floats, a NaN ignored the same way), then
+// stored once into its group's lane.
+class LeafBox {
+public:
+#if defined(__SSE2__)
+    // Copies item {face, box} to `out` and folds its box in: minps(by, b) is std::min(b, by),
+    // maxps(by, b) std::max(b, by). Lanes lo0 lo1 lo2 (hi0) and hi0 hi1 hi2 (hi2).
+    void add_item(std::int32_t face, const FaceTree::Box& box, void* out) {
+        const auto* const f = reinterpret_cast<const float*>(&box);
+        const __m128 head = _mm_loadu_ps(f), tail = _mm_loadu_ps(f + 2);  // lo0-hi0, lo2-hi2
+        auto* const o = static_cast<unsigned char*>(out);
+        std::memcpy(o, &face, sizeof face);
+        _mm_storeu_ps(reinterpret_cast<float*>(o + 4), head);
+        _mm_storel_pi(reinterpret_cast<__m64*>(o + 20), _mm_movehl_ps(tail, tail));
+        lo_ = _mm_min_ps(head, lo_);
+        hi_ = _mm_max_ps(_mm_shuffle_ps(tail, tail, _MM_SHUFFLE(3, 3, 2, 1)), hi_);
+    }
+    template <class Group>
+    void store(Group& g, std::uint32_t lane) const {
+        float lo[4], hi[4];
+        _mm_storeu_ps(lo, lo_);
+        _mm_storeu_ps(hi, hi_);
+        for (int a = 0; a < 3; ++a) g.lo[a][lane] = lo[a], g.hi[a][lane] = hi[a];
+    }
+
+private:
+    __m128 lo_ = _mm_set1_ps(kInf), hi_ = _mm_set1_ps(-kInf);
+#else
+    void add_item(std::int32_t face, const FaceTree::Box& box, void* out) {
+        std::memcpy(out, &face, sizeof face);
+        std::memcpy(static_cast<unsigned char*>(out) + sizeof face, &box, sizeof box);
+        for (int a = 0; a < 3; ++a) {
+            b_.lo[a] = std::min(b_.lo[a], box.lo[a]);
+            b_.hi[a] = std::max(b_.hi[a], box.hi[a]);
+        }
+    }
+    template <class Group>
+    void store(Group& g, std::uint32_t lane) const {
+        for (int a = 0; a < 3; ++a) g.lo[a][lane] = b_.lo[a], g.hi[a][lane] = b_.hi[a];
+    }
+
+private:
+    FaceTree::Box b_{{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}};
+#endif
+};
+
+}  // namespace
+
 double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_faces) {
     margin_m_ = 0.0;
     items_.clear();
@@ -695,26 +782,17 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
     // ignored the same way), then stored once.
     constexpr std::size_t kAhead = 16;
     for (std::uint32_t leaf = 0; leaf < leaves_; ++leaf) {
-        Box b{{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}};
         const std::size_t first = leaf * std::size_t{kLeafItems};
         const std::size_t end = std::min<std::size_t>(count, first + kLeafItems);
         leaf_codes_[leaf] = key_at(first).code;  // before the leaf's items overwrite it
+        LeafBox b;
         for (std::size_t k = first; k < end; ++k) {
             if (k + kAhead < count) __builtin_prefetch(&unsorted[key_at(k + kAhead).index]);
             const std::uint32_t at = key_at(k).index;
             const auto face = every_face_live ? static_cast<std::int32_t>(at) : faces_of[at];
-            const Item& item = *::new (static_cast<void*>(&items_[k])) Item{face, unsorted[at]};
-            const Box& by = item.box;
-            for (int a = 0; a < 3; ++a) {
-                b.lo[a] = std::min(b.lo[a], by.lo[a]);
-                b.hi[a] = std::max(b.hi[a], by.hi[a]);
-            }
+            b.add_item(face, unsorted[at], &items_[k]);
         }
-        Group& g = group_of(leaves_level, leaf);
-        for (int a = 0; a < 3; ++a) {
-            g.lo[a][leaf % kLanes] = b.lo[a];
-            g.hi[a][leaf % kLanes] = b.hi[a];
-        }
+        b.store(group_of(leaves_level, leaf), leaf % kLanes);
     }
     unsorted.reset();
     for (std::uint32_t j = 0; j < leaves_; j += kCoarseStride)
