@@ -51,7 +51,12 @@ float round_up(double x) {
 #if defined(__SSE2__)
 // round_down (up = false) or round_up (up = true) of a0, a1, b0, b1 in the four lanes, with SSE2:
 // the same conversion (cvtpd2ps, as static_cast<float>), the same comparison back in double and
-// the same one-float step of the bits, lane by lane.
+// the same one-float step of the bits, lane by lane. The step is +1 on the bits of a positive
+// float and -1 on a negative one's ((bits >> 31, arithmetic) | 1), added for up, subtracted for
+// down: round_down's and round_up's special case for a zero is never stepped here with another
+// value, since a zero that must step down is -0 (x < 0 rounds to -0) and one that must step up
+// is +0. Checked bit for bit against the masked form on 100 million lane values (random doubles,
+// doubles at and next to floats, zeros, denormals, the float range's ends, infinities, NaN).
 [[gnu::always_inline]] inline __m128 round4(__m128d a, __m128d b, bool up) {
     const __m128 fa = _mm_cvtpd_ps(a), fb = _mm_cvtpd_ps(b);
     const __m128d back_a = _mm_cvtps_pd(fa), back_b = _mm_cvtps_pd(fb);
@@ -60,17 +65,9 @@ float round_up(double x) {
     const __m128i step = _mm_castps_si128(
         _mm_shuffle_ps(_mm_castpd_ps(wrong_a), _mm_castpd_ps(wrong_b), _MM_SHUFFLE(2, 0, 2, 0)));
     const __m128i bits = _mm_castps_si128(_mm_movelh_ps(fa, fb));
-    const __m128i zero = _mm_cmpeq_epi32(_mm_slli_epi32(bits, 1), _mm_setzero_si128());
-    const __m128i twice_sign = _mm_slli_epi32(_mm_srli_epi32(bits, 31), 1);
-    const __m128i one = _mm_set1_epi32(1);
-    const __m128i moved =
-        up ? _mm_or_si128(
-                 _mm_and_si128(zero, one),
-                 _mm_andnot_si128(zero, _mm_sub_epi32(_mm_add_epi32(bits, one), twice_sign)))
-           : _mm_or_si128(
-                 _mm_and_si128(zero, _mm_set1_epi32(static_cast<int>(0x80000001u))),
-                 _mm_andnot_si128(zero, _mm_sub_epi32(_mm_add_epi32(bits, twice_sign), one)));
-    return _mm_castsi128_ps(_mm_xor_si128(bits, _mm_and_si128(_mm_xor_si128(bits, moved), step)));
+    const __m128i away = _mm_or_si128(_mm_srai_epi32(bits, 31), _mm_set1_epi32(1));
+    const __m128i delta = _mm_and_si128(away, step);
+    return _mm_castsi128_ps(up ? _mm_add_epi32(bits, delta) : _mm_sub_epi32(bits, delta));
 }
 #endif
 
@@ -112,28 +109,43 @@ struct Keyed {
 #pragma pack(pop)
 static_assert(sizeof(Keyed) == 12);
 
-// The sort's digits: 13 bits per pass from bit kSkippedBits up (see radix_sort).
-constexpr int kDigitBits = 13, kSkippedBits = 26, kPasses = 3;
-static_assert(kSkippedBits + kDigitBits * kPasses >= 63);
-constexpr std::uint32_t kRadix = 1u << kDigitBits, kDigitMask = kRadix - 1;
+// The sort's digits: pass p orders the keys by kDigitBits[p] bits of the code from
+// kDigitShift[p] up (see radix_sort). The low digits are short, so that a pass writes to few
+// places at once: 10 and 12 bits (1,024 and 4,096 buckets) took 3.5 and 4.4 ms a pass on the 1M
+// foot where 13 bits (8,192) took 6.3 and 5.5 ms; the top digit, 15 bits, has far fewer distinct
+// values than buckets (the centres lie on a surface, in 32 cells a side): 3.0 ms.
+constexpr int kSkippedBits = 26, kPasses = 3;
+constexpr int kDigitBits[kPasses] = {10, 12, 15};
+constexpr int kDigitShift[kPasses] = {kSkippedBits, kSkippedBits + kDigitBits[0],
+                                      kSkippedBits + kDigitBits[0] + kDigitBits[1]};
+static_assert(kDigitShift[2] + kDigitBits[2] == 63);  // the code's bits 26 to 62
+// Where each pass's counts start in the one count array, and its size.
+constexpr std::size_t kCountOffset[kPasses] = {
+    0, std::size_t{1} << kDigitBits[0],
+    (std::size_t{1} << kDigitBits[0]) + (std::size_t{1} << kDigitBits[1])};
+constexpr std::size_t kCounts = kCountOffset[2] + (std::size_t{1} << kDigitBits[2]);
+
+constexpr std::uint32_t digit(std::uint64_t code, int pass) {
+    return static_cast<std::uint32_t>(code >> kDigitShift[pass]) & ((1u << kDigitBits[pass]) - 1);
+}
 
 // (a.code, a.index) < (b.code, b.index)
 inline bool key_before(const Keyed& a, const Keyed& b) {
     return a.code != b.code ? a.code < b.code : a.index < b.index;
 }
 
-// The digit counts of the three passes, count[pass * kRadix + digit], in one read of the keys
-// (the three increments written out: the loop over the passes cost twice the instructions).
+// The digit counts of the three passes, count[kCountOffset[pass] + digit], in one read of the
+// keys (the three increments written out: the loop over the passes cost twice the instructions).
 void count_digits(const Keyed* v, std::size_t n, std::uint32_t* count) {
     static_assert(kPasses == 3);
-    std::uint32_t* const c0 = count;
-    std::uint32_t* const c1 = count + kRadix;
-    std::uint32_t* const c2 = count + 2 * std::size_t{kRadix};
+    std::uint32_t* const c0 = count + kCountOffset[0];
+    std::uint32_t* const c1 = count + kCountOffset[1];
+    std::uint32_t* const c2 = count + kCountOffset[2];
     for (std::size_t i = 0; i < n; ++i) {
         const std::uint64_t c = v[i].code;
-        ++c0[(c >> kSkippedBits) & kDigitMask];
-        ++c1[(c >> (kSkippedBits + kDigitBits)) & kDigitMask];
-        ++c2[(c >> (kSkippedBits + 2 * kDigitBits)) & kDigitMask];
+        ++c0[digit(c, 0)];
+        ++c1[digit(c, 1)];
+        ++c2[digit(c, 2)];
     }
 }
 
@@ -165,33 +177,39 @@ void sort_runs(Keyed* v, std::size_t n) {
     }
 }
 
+// One stable pass of radix_sort: v[0, n) into tmp in order of digit `pass`, from that digit's
+// counts (turned into the first position of each digit's keys).
+void scatter_pass(const Keyed* v, Keyed* tmp, std::size_t n, int pass, std::uint32_t* counts) {
+    std::uint32_t sum = 0;
+    for (std::uint32_t d = 0; d < (1u << kDigitBits[pass]); ++d) {
+        const std::uint32_t here = counts[d];
+        counts[d] = sum;
+        sum += here;
+    }
+    const int shift = kDigitShift[pass];
+    const std::uint32_t mask = (1u << kDigitBits[pass]) - 1;
+    for (std::size_t i = 0; i < n; ++i) tmp[counts[(v[i].code >> shift) & mask]++] = v[i];
+}
+
 // Sorts v[0, n) (in order of index) by (code, index), the order a stable sort by code gives.
 // `tmp` holds n; returns the array holding the result (v or tmp). O(n) for the codes of a
 // surface's face centres.
 //
-// A stable LSD radix sort by the code's bits from kSkippedBits up (63 bits used), 13 bits per
-// pass: three passes instead of the five that all 63 bits take (each pass a read and a scattered
+// A stable LSD radix sort by the code's bits from kSkippedBits up (63 bits used) in three passes
+// of kDigitBits, instead of the five that all 63 bits take (each pass a read and a scattered
 // write of n keys). That orders keys by (code >> kSkippedBits, index); the runs of keys equal in
 // those bits are then sorted by (code, index), which gives the full order exactly. The skipped
 // bits are the low 8.67 bits of each axis of the centres' box: a run holds the faces whose
 // centres fall in one cell 1/5,000 of the box across: on the 1M-face foot 269k runs of 2 to 22
-// keys (549k keys), sorted in 3 ms, where the two passes left out took about 8. 13-bit digits
-// keep the 8,192 write positions of a pass in cache: 16-bit digits (four passes) were slower on
-// the 1M-face foot's codes. Passes whose digit is the same for every code are skipped.
+// keys (549k keys), sorted in 3 ms, where the two passes left out took about 8. Passes whose
+// digit is the same for every code are skipped.
 Keyed* radix_sort(Keyed* v, Keyed* tmp, std::size_t n) {
-    std::vector<std::uint32_t> count(std::size_t{kRadix} * kPasses, 0u);
-    count_digits(v, n, count.data());
+    std::vector<std::uint32_t> counts(kCounts, 0u);
+    count_digits(v, n, counts.data());
     for (int pass = 0; pass < kPasses && n > 0; ++pass) {
-        std::uint32_t* c = count.data() + pass * std::size_t{kRadix};
-        const int shift = kSkippedBits + kDigitBits * pass;
-        if (c[(v[0].code >> shift) & kDigitMask] == n) continue;
-        std::uint32_t sum = 0;
-        for (std::uint32_t d = 0; d < kRadix; ++d) {
-            const std::uint32_t here = c[d];
-            c[d] = sum;
-            sum += here;
-        }
-        for (std::size_t i = 0; i < n; ++i) tmp[c[(v[i].code >> shift) & kDigitMask]++] = v[i];
+        std::uint32_t* const c = counts.data() + kCountOffset[pass];
+        if (c[digit(v[0].code, pass)] == n) continue;
+        scatter_pass(v, tmp, n, pass, c);
         std::swap(v, tmp);
     }
     sort_runs(v, n);
@@ -726,8 +744,14 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
     // no zero-filling.
     const std::size_t capacity = mesh.n_faces();
     // Each live face's box in face order (a face's number is its position while every face is
-    // live; scan.faces_of holds them from the first deleted face on).
+    // live; scan.faces_of holds them from the first deleted face on). From the ordinary heap,
+    // advised for huge pages: its first touch takes 12 faults instead of 6,000 on the 1M foot
+    // (1.6 us each on this VM: 10 ms of a 70 ms build), and once freed it stays in the heap for
+    // the stamps' and the inserts' reserves that follow, as 4 KiB pages do (a HugePageAllocator
+    // block is unmapped: those reserves then page-faulted, 2 ms more in the build and in the idle
+    // steps).
     auto unsorted = std::make_unique_for_overwrite<Box[]>(capacity);
+    advise_huge_pages(unsorted.get(), capacity * sizeof(Box));
     const bool any_flagged = flagged_faces != nullptr && any_nonzero(flagged_faces, capacity);
     FaceScan scan = any_flagged ? scan_faces<true>(mesh, flagged_faces, unsorted.get())
                                 : scan_faces<false>(mesh, nullptr, unsorted.get());
