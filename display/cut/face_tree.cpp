@@ -513,9 +513,10 @@ inline __m128d sqrdist_sd(const Lanes3& a, const Lanes3& b) {
 class ScanLanes {
 public:
     /// Widens the centres' box by the box's centre (centre_of's floats, 0.5f * (lo + hi)):
-    /// lo = std::min(lo, c), hi = std::max(hi, c). In float, from +/-inf: FaceScan's double box
-    /// starts at +/-1e300, above / below every float but infinity, and takes the same values
-    /// (write() maps an infinite bound that no centre passed back to 1e300).
+    /// lo = std::min(lo, c), hi = std::max(hi, c). In float, from +/-inf, for the double box
+    /// that starts at +/-1e300: every float but an infinity is inside +/-1e300, so both take the
+    /// same values, except that the double bound stays at 1e300 where the float one stays at
+    /// infinity (no centre, or only infinite ones): write() maps that back.
     void add_centre(const BoxLanes& b) {
         const __m128 c = _mm_mul_ps(_mm_set1_ps(0.5f), _mm_add_ps(b.down, b.up));
         lo_ = _mm_min_ps(c, lo_);
@@ -727,6 +728,53 @@ private:
 }  // namespace
 
 double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_faces) {
+    clear_for_build();
+    // One pass over the faces: their boxes, the box of their centres and the longest edge; then
+    // each box's Morton code in that box, the sort, the gather into the leaves and the levels
+    // above. The scratch arrays are written before they are read: no zero-filling.
+    const std::size_t capacity = mesh.n_faces();
+    // Each live face's box in face order (a face's number is its position while every face is
+    // live; scan.faces_of holds them from the first deleted face on). From the ordinary heap,
+    // advised for huge pages: its first touch takes 12 faults instead of 6,000 on the 1M foot
+    // (1.6 us each on this VM: 10 ms of a 70 ms build), and once freed it stays in the heap for
+    // the stamps' and the inserts' reserves that follow, as 4 KiB pages do (a HugePageAllocator
+    // block is unmapped: those reserves then page-faulted, 2 ms more in the build and in the idle
+    // steps).
+    auto unsorted = std::make_unique_for_overwrite<Box[]>(capacity);
+    advise_huge_pages(unsorted.get(), capacity * sizeof(Box));
+    const bool any_flagged = flagged_faces != nullptr && any_nonzero(flagged_faces, capacity);
+    const FaceScan scan = any_flagged ? scan_faces<true>(mesh, flagged_faces, unsorted.get())
+                                      : scan_faces<false>(mesh, nullptr, unsorted.get());
+    const double longest_edge_sq = scan_met_every_edge(mesh, scan) ? scan.longest_sq : -1.0;
+    max_abs_ = scan.max_abs;
+    const std::size_t count = scan.count;
+    if (count == 0) return longest_edge_sq;
+    quantise(scan.centre_lo, scan.centre_hi);
+    // The sort's two key arrays live in the items' own memory, allocated now (pages that the
+    // gather then rewrites, instead of two more arrays paged in and freed): the scratch keys in
+    // its first 12 bytes per item, the sorted keys in its last 12. The gather writes item k over
+    // bytes [28k, 28k + 28), below key k + 1 (at 16n + 12(k + 1)): it overwrites only keys it
+    // has read. The keys are read there through memcpy, not as Keyed objects.
+    items_.resize(count);
+    auto* const arena = reinterpret_cast<unsigned char*>(items_.data());
+    static_assert(sizeof(Item) == 28 && sizeof(Keyed) == 12 && alignof(Item) >= alignof(Keyed));
+    Keyed* const scratch = reinterpret_cast<Keyed*>(arena);
+    Keyed* const keyed = reinterpret_cast<Keyed*>(arena + 16 * count);
+    write_codes(unsorted.get(), count, scratch);
+    if (const Keyed* sorted = radix_sort(scratch, keyed, count); sorted != keyed)
+        std::memmove(keyed, sorted, count * sizeof(Keyed));  // an even number of passes ran
+    const int depth = size_levels();
+    gather_leaves(unsorted.get(), arena + 16 * count,
+                  scan.every_face_live ? nullptr : scan.faces_of.data());
+    unsorted.reset();
+    for (std::uint32_t j = 0; j < leaves_; j += kCoarseStride)
+        coarse_codes_.push_back(leaf_codes_[j]);
+    fill_upper_levels(depth);
+    extra_head_.assign(leaves_, -1);
+    return longest_edge_sq;
+}
+
+void FaceTree::clear_for_build() {
     margin_m_ = 0.0;
     items_.clear();
     groups_.clear();
@@ -739,52 +787,18 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
     pending_.clear();
     leaves_ = padded_leaves_ = 0;
     last_leaf_ = 0;
-    // One pass over the faces: their boxes, the box of their centres and the longest edge; then
-    // each box's Morton code in that box. The scratch arrays are written before they are read:
-    // no zero-filling.
-    const std::size_t capacity = mesh.n_faces();
-    // Each live face's box in face order (a face's number is its position while every face is
-    // live; scan.faces_of holds them from the first deleted face on). From the ordinary heap,
-    // advised for huge pages: its first touch takes 12 faults instead of 6,000 on the 1M foot
-    // (1.6 us each on this VM: 10 ms of a 70 ms build), and once freed it stays in the heap for
-    // the stamps' and the inserts' reserves that follow, as 4 KiB pages do (a HugePageAllocator
-    // block is unmapped: those reserves then page-faulted, 2 ms more in the build and in the idle
-    // steps).
-    auto unsorted = std::make_unique_for_overwrite<Box[]>(capacity);
-    advise_huge_pages(unsorted.get(), capacity * sizeof(Box));
-    const bool any_flagged = flagged_faces != nullptr && any_nonzero(flagged_faces, capacity);
-    FaceScan scan = any_flagged ? scan_faces<true>(mesh, flagged_faces, unsorted.get())
-                                : scan_faces<false>(mesh, nullptr, unsorted.get());
-    const double longest_edge_sq = scan_met_every_edge(mesh, scan) ? scan.longest_sq : -1.0;
-    const std::size_t count = scan.count;
-    const bool every_face_live = scan.every_face_live;
-    const std::vector<std::int32_t>& faces_of = scan.faces_of;
-    max_abs_ = scan.max_abs;
-    const Vec3 lo(scan.centre_lo[0], scan.centre_lo[1], scan.centre_lo[2]);
-    const Vec3 hi(scan.centre_hi[0], scan.centre_hi[1], scan.centre_hi[2]);
-    if (count == 0) return longest_edge_sq;
+}
+
+void FaceTree::quantise(const double* centre_lo, const double* centre_hi) {
+    const Vec3 lo(centre_lo[0], centre_lo[1], centre_lo[2]);
+    const Vec3 hi(centre_hi[0], centre_hi[1], centre_hi[2]);
     const Vec3 ext = hi - lo;
     for (int a = 0; a < 3; ++a) code_lo_[a] = lo[a];
     code_scale_ = 2097151.0 / std::max({ext[0], ext[1], ext[2], 1e-300});
-    // The sort's two key arrays live in the items' own memory, allocated now (pages that the
-    // gather then rewrites, instead of two more arrays paged in and freed): the scratch keys in
-    // its first 12 bytes per item, the sorted keys in its last 12. The gather writes item k over
-    // bytes [28k, 28k + 28), below key k + 1 (at 16n + 12(k + 1)): it overwrites only keys it
-    // has read. The keys are read there through memcpy (key_at), not as Keyed objects.
-    items_.resize(count);
-    auto* const arena = reinterpret_cast<unsigned char*>(items_.data());
-    static_assert(sizeof(Item) == 28 && sizeof(Keyed) == 12 && alignof(Item) >= alignof(Keyed));
-    Keyed* const scratch = reinterpret_cast<Keyed*>(arena);
-    Keyed* const keyed = reinterpret_cast<Keyed*>(arena + 16 * count);
-    const auto key_at = [keyed](std::size_t k) {
-        Keyed key;
-        std::memcpy(&key, reinterpret_cast<const unsigned char*>(keyed) + 12 * k, sizeof key);
-        return key;
-    };
-    write_codes(unsorted.get(), count, scratch);
-    if (const Keyed* sorted = radix_sort(scratch, keyed, count); sorted != keyed)
-        std::memmove(keyed, sorted, count * sizeof(Keyed));  // an even number of passes ran
-    leaves_ = static_cast<std::uint32_t>((count + kLeafItems - 1) / kLeafItems);
+}
+
+int FaceTree::size_levels() {
+    leaves_ = static_cast<std::uint32_t>((items_.size() + kLeafItems - 1) / kLeafItems);
     padded_leaves_ = 1;
     int depth = 0;  // of the leaves in the binary tree
     while (padded_leaves_ < leaves_) padded_leaves_ *= 2, ++depth;
@@ -799,11 +813,20 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
         for (std::uint32_t k = 0; k < kLanes; ++k) empty.lo[a][k] = kInf, empty.hi[a][k] = -kInf;
     groups_.assign(total, empty);
     leaf_codes_.resize(leaves_);
+    return depth;
+}
+
+void FaceTree::gather_leaves(const Box* unsorted, const unsigned char* sorted_keys,
+                             const std::int32_t* faces_of) {
+    const std::size_t count = items_.size();
+    const auto key_at = [sorted_keys](std::size_t k) {
+        Keyed key;
+        std::memcpy(&key, sorted_keys + 12 * k, sizeof key);
+        return key;
+    };
     const int leaves_level = last_level();
     // A gather from across the unsorted items, each one fetched a few ahead, leaf by leaf: the
-    // leaf's box folded from an empty one item by item as they arrive, as enlarging its lane per
-    // item would (the same std::min / std::max in the same order: the same floats, a NaN
-    // ignored the same way), then stored once.
+    // leaf's box folded from an empty one item by item as they arrive (LeafBox), then stored once.
     constexpr std::size_t kAhead = 16;
     for (std::uint32_t leaf = 0; leaf < leaves_; ++leaf) {
         const std::size_t first = leaf * std::size_t{kLeafItems};
@@ -813,16 +836,16 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
         for (std::size_t k = first; k < end; ++k) {
             if (k + kAhead < count) __builtin_prefetch(&unsorted[key_at(k + kAhead).index]);
             const std::uint32_t at = key_at(k).index;
-            const auto face = every_face_live ? static_cast<std::int32_t>(at) : faces_of[at];
+            const auto face = faces_of == nullptr ? static_cast<std::int32_t>(at) : faces_of[at];
             b.add_item(face, unsorted[at], &items_[k]);
         }
         b.store(group_of(leaves_level, leaf), leaf % kLanes);
     }
-    unsorted.reset();
-    for (std::uint32_t j = 0; j < leaves_; j += kCoarseStride)
-        coarse_codes_.push_back(leaf_codes_[j]);
+}
+
+void FaceTree::fill_upper_levels(int depth) {
     // Each stored node holds the kLanes nodes of the level below that form its group.
-    for (int level = leaves_level; level-- > 0;) {
+    for (int level = last_level(); level-- > 0;) {
         const std::size_t nodes = std::size_t{1} << (depth % kLevelStep + kLevelStep * level);
         for (std::size_t k = 0; k < nodes; ++k) {
             const Group& below = groups_[level_first_[static_cast<std::size_t>(level) + 1] + k];
@@ -835,8 +858,6 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
             }
         }
     }
-    extra_head_.assign(leaves_, -1);
-    return longest_edge_sq;
 }
 
 void FaceTree::reserve(std::size_t faces) {
