@@ -22,8 +22,12 @@ struct ContextState {
     ContextState(const ContextState&) = delete;
     ContextState& operator=(const ContextState&) = delete;
 
-    /// Measures the mesh and rebuilds the face index.
+    /// Measures the mesh and rebuilds the face index (index()), clears the stamps and reserves
+    /// the headroom.
     void rebuild();
+    /// Measures the mesh (scale, tolerance, longest non-cap edge), builds the face tree and lists
+    /// the cap faces.
+    void index();
     /// Starts a new stamp generation (resets every stamp on wrap-around).
     void next_generation();
     /// Sets every stamp to 0 and the generation to 1. O(mesh).

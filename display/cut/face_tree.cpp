@@ -11,6 +11,8 @@
 #include <new>
 #include <numeric>
 
+#include "display/cut/vec_ops.hpp"
+
 #if defined(__SSE2__)
 #include <immintrin.h>
 #endif
@@ -49,8 +51,13 @@ float round_up(double x) {
 #if defined(__SSE2__)
 // round_down (up = false) or round_up (up = true) of a0, a1, b0, b1 in the four lanes, with SSE2:
 // the same conversion (cvtpd2ps, as static_cast<float>), the same comparison back in double and
-// the same one-float step of the bits, lane by lane.
-__m128 round4(__m128d a, __m128d b, bool up) {
+// the same one-float step of the bits, lane by lane. The step is +1 on the bits of a positive
+// float and -1 on a negative one's ((bits >> 31, arithmetic) | 1), added for up, subtracted for
+// down: round_down's and round_up's special case for a zero is never stepped here with another
+// value, since a zero that must step down is -0 (x < 0 rounds to -0) and one that must step up
+// is +0. Checked bit for bit against the masked form on 100 million lane values (random doubles,
+// doubles at and next to floats, zeros, denormals, the float range's ends, infinities, NaN).
+[[gnu::always_inline]] inline __m128 round4(__m128d a, __m128d b, bool up) {
     const __m128 fa = _mm_cvtpd_ps(a), fb = _mm_cvtpd_ps(b);
     const __m128d back_a = _mm_cvtps_pd(fa), back_b = _mm_cvtps_pd(fb);
     const __m128d wrong_a = up ? _mm_cmplt_pd(back_a, a) : _mm_cmpgt_pd(back_a, a);
@@ -58,17 +65,9 @@ __m128 round4(__m128d a, __m128d b, bool up) {
     const __m128i step = _mm_castps_si128(
         _mm_shuffle_ps(_mm_castpd_ps(wrong_a), _mm_castpd_ps(wrong_b), _MM_SHUFFLE(2, 0, 2, 0)));
     const __m128i bits = _mm_castps_si128(_mm_movelh_ps(fa, fb));
-    const __m128i zero = _mm_cmpeq_epi32(_mm_slli_epi32(bits, 1), _mm_setzero_si128());
-    const __m128i twice_sign = _mm_slli_epi32(_mm_srli_epi32(bits, 31), 1);
-    const __m128i one = _mm_set1_epi32(1);
-    const __m128i moved =
-        up ? _mm_or_si128(
-                 _mm_and_si128(zero, one),
-                 _mm_andnot_si128(zero, _mm_sub_epi32(_mm_add_epi32(bits, one), twice_sign)))
-           : _mm_or_si128(
-                 _mm_and_si128(zero, _mm_set1_epi32(static_cast<int>(0x80000001u))),
-                 _mm_andnot_si128(zero, _mm_sub_epi32(_mm_add_epi32(bits, twice_sign), one)));
-    return _mm_castsi128_ps(_mm_xor_si128(bits, _mm_and_si128(_mm_xor_si128(bits, moved), step)));
+    const __m128i away = _mm_or_si128(_mm_srai_epi32(bits, 31), _mm_set1_epi32(1));
+    const __m128i delta = _mm_and_si128(away, step);
+    return _mm_castsi128_ps(up ? _mm_add_epi32(bits, delta) : _mm_sub_epi32(bits, delta));
 }
 #endif
 
@@ -110,55 +109,171 @@ struct Keyed {
 #pragma pack(pop)
 static_assert(sizeof(Keyed) == 12);
 
-// Sorts v[0, n) (in order of index) by (code, index), the order a stable sort by code gives.
-// `tmp` holds n; returns the array holding the result (v or tmp). O(n) for the codes of a
-// surface's face centres.
-//
-// A stable LSD radix sort by the code's bits from kSkippedBits up (63 bits used), 13 bits per
-// pass: three passes instead of the five that all 63 bits take (each pass a read and a scattered
-// write of n keys). That orders keys by (code >> kSkippedBits, index); the runs of keys equal in
-// those bits are then sorted by (code, index), which gives the full order exactly. The skipped
-// bits are the low 8.67 bits of each axis of the centres' box: a run holds the faces whose
-// centres fall in one cell 1/5,000 of the box across: on the 1M-face foot 269k runs of 2 to 22
-// keys (549k keys), sorted in 3 ms, where the two passes left out took about 8. 13-bit digits
-// keep the 8,192 write positions of a pass in cache: 16-bit digits (four passes) were slower on
-// the 1M-face foot's codes. Passes whose digit is the same for every code are skipped; a run is
-// sorted with std::sort, so crowded cells cost O(k log k), never O(k²).
-Keyed* radix_sort(Keyed* v, Keyed* tmp, std::size_t n) {
-    constexpr int kBits = 13, kSkippedBits = 26, kPasses = 3;
-    static_assert(kSkippedBits + kBits * kPasses >= 63);
-    constexpr std::uint32_t kRadix = 1u << kBits, kMask = kRadix - 1;
-    std::vector<std::uint32_t> count(std::size_t{kRadix} * kPasses, 0u);
+// The sort's digits: pass p orders the keys by kDigitBits[p] bits of the code from
+// kDigitShift[p] up (see radix_sort). The low digits are short, so that a pass writes to few
+// places at once: 10 and 12 bits (1,024 and 4,096 buckets) took 3.5 and 4.4 ms a pass on the 1M
+// foot where 13 bits (8,192) took 6.3 and 5.5 ms; the top digit, 15 bits, has far fewer distinct
+// values than buckets (the centres lie on a surface, in 32 cells a side): 3.0 ms.
+constexpr int kSkippedBits = 26, kPasses = 3;
+constexpr int kDigitBits[kPasses] = {10, 12, 15};
+constexpr int kDigitShift[kPasses] = {kSkippedBits, kSkippedBits + kDigitBits[0],
+                                      kSkippedBits + kDigitBits[0] + kDigitBits[1]};
+static_assert(kDigitShift[2] + kDigitBits[2] == 63);  // the code's bits 26 to 62
+// Where each pass's counts start in the one count array, and its size.
+constexpr std::size_t kCountOffset[kPasses] = {
+    0, std::size_t{1} << kDigitBits[0],
+    (std::size_t{1} << kDigitBits[0]) + (std::size_t{1} << kDigitBits[1])};
+constexpr std::size_t kCounts = kCountOffset[2] + (std::size_t{1} << kDigitBits[2]);
+
+constexpr std::uint32_t digit(std::uint64_t code, int pass) {
+    return static_cast<std::uint32_t>(code >> kDigitShift[pass]) & ((1u << kDigitBits[pass]) - 1);
+}
+
+// (a.code, a.index) < (b.code, b.index)
+inline bool key_before(const Keyed& a, const Keyed& b) {
+    return a.code != b.code ? a.code < b.code : a.index < b.index;
+}
+
+// The digit counts of the three passes, count[kCountOffset[pass] + digit], in one read of the
+// keys (the three increments written out: the loop over the passes cost twice the instructions).
+void count_digits(const Keyed* v, std::size_t n, std::uint32_t* count) {
+    static_assert(kPasses == 3);
+    std::uint32_t* const c0 = count + kCountOffset[0];
+    std::uint32_t* const c1 = count + kCountOffset[1];
+    std::uint32_t* const c2 = count + kCountOffset[2];
     for (std::size_t i = 0; i < n; ++i) {
         const std::uint64_t c = v[i].code;
-        for (int pass = 0; pass < kPasses; ++pass)
-            ++count[pass * std::size_t{kRadix} + ((c >> (kSkippedBits + kBits * pass)) & kMask)];
+        ++c0[digit(c, 0)];
+        ++c1[digit(c, 1)];
+        ++c2[digit(c, 2)];
     }
-    for (int pass = 0; pass < kPasses && n > 0; ++pass) {
-        std::uint32_t* c = count.data() + pass * std::size_t{kRadix};
-        const int shift = kSkippedBits + kBits * pass;
-        if (c[(v[0].code >> shift) & kMask] == n) continue;
-        std::uint32_t sum = 0;
-        for (std::uint32_t d = 0; d < kRadix; ++d) {
-            const std::uint32_t here = c[d];
-            c[d] = sum;
-            sum += here;
-        }
-        for (std::size_t i = 0; i < n; ++i) tmp[c[(v[i].code >> shift) & kMask]++] = v[i];
-        std::swap(v, tmp);
+}
+
+// Sorts v[0, k) by (code, index) by insertion: the runs radix_sort leaves are short (2 to 22 keys
+// on the 1M foot), where a std::sort call cost more than its sorting. Any sort gives the same
+// order: the indices are distinct.
+void insertion_sort(Keyed* v, std::size_t k) {
+    for (std::size_t i = 1; i < k; ++i) {
+        const Keyed x = v[i];
+        std::size_t j = i;
+        for (; j > 0 && key_before(x, v[j - 1]); --j) v[j] = v[j - 1];
+        v[j] = x;
     }
-    auto before = [](const Keyed& a, const Keyed& b) {
-        return a.code != b.code ? a.code < b.code : a.index < b.index;
-    };
+}
+
+// Sorts each run of v[0, n) equal in the code's bits from kSkippedBits up by (code, index):
+// by insertion up to kInsertionRun keys, else std::sort (so a crowded cell costs O(k log k)).
+void sort_runs(Keyed* v, std::size_t n) {
+    constexpr std::size_t kInsertionRun = 32;
     for (std::size_t i = 0; i < n;) {
         const std::uint64_t high = v[i].code >> kSkippedBits;
         std::size_t j = i + 1;
         while (j < n && v[j].code >> kSkippedBits == high) ++j;
-        if (j - i > 1) std::sort(v + i, v + j, before);
+        if (j - i <= kInsertionRun)
+            insertion_sort(v + i, j - i);
+        else
+            std::sort(v + i, v + j, key_before);
         i = j;
     }
+}
+
+// One stable pass of radix_sort: v[0, n) into tmp in order of digit `pass`, from that digit's
+// counts (turned into the first position of each digit's keys).
+void scatter_pass(const Keyed* v, Keyed* tmp, std::size_t n, int pass, std::uint32_t* counts) {
+    std::uint32_t sum = 0;
+    for (std::uint32_t d = 0; d < (1u << kDigitBits[pass]); ++d) {
+        const std::uint32_t here = counts[d];
+        counts[d] = sum;
+        sum += here;
+    }
+    const int shift = kDigitShift[pass];
+    const std::uint32_t mask = (1u << kDigitBits[pass]) - 1;
+    for (std::size_t i = 0; i < n; ++i) tmp[counts[(v[i].code >> shift) & mask]++] = v[i];
+}
+
+// Sorts v[0, n) (in order of index) by (code, index), the order a stable sort by code gives.
+// `tmp` holds n; returns the array holding the result (v or tmp). O(n) for the codes of a
+// surface's face centres.
+//
+// A stable LSD radix sort by the code's bits from kSkippedBits up (63 bits used) in three passes
+// of kDigitBits, instead of the five that all 63 bits take (each pass a read and a scattered
+// write of n keys). That orders keys by (code >> kSkippedBits, index); the runs of keys equal in
+// those bits are then sorted by (code, index), which gives the full order exactly. The skipped
+// bits are the low 8.67 bits of each axis of the centres' box: a run holds the faces whose
+// centres fall in one cell 1/5,000 of the box across: on the 1M-face foot 269k runs of 2 to 22
+// keys (549k keys), sorted in 3 ms, where the two passes left out took about 8. Passes whose
+// digit is the same for every code are skipped.
+Keyed* radix_sort(Keyed* v, Keyed* tmp, std::size_t n) {
+    std::vector<std::uint32_t> counts(kCounts, 0u);
+    count_digits(v, n, counts.data());
+    for (int pass = 0; pass < kPasses && n > 0; ++pass) {
+        std::uint32_t* const c = counts.data() + kCountOffset[pass];
+        if (c[digit(v[0].code, pass)] == n) continue;
+        scatter_pass(v, tmp, n, pass, c);
+        std::swap(v, tmp);
+    }
+    sort_runs(v, n);
     return v;
 }
+
+#if defined(__SSE2__)
+// A face's box on SSE2 lanes (also the pass over the faces' arithmetic, below), each operation
+// the one the scalar expression beside it performs, so every float and double is bit-identical:
+// std::min(a, b), which is b < a ? b : a, is minpd(b, a); std::max(a, b), a < b ? b : a, is
+// maxpd(b, a). OpenMesh's Vec3 operations, which the scalar forms used, are std::transform
+// loops that gcc -O2 leaves going through memory.
+
+/// A point as its (x, y) lanes and its z (low lane).
+struct Lanes3 {
+    __m128d xy, z;
+};
+
+inline Lanes3 lanes_of(const Vec3& p) {
+    return {_mm_loadu_pd(p.data()), _mm_load_sd(p.data() + 2)};
+}
+
+/// A face's box, rounded outwards: lo in `down`, hi in `up` (lanes x, y, z, z).
+struct BoxLanes {
+    __m128 down, up;
+};
+
+/// Vec3::minimize / maximize from p0 by p1, then p2 (std::min(std::min(p0, p1), p2) per
+/// coordinate), then the six roundings four lanes at a time (the third coordinate twice).
+[[gnu::always_inline]] inline BoxLanes box_lanes(const Lanes3& p0, const Lanes3& p1,
+                                                 const Lanes3& p2) {
+    const __m128d lo_xy = _mm_min_pd(p2.xy, _mm_min_pd(p1.xy, p0.xy));
+    const __m128d hi_xy = _mm_max_pd(p2.xy, _mm_max_pd(p1.xy, p0.xy));
+    const __m128d lo_z = _mm_min_sd(p2.z, _mm_min_sd(p1.z, p0.z));
+    const __m128d hi_z = _mm_max_sd(p2.z, _mm_max_sd(p1.z, p0.z));
+    return {round4(lo_xy, _mm_unpacklo_pd(lo_z, lo_z), false),
+            round4(hi_xy, _mm_unpacklo_pd(hi_z, hi_z), true)};
+}
+
+/// Writes the box: lo[0..2] and hi[0] in one 16-byte store, hi[1..2] in 8 bytes.
+inline void store_box(const BoxLanes& b, FaceTree::Box& out) {
+    static_assert(sizeof(FaceTree::Box) == 6 * sizeof(float));
+    auto* const f = reinterpret_cast<float*>(&out);
+    const __m128 z_and_x = _mm_shuffle_ps(b.down, b.up, _MM_SHUFFLE(0, 0, 2, 2));
+    _mm_storeu_ps(f, _mm_shuffle_ps(b.down, z_and_x, _MM_SHUFFLE(2, 0, 1, 0)));
+    _mm_storel_pi(reinterpret_cast<__m64*>(f + 4),
+                  _mm_shuffle_ps(b.up, b.up, _MM_SHUFFLE(3, 3, 2, 1)));
+}
+
+FaceTree::Box rounded_box(const Vec3& p0, const Vec3& p1, const Vec3& p2) {
+    FaceTree::Box b;
+    store_box(box_lanes(lanes_of(p0), lanes_of(p1), lanes_of(p2)), b);
+    return b;
+}
+#else
+FaceTree::Box rounded_box(const Vec3& p0, const Vec3& p1, const Vec3& p2) {
+    FaceTree::Box b;
+    for (int a = 0; a < 3; ++a) {
+        b.lo[a] = round_down(std::min(std::min(p0[a], p1[a]), p2[a]));
+        b.hi[a] = round_up(std::max(std::max(p0[a], p1[a]), p2[a]));
+    }
+    return b;
+}
+#endif
 
 }  // namespace
 
@@ -173,24 +288,9 @@ FaceTree::Item FaceTree::item_of(const mesh::TriMesh& mesh, mesh::FaceHandle f) 
 
 inline FaceTree::Item FaceTree::item_from(std::int32_t face, const Vec3& p0, const Vec3& p1,
                                           const Vec3& p2) {
-    // Vec3::minimize / maximize from p0 by p1, then p2, written out per coordinate (OpenMesh's
-    // std::transform loops go through memory at -O2): the same std::min / std::max calls.
-    double lo[3], hi[3];
-    for (int a = 0; a < 3; ++a) {
-        lo[a] = std::min(std::min(p0[a], p1[a]), p2[a]);
-        hi[a] = std::max(std::max(p0[a], p1[a]), p2[a]);
-    }
     Item e;
     e.face = face;
-#if defined(__SSE2__)
-    // The six roundings four lanes at a time (the third coordinate twice): the same floats.
-    float down[4], up[4];
-    _mm_storeu_ps(down, round4(_mm_loadu_pd(lo), _mm_set1_pd(lo[2]), false));
-    _mm_storeu_ps(up, round4(_mm_loadu_pd(hi), _mm_set1_pd(hi[2]), true));
-    for (int a = 0; a < 3; ++a) e.box.lo[a] = down[a], e.box.hi[a] = up[a];
-#else
-    for (int a = 0; a < 3; ++a) e.box.lo[a] = round_down(lo[a]), e.box.hi[a] = round_up(hi[a]);
-#endif
+    e.box = rounded_box(p0, p1, p2);
     return e;
 }
 
@@ -212,6 +312,38 @@ std::array<float, 3> centre_of(const FaceTree::Box& b) {
 }
 
 }  // namespace
+
+void FaceTree::write_codes(const Box* boxes, std::size_t n, void* keys) const noexcept {
+    auto* const out = static_cast<Keyed*>(keys);
+#if defined(__SSE2__)
+    // code_of(centre_of(box)) for each box, the arithmetic on lanes (the same operations: the
+    // float centre, (c - lo) * scale in double, std::min(x, 2^21 - 1) as minpd(2^21 - 1, x),
+    // a NaN or negative x to 0, truncated to an integer), then the spread by table.
+    const __m128d lo_xy = _mm_loadu_pd(code_lo_), lo_z = _mm_load_sd(code_lo_ + 2);
+    const __m128d scale = _mm_set1_pd(code_scale_), top = _mm_set1_pd(2097151.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto* const f = reinterpret_cast<const float*>(boxes + i);
+        const __m128 lo = _mm_loadu_ps(f);        // lo0 lo1 lo2 hi0
+        const __m128 tail = _mm_loadu_ps(f + 2);  // lo2 hi0 hi1 hi2
+        const __m128 hi = _mm_shuffle_ps(tail, tail, _MM_SHUFFLE(3, 3, 2, 1));
+        const __m128 c = _mm_mul_ps(_mm_set1_ps(0.5f), _mm_add_ps(lo, hi));
+        const __m128d x_xy = _mm_mul_pd(_mm_sub_pd(_mm_cvtps_pd(c), lo_xy), scale);
+        const __m128d x_z = _mm_mul_sd(_mm_sub_sd(_mm_cvtps_pd(_mm_movehl_ps(c, c)), lo_z), scale);
+        const __m128d q_xy =
+            _mm_and_pd(_mm_cmpge_pd(x_xy, _mm_setzero_pd()), _mm_min_pd(top, x_xy));
+        const __m128d q_z = _mm_and_pd(_mm_cmpge_sd(x_z, _mm_setzero_pd()), _mm_min_sd(top, x_z));
+        const __m128i qi_xy = _mm_cvttpd_epi32(q_xy);
+        const auto qx = static_cast<std::uint32_t>(_mm_cvtsi128_si32(qi_xy));
+        const auto qy = static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_srli_si128(qi_xy, 4)));
+        const auto qz = static_cast<std::uint32_t>(_mm_cvttsd_si32(q_z));
+        out[i] = Keyed{spread_21_bits(qx) | spread_21_bits(qy) << 1 | spread_21_bits(qz) << 2,
+                       static_cast<std::uint32_t>(i)};
+    }
+#else
+    for (std::size_t i = 0; i < n; ++i)
+        out[i] = Keyed{code_of(centre_of(boxes[i]).data()), static_cast<std::uint32_t>(i)};
+#endif
+}
 
 bool FaceTree::enlarge(Box& b, const Box& by) noexcept {
     bool grew = false;
@@ -331,7 +463,318 @@ std::uint32_t FaceTree::point_mask(const Group& g, const PointLanes& q) noexcept
 
 #endif
 
+namespace {
+
+/// What the pass over the faces measures besides their boxes (FaceTree::build's first step).
+struct FaceScan {
+    std::size_t count = 0;               ///< boxes written: the live faces, in face order
+    bool every_face_live = true;         ///< no deleted face met
+    std::vector<std::int32_t> faces_of;  ///< each box's face, from the first deleted face on
+    double centre_lo[3] = {1e300, 1e300, 1e300};     ///< the box of the boxes' centres, as
+    double centre_hi[3] = {-1e300, -1e300, -1e300};  ///< Vec3::minimize / maximize grow it
+    double longest_sq = 0.0;             ///< the longest edge no flagged face borders, squared
+    std::size_t boundary_halfedges = 0;  ///< the faces' halfedges with no face opposite
+    double max_abs = 0.0;                ///< the largest max_abs_of of the boxes
+};
+
+/// The three halfedges of face `fi` and the faces across them (-1: none).
+struct FaceRing {
+    mesh::HalfedgeHandle h0, h1, h2;
+    int across0, across1, across2;
+};
+
+inline FaceRing ring_of(const mesh::TriMesh& mesh, int fi) {
+    FaceRing r;
+    r.h0 = mesh.halfedge_handle(mesh::FaceHandle(fi));
+    r.h1 = mesh.next_halfedge_handle(r.h0);
+    r.h2 = mesh.next_halfedge_handle(r.h1);
+    r.across0 = mesh.face_handle(mesh.opposite_halfedge_handle(r.h0)).idx();
+    r.across1 = mesh.face_handle(mesh.opposite_halfedge_handle(r.h1)).idx();
+    r.across2 = mesh.face_handle(mesh.opposite_halfedge_handle(r.h2)).idx();
+    return r;
+}
+
+/// Whether an edge between faces f (live) and g (-1: none) counts for the longest edge: neither
+/// is flagged.
+template <bool kFlagged>
+inline bool edge_counts(const std::uint8_t* flagged, int f, int g) {
+    return !kFlagged || (flagged[f] == 0 && (g < 0 || flagged[g] == 0));
+}
+
+#if defined(__SSE2__)
+/// (a - b).sqrnorm(), in the low lane: (dx² + dy²) + dz², as OpenMesh sums it.
+inline __m128d sqrdist_sd(const Lanes3& a, const Lanes3& b) {
+    const __m128d dxy = _mm_sub_pd(a.xy, b.xy), dz = _mm_sub_sd(a.z, b.z);
+    const __m128d sq = _mm_mul_pd(dxy, dxy);
+    return _mm_add_sd(_mm_add_sd(sq, _mm_unpackhi_pd(sq, sq)), _mm_mul_sd(dz, dz));
+}
+
+/// The pass's running measures, in registers.
+class ScanLanes {
+public:
+    /// Widens the centres' box by the box's centre (centre_of's floats, 0.5f * (lo + hi)):
+    /// lo = std::min(lo, c), hi = std::max(hi, c). In float, from +/-inf, for the double box
+    /// that starts at +/-1e300: every float but an infinity is inside +/-1e300, so both take the
+    /// same values, except that the double bound stays at 1e300 where the float one stays at
+    /// infinity (no centre, or only infinite ones): write() maps that back.
+    void add_centre(const BoxLanes& b) {
+        const __m128 c = _mm_mul_ps(_mm_set1_ps(0.5f), _mm_add_ps(b.down, b.up));
+        lo_ = _mm_min_ps(c, lo_);
+        hi_ = _mm_max_ps(c, hi_);
+    }
+    /// The largest |coordinate|, as max_abs_of: maxps(x, m) is x > m ? x : m, so a NaN x leaves
+    /// m and is remembered apart (max_abs_of is infinite for it).
+    void add_abs(const BoxLanes& b) {
+        const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+        abs_ = _mm_max_ps(_mm_and_ps(b.down, abs_mask), abs_);
+        abs_ = _mm_max_ps(_mm_and_ps(b.up, abs_mask), abs_);
+        nan_ = _mm_or_ps(nan_, _mm_cmpunord_ps(b.down, b.up));
+    }
+    /// longest = std::max(longest, l)
+    void add_length(__m128d l) { longest_ = _mm_max_sd(l, longest_); }
+
+    void write(FaceScan& out) const {
+        float lo[4], hi[4];
+        _mm_storeu_ps(lo, lo_);
+        _mm_storeu_ps(hi, hi_);
+        for (int a = 0; a < 3; ++a) {
+            out.centre_lo[a] = lo[a] == kInf ? 1e300 : double(lo[a]);
+            out.centre_hi[a] = hi[a] == -kInf ? -1e300 : double(hi[a]);
+        }
+        out.longest_sq = _mm_cvtsd_f64(longest_);
+        float m[4];
+        _mm_storeu_ps(m, abs_);
+        out.max_abs = _mm_movemask_ps(nan_) != 0
+                          ? std::numeric_limits<double>::infinity()
+                          : std::max({0.0, double(m[0]), double(m[1]), double(m[2])});
+    }
+
+private:
+    __m128 lo_ = _mm_set1_ps(kInf), hi_ = _mm_set1_ps(-kInf);
+    __m128d longest_ = _mm_setzero_pd();
+    __m128 abs_ = _mm_setzero_ps(), nan_ = _mm_setzero_ps();
+};
+
+/// Measures live face `fi`: its box into `box`, its edges.
+template <bool kFlagged>
+[[gnu::always_inline]] inline void scan_face(const mesh::TriMesh& mesh, const Vec3* points,
+                                             const std::uint8_t* flagged, int fi,
+                                             FaceTree::Box& box, ScanLanes& lanes,
+                                             std::size_t& boundary) {
+    const FaceRing r = ring_of(mesh, fi);
+    const Lanes3 p0 = lanes_of(points[mesh.to_vertex_handle(r.h0).idx()]);
+    const Lanes3 p1 = lanes_of(points[mesh.to_vertex_handle(r.h1).idx()]);
+    const Lanes3 p2 = lanes_of(points[mesh.to_vertex_handle(r.h2).idx()]);
+    const BoxLanes b = box_lanes(p0, p1, p2);
+    store_box(b, box);
+    lanes.add_centre(b);
+    lanes.add_abs(b);
+    boundary += static_cast<std::size_t>((r.across0 < 0) + (r.across1 < 0) + (r.across2 < 0));
+    // The face's edges: h0 runs p2 -> p0, h1 p0 -> p1, h2 p1 -> p2, |d|² the same either way
+    // along an edge. An edge counts unless a face on either side is flagged.
+    if (edge_counts<kFlagged>(flagged, fi, r.across0)) lanes.add_length(sqrdist_sd(p0, p2));
+    if (edge_counts<kFlagged>(flagged, fi, r.across1)) lanes.add_length(sqrdist_sd(p1, p0));
+    if (edge_counts<kFlagged>(flagged, fi, r.across2)) lanes.add_length(sqrdist_sd(p2, p1));
+}
+#else
+/// The pass's running measures.
+class ScanLanes {
+public:
+    void add_centre(const FaceTree::Box& b) {
+        const auto c = centre_of(b);
+        for (int a = 0; a < 3; ++a) lo_[a] = std::min(lo_[a], double(c[a]));
+        for (int a = 0; a < 3; ++a) hi_[a] = std::max(hi_[a], double(c[a]));
+    }
+    void add_abs(const FaceTree::Box& b) { max_abs_ = std::max(max_abs_, max_abs_of(b)); }
+    void add_length(double l) { longest_ = std::max(longest_, l); }
+    void write(FaceScan& out) const {
+        for (int a = 0; a < 3; ++a) out.centre_lo[a] = lo_[a], out.centre_hi[a] = hi_[a];
+        out.longest_sq = longest_;
+        out.max_abs = max_abs_;
+    }
+
+private:
+    double lo_[3] = {1e300, 1e300, 1e300}, hi_[3] = {-1e300, -1e300, -1e300};
+    double longest_ = 0.0, max_abs_ = 0.0;
+};
+
+template <bool kFlagged>
+[[gnu::always_inline]] inline void scan_face(const mesh::TriMesh& mesh, const Vec3* points,
+                                             const std::uint8_t* flagged, int fi,
+                                             FaceTree::Box& box, ScanLanes& lanes,
+                                             std::size_t& boundary) {
+    const FaceRing r = ring_of(mesh, fi);
+    const Vec3& p0 = points[mesh.to_vertex_handle(r.h0).idx()];
+    const Vec3& p1 = points[mesh.to_vertex_handle(r.h1).idx()];
+    const Vec3& p2 = points[mesh.to_vertex_handle(r.h2).idx()];
+    box = rounded_box(p0, p1, p2);
+    lanes.add_centre(box);
+    lanes.add_abs(box);
+    boundary += static_cast<std::size_t>((r.across0 < 0) + (r.across1 < 0) + (r.across2 < 0));
+    if (edge_counts<kFlagged>(flagged, fi, r.across0)) lanes.add_length(sqrdist(p0, p2));
+    if (edge_counts<kFlagged>(flagged, fi, r.across1)) lanes.add_length(sqrdist(p1, p0));
+    if (edge_counts<kFlagged>(flagged, fi, r.across2)) lanes.add_length(sqrdist(p2, p1));
+}
+#endif
+
+/// The pass over the faces: each live face's box into boxes[0, count), in face order, and the
+/// measures of FaceScan. While no face is deleted the loop keeps no list of faces (a box's face
+/// is its position).
+template <bool kFlagged>
+FaceScan scan_faces(const mesh::TriMesh& mesh, const std::uint8_t* flagged, FaceTree::Box* boxes) {
+    FaceScan out;
+    ScanLanes lanes;
+    const auto nf = static_cast<int>(mesh.n_faces());
+    const Vec3* const points = mesh.points();
+    const OpenMesh::Attributes::StatusInfo* const status =
+        mesh.property(mesh.face_status_pph()).data_vector().data();
+    std::size_t count = 0, boundary = 0;
+    int fi = 0;
+    for (; fi < nf && !status[fi].deleted(); ++fi)
+        scan_face<kFlagged>(mesh, points, flagged, fi, boxes[count++], lanes, boundary);
+    if (fi < nf) {
+        out.every_face_live = false;
+        out.faces_of.resize(count);
+        std::iota(out.faces_of.begin(), out.faces_of.end(), 0);
+        for (; fi < nf; ++fi) {
+            if (status[fi].deleted()) continue;
+            scan_face<kFlagged>(mesh, points, flagged, fi, boxes[count++], lanes, boundary);
+            out.faces_of.push_back(fi);
+        }
+    }
+    lanes.write(out);
+    out.count = count;
+    out.boundary_halfedges = boundary;
+    return out;
+}
+
+/// Whether any of the n bytes at p is non-zero, eight at a time.
+bool any_nonzero(const std::uint8_t* p, std::size_t n) {
+    std::uint64_t any = 0;
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        std::uint64_t w;
+        std::memcpy(&w, p + i, sizeof w);
+        any |= w;
+    }
+    for (; i < n; ++i) any |= p[i];
+    return any != 0;
+}
+
+/// Whether the pass met every edge from a face, so that its longest edge is the mesh's: no
+/// element is deleted and the faces account for every edge (interior edges twice, boundary
+/// edges once).
+bool scan_met_every_edge(const mesh::TriMesh& mesh, const FaceScan& scan) {
+    if (!scan.every_face_live) return false;
+    const std::size_t ne = mesh.n_edges();
+    const OpenMesh::Attributes::StatusInfo* const edge_status =
+        mesh.property(mesh.edge_status_pph()).data_vector().data();
+    std::size_t live_edges = 0;
+    for (std::size_t ei = 0; ei < ne; ++ei) live_edges += !edge_status[ei].deleted();
+    return live_edges == ne && 3 * scan.count == 2 * live_edges - scan.boundary_halfedges;
+}
+
+}  // namespace
+
+namespace {
+
+// A leaf's box folded from an empty one item by item, as enlarging its lane per item would (the
+// same std::min / std::max in the same order: the same floats, a NaN ignored the same way), then
+// stored once into its group's lane.
+class LeafBox {
+public:
+#if defined(__SSE2__)
+    // Copies item {face, box} to `out` and folds its box in: minps(by, b) is std::min(b, by),
+    // maxps(by, b) std::max(b, by). Lanes lo0 lo1 lo2 (hi0) and hi0 hi1 hi2 (hi2).
+    void add_item(std::int32_t face, const FaceTree::Box& box, void* out) {
+        const auto* const f = reinterpret_cast<const float*>(&box);
+        const __m128 head = _mm_loadu_ps(f), tail = _mm_loadu_ps(f + 2);  // lo0-hi0, lo2-hi2
+        auto* const o = static_cast<unsigned char*>(out);
+        std::memcpy(o, &face, sizeof face);
+        _mm_storeu_ps(reinterpret_cast<float*>(o + 4), head);
+        _mm_storel_pi(reinterpret_cast<__m64*>(o + 20), _mm_movehl_ps(tail, tail));
+        lo_ = _mm_min_ps(head, lo_);
+        hi_ = _mm_max_ps(_mm_shuffle_ps(tail, tail, _MM_SHUFFLE(3, 3, 2, 1)), hi_);
+    }
+    template <class Group>
+    void store(Group& g, std::uint32_t lane) const {
+        float lo[4], hi[4];
+        _mm_storeu_ps(lo, lo_);
+        _mm_storeu_ps(hi, hi_);
+        for (int a = 0; a < 3; ++a) g.lo[a][lane] = lo[a], g.hi[a][lane] = hi[a];
+    }
+
+private:
+    __m128 lo_ = _mm_set1_ps(kInf), hi_ = _mm_set1_ps(-kInf);
+#else
+    void add_item(std::int32_t face, const FaceTree::Box& box, void* out) {
+        std::memcpy(out, &face, sizeof face);
+        std::memcpy(static_cast<unsigned char*>(out) + sizeof face, &box, sizeof box);
+        for (int a = 0; a < 3; ++a) {
+            b_.lo[a] = std::min(b_.lo[a], box.lo[a]);
+            b_.hi[a] = std::max(b_.hi[a], box.hi[a]);
+        }
+    }
+    template <class Group>
+    void store(Group& g, std::uint32_t lane) const {
+        for (int a = 0; a < 3; ++a) g.lo[a][lane] = b_.lo[a], g.hi[a][lane] = b_.hi[a];
+    }
+
+private:
+    FaceTree::Box b_{{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}};
+#endif
+};
+
+}  // namespace
+
 double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_faces) {
+    clear_for_build();
+    // One pass over the faces: their boxes, the box of their centres and the longest edge; then
+    // each box's Morton code in that box, the sort, the gather into the leaves and the levels
+    // above. The scratch arrays are written before they are read: no zero-filling.
+    const std::size_t capacity = mesh.n_faces();
+    // Each live face's box in face order (a face's number is its position while every face is
+    // live; scan.faces_of holds them from the first deleted face on). From the ordinary heap,
+    // advised for huge pages: its first touch takes 12 faults instead of 6,000 on the 1M foot
+    // (1.6 us each on this VM: 10 ms of a 70 ms build), and once freed it stays in the heap for
+    // the stamps' and the inserts' reserves that follow, as 4 KiB pages do (a HugePageAllocator
+    // block is unmapped: those reserves then page-faulted, 2 ms more in the build and in the idle
+    // steps).
+    auto unsorted = std::make_unique_for_overwrite<Box[]>(capacity);
+    advise_huge_pages(unsorted.get(), capacity * sizeof(Box));
+    const bool any_flagged = flagged_faces != nullptr && any_nonzero(flagged_faces, capacity);
+    const FaceScan scan = any_flagged ? scan_faces<true>(mesh, flagged_faces, unsorted.get())
+                                      : scan_faces<false>(mesh, nullptr, unsorted.get());
+    const double longest_edge_sq = scan_met_every_edge(mesh, scan) ? scan.longest_sq : -1.0;
+    max_abs_ = scan.max_abs;
+    const std::size_t count = scan.count;
+    if (count == 0) return longest_edge_sq;
+    quantise(scan.centre_lo, scan.centre_hi);
+    // The sort's two key arrays live in the items' own memory, allocated now (pages that the
+    // gather then rewrites, instead of two more arrays paged in and freed): the scratch keys in
+    // its first 12 bytes per item, the sorted keys in its last 12. The gather writes item k over
+    // bytes [28k, 28k + 28), below key k + 1 (at 16n + 12(k + 1)): it overwrites only keys it
+    // has read. The keys are read there through memcpy, not as Keyed objects.
+    items_.resize(count);
+    auto* const arena = reinterpret_cast<unsigned char*>(items_.data());
+    static_assert(sizeof(Item) == 28 && sizeof(Keyed) == 12 && alignof(Item) >= alignof(Keyed));
+    Keyed* const scratch = reinterpret_cast<Keyed*>(arena);
+    Keyed* const keyed = reinterpret_cast<Keyed*>(arena + 16 * count);
+    write_codes(unsorted.get(), count, scratch);
+    if (const Keyed* sorted = radix_sort(scratch, keyed, count); sorted != keyed)
+        std::memmove(keyed, sorted, count * sizeof(Keyed));  // an even number of passes ran
+    const int depth = size_levels();
+    gather_leaves(unsorted.get(), arena + 16 * count,
+                  scan.every_face_live ? nullptr : scan.faces_of.data());
+    unsorted.reset();
+    for (std::uint32_t j = 0; j < leaves_; j += kCoarseStride)
+        coarse_codes_.push_back(leaf_codes_[j]);
+    fill_upper_levels(depth);
+    extra_head_.assign(leaves_, -1);
+    return longest_edge_sq;
+}
+
+void FaceTree::clear_for_build() {
     margin_m_ = 0.0;
     items_.clear();
     groups_.clear();
@@ -344,99 +787,18 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
     pending_.clear();
     leaves_ = padded_leaves_ = 0;
     last_leaf_ = 0;
-    // One pass over the faces: items, the box of their centres and the longest edge; then each
-    // item's Morton code in that box. The scratch arrays are written before they are read: no
-    // zero-filling.
-    const std::size_t capacity = mesh.n_faces();
-    // Each face's box in face order; a face's number is its position while every face is live
-    // (faces_of holds them from the first deleted face on).
-    auto unsorted = std::make_unique_for_overwrite<Box[]>(capacity);
-    std::vector<std::int32_t> faces_of;
-    std::size_t count = 0;
-    Vec3 lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
-    double longest_sq = 0.0;
-    std::size_t boundary_halfedges = 0;
-    bool every_face_live = true;
-    const auto nf = static_cast<int>(capacity);
-    const bool any_flagged =
-        flagged_faces != nullptr &&
-        std::any_of(flagged_faces, flagged_faces + capacity, [](std::uint8_t f) { return f != 0; });
-    const mesh::TriMesh::Point* const points = mesh.points();
-    const OpenMesh::Attributes::StatusInfo* const face_status =
-        mesh.property(mesh.face_status_pph()).data_vector().data();
-    for (int fi = 0; fi < nf; ++fi) {
-        const mesh::FaceHandle f(fi);
-        if (face_status[fi].deleted()) {
-            if (every_face_live) {
-                faces_of.resize(count);
-                std::iota(faces_of.begin(), faces_of.end(), 0);
-            }
-            every_face_live = false;
-            continue;
-        }
-        const mesh::HalfedgeHandle h0 = mesh.halfedge_handle(f);
-        const mesh::HalfedgeHandle h1 = mesh.next_halfedge_handle(h0);
-        const mesh::HalfedgeHandle h2 = mesh.next_halfedge_handle(h1);
-        const Vec3& p0 = points[mesh.to_vertex_handle(h0).idx()];
-        const Vec3& p1 = points[mesh.to_vertex_handle(h1).idx()];
-        const Vec3& p2 = points[mesh.to_vertex_handle(h2).idx()];
-        const Item e = item_from(fi, p0, p1, p2);
-        unsorted[count++] = e.box;
-        if (!every_face_live) faces_of.push_back(fi);
-        const auto c = centre_of(e.box);
-        lo.minimize(Vec3(c[0], c[1], c[2]));
-        hi.maximize(Vec3(c[0], c[1], c[2]));
-        // The face's edges: h0 runs p2 -> p0, h1 p0 -> p1, h2 p1 -> p2, |d|² the same either
-        // way along an edge. An edge counts unless a face on either side is flagged.
-        const int o0 = mesh.face_handle(mesh.opposite_halfedge_handle(h0)).idx();
-        const int o1 = mesh.face_handle(mesh.opposite_halfedge_handle(h1)).idx();
-        const int o2 = mesh.face_handle(mesh.opposite_halfedge_handle(h2)).idx();
-        boundary_halfedges += static_cast<std::size_t>((o0 < 0) + (o1 < 0) + (o2 < 0));
-        const double l0 = (p0 - p2).sqrnorm(), l1 = (p1 - p0).sqrnorm(), l2 = (p2 - p1).sqrnorm();
-        if (!any_flagged) {  // longest_sq first: a NaN length is skipped, as in a pass over edges
-            longest_sq = std::max(longest_sq, l0);
-            longest_sq = std::max(longest_sq, l1);
-            longest_sq = std::max(longest_sq, l2);
-        } else if (flagged_faces[fi] == 0) {
-            if (o0 < 0 || flagged_faces[o0] == 0) longest_sq = std::max(longest_sq, l0);
-            if (o1 < 0 || flagged_faces[o1] == 0) longest_sq = std::max(longest_sq, l1);
-            if (o2 < 0 || flagged_faces[o2] == 0) longest_sq = std::max(longest_sq, l2);
-        }
-    }
-    // Every edge was met from a face, so the pass measured them all, when no element is deleted
-    // and the faces account for every edge (interior edges twice, boundary edges once).
-    std::size_t live_edges = 0;
-    const auto ne = static_cast<int>(mesh.n_edges());
-    const OpenMesh::Attributes::StatusInfo* const edge_status =
-        mesh.property(mesh.edge_status_pph()).data_vector().data();
-    for (int ei = 0; ei < ne; ++ei) live_edges += !edge_status[ei].deleted();
-    const bool measured = every_face_live && live_edges == mesh.n_edges() &&
-                          3 * count == 2 * live_edges - boundary_halfedges;
-    const double longest_edge_sq = measured ? longest_sq : -1.0;
-    if (count == 0) return longest_edge_sq;
+}
+
+void FaceTree::quantise(const double* centre_lo, const double* centre_hi) {
+    const Vec3 lo(centre_lo[0], centre_lo[1], centre_lo[2]);
+    const Vec3 hi(centre_hi[0], centre_hi[1], centre_hi[2]);
     const Vec3 ext = hi - lo;
     for (int a = 0; a < 3; ++a) code_lo_[a] = lo[a];
     code_scale_ = 2097151.0 / std::max({ext[0], ext[1], ext[2], 1e-300});
-    // The sort's two key arrays live in the items' own memory, allocated now (pages that the
-    // gather then rewrites, instead of two more arrays paged in and freed): the scratch keys in
-    // its first 12 bytes per item, the sorted keys in its last 12. The gather writes item k over
-    // bytes [28k, 28k + 28), below key k + 1 (at 16n + 12(k + 1)): it overwrites only keys it
-    // has read. The keys are read there through memcpy (key_at), not as Keyed objects.
-    items_.resize(count);
-    auto* const arena = reinterpret_cast<unsigned char*>(items_.data());
-    static_assert(sizeof(Item) == 28 && sizeof(Keyed) == 12 && alignof(Item) >= alignof(Keyed));
-    Keyed* const scratch = reinterpret_cast<Keyed*>(arena);
-    Keyed* const keyed = reinterpret_cast<Keyed*>(arena + 16 * count);
-    const auto key_at = [keyed](std::size_t k) {
-        Keyed key;
-        std::memcpy(&key, reinterpret_cast<const unsigned char*>(keyed) + 12 * k, sizeof key);
-        return key;
-    };
-    for (std::size_t i = 0; i < count; ++i)
-        scratch[i] = Keyed{code_of(centre_of(unsorted[i]).data()), static_cast<std::uint32_t>(i)};
-    if (const Keyed* sorted = radix_sort(scratch, keyed, count); sorted != keyed)
-        std::memmove(keyed, sorted, count * sizeof(Keyed));  // an even number of passes ran
-    leaves_ = static_cast<std::uint32_t>((count + kLeafItems - 1) / kLeafItems);
+}
+
+int FaceTree::size_levels() {
+    leaves_ = static_cast<std::uint32_t>((items_.size() + kLeafItems - 1) / kLeafItems);
     padded_leaves_ = 1;
     int depth = 0;  // of the leaves in the binary tree
     while (padded_leaves_ < leaves_) padded_leaves_ *= 2, ++depth;
@@ -451,40 +813,39 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
         for (std::uint32_t k = 0; k < kLanes; ++k) empty.lo[a][k] = kInf, empty.hi[a][k] = -kInf;
     groups_.assign(total, empty);
     leaf_codes_.resize(leaves_);
+    return depth;
+}
+
+void FaceTree::gather_leaves(const Box* unsorted, const unsigned char* sorted_keys,
+                             const std::int32_t* faces_of) {
+    const std::size_t count = items_.size();
+    const auto key_at = [sorted_keys](std::size_t k) {
+        Keyed key;
+        std::memcpy(&key, sorted_keys + 12 * k, sizeof key);
+        return key;
+    };
     const int leaves_level = last_level();
     // A gather from across the unsorted items, each one fetched a few ahead, leaf by leaf: the
-    // leaf's box folded from an empty one item by item as they arrive, as enlarging its lane per
-    // item would (the same std::min / std::max in the same order: the same floats, a NaN
-    // ignored the same way), then stored once.
+    // leaf's box folded from an empty one item by item as they arrive (LeafBox), then stored once.
     constexpr std::size_t kAhead = 16;
     for (std::uint32_t leaf = 0; leaf < leaves_; ++leaf) {
-        Box b{{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}};
         const std::size_t first = leaf * std::size_t{kLeafItems};
         const std::size_t end = std::min<std::size_t>(count, first + kLeafItems);
         leaf_codes_[leaf] = key_at(first).code;  // before the leaf's items overwrite it
+        LeafBox b;
         for (std::size_t k = first; k < end; ++k) {
             if (k + kAhead < count) __builtin_prefetch(&unsorted[key_at(k + kAhead).index]);
             const std::uint32_t at = key_at(k).index;
-            const auto face = every_face_live ? static_cast<std::int32_t>(at) : faces_of[at];
-            const Item& item = *::new (static_cast<void*>(&items_[k])) Item{face, unsorted[at]};
-            const Box& by = item.box;
-            for (int a = 0; a < 3; ++a) {
-                b.lo[a] = std::min(b.lo[a], by.lo[a]);
-                b.hi[a] = std::max(b.hi[a], by.hi[a]);
-            }
-            max_abs_ = std::max(max_abs_, max_abs_of(by));
+            const auto face = faces_of == nullptr ? static_cast<std::int32_t>(at) : faces_of[at];
+            b.add_item(face, unsorted[at], &items_[k]);
         }
-        Group& g = group_of(leaves_level, leaf);
-        for (int a = 0; a < 3; ++a) {
-            g.lo[a][leaf % kLanes] = b.lo[a];
-            g.hi[a][leaf % kLanes] = b.hi[a];
-        }
+        b.store(group_of(leaves_level, leaf), leaf % kLanes);
     }
-    unsorted.reset();
-    for (std::uint32_t j = 0; j < leaves_; j += kCoarseStride)
-        coarse_codes_.push_back(leaf_codes_[j]);
+}
+
+void FaceTree::fill_upper_levels(int depth) {
     // Each stored node holds the kLanes nodes of the level below that form its group.
-    for (int level = leaves_level; level-- > 0;) {
+    for (int level = last_level(); level-- > 0;) {
         const std::size_t nodes = std::size_t{1} << (depth % kLevelStep + kLevelStep * level);
         for (std::size_t k = 0; k < nodes; ++k) {
             const Group& below = groups_[level_first_[static_cast<std::size_t>(level) + 1] + k];
@@ -497,8 +858,6 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
             }
         }
     }
-    extra_head_.assign(leaves_, -1);
-    return longest_edge_sq;
 }
 
 void FaceTree::reserve(std::size_t faces) {

@@ -163,6 +163,24 @@ private:
     static bool enlarge(Group& g, std::uint32_t lane, const Box& by) noexcept;
     // Morton code of a point in the quantisation of the last build.
     std::uint64_t code_of(const float* point) const noexcept;
+    // Writes {code_of(centre of boxes[i]), i} for each of the n boxes into keys (the sort's
+    // 12-byte keys, face_tree.cpp).
+    void write_codes(const Box* boxes, std::size_t n, void* keys) const noexcept;
+
+    // The steps of build(), in order. Empties every array.
+    void clear_for_build();
+    // The Morton quantisation of the box [centre_lo, centre_hi] of the items' centres.
+    void quantise(const double* centre_lo, const double* centre_hi);
+    // Sizes the leaves and the stored levels for items_.size() items (groups empty, leaf codes
+    // unwritten); the depth of the leaves in the binary tree.
+    int size_levels();
+    // Writes items_ (sorted_keys' order: 12-byte keys {code, index} at 12k, the index into
+    // `unsorted`, whose face is faces_of[index], or the index itself when faces_of is null), the
+    // leaves' codes and the leaves' boxes.
+    void gather_leaves(const Box* unsorted, const unsigned char* sorted_keys,
+                       const std::int32_t* faces_of);
+    // Each stored level above the leaves from the one below.
+    void fill_upper_levels(int depth);
 
     std::uint32_t leaf_count() const noexcept { return leaves_; }
     // The group holding node k of stored level `level` (level 0 is the top).

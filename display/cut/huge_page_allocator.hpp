@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <cstdlib>
 #include <new>
 #include <utility>
@@ -21,6 +22,22 @@ namespace kerf::cut::detail {
 inline constexpr std::size_t kHugeThresholdBytes = std::size_t{4} << 20;
 /// The huge page size blocks are aligned and rounded to, bytes.
 inline constexpr std::size_t kHugePageBytes = std::size_t{2} << 20;
+
+/// Advises the whole 2 MiB pages inside [p, p + bytes) for huge pages (Linux; a no-op elsewhere
+/// and for blocks below kHugeThresholdBytes): for a large scratch array from the ordinary heap,
+/// whose pages are then first touched 2 MiB at a time and which, freed, stays in the heap for
+/// the allocations that follow (a HugePageAllocator block is unmapped when freed).
+inline void advise_huge_pages(void* p, std::size_t bytes) noexcept {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    if (bytes < kHugeThresholdBytes) return;
+    const auto at = reinterpret_cast<std::uintptr_t>(p);
+    const std::uintptr_t begin = (at + kHugePageBytes - 1) / kHugePageBytes * kHugePageBytes;
+    const std::uintptr_t end = (at + bytes) / kHugePageBytes * kHugePageBytes;
+    if (end > begin) ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#else
+    (void)p, (void)bytes;
+#endif
+}
 
 template <class T>
 struct HugePageAllocator {

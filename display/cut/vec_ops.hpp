@@ -5,6 +5,7 @@
 // (a signed distance cost about 40 instructions instead of 10).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 #include "display/cut/plane.hpp"
@@ -35,6 +36,16 @@ inline double sqrdist(const Vec3& a, const Vec3& b) noexcept { return sqrnorm(su
 /// OpenMesh::cross(b - a, c - a).sqrnorm(): twice the area of triangle a, b, c, squared.
 inline double twice_area2(const Vec3& a, const Vec3& b, const Vec3& c) noexcept {
     return sqrnorm(cross(sub(b, a), sub(c, a)));
+}
+
+/// a.minimize(b)
+inline void minimize(Vec3& a, const Vec3& b) noexcept {
+    a[0] = std::min(a[0], b[0]), a[1] = std::min(a[1], b[1]), a[2] = std::min(a[2], b[2]);
+}
+
+/// a.maximize(b)
+inline void maximize(Vec3& a, const Vec3& b) noexcept {
+    a[0] = std::max(a[0], b[0]), a[1] = std::max(a[1], b[1]), a[2] = std::max(a[2], b[2]);
 }
 
 /// a + (b - a) * t
