@@ -268,9 +268,15 @@ void FaceTree::descend(int level, const std::uint32_t* nodes, std::size_t count,
 template <class Mask, class Accept, class Visit>
 void FaceTree::walk(const Mask& mask, const Accept& accept, Visit& visit) const {
     if (!groups_.empty()) {
+        // The top group's lanes past its 1, 2 or 4 nodes are empty, and their children do not
+        // exist: they are masked off here, since a box with a NaN or infinite coordinate makes
+        // every group test pass, an empty lane's too (the bound on the float rounding is then
+        // infinite). Lower levels are complete (their empty lanes have children, empty too)
+        // and leaves past the built ones are skipped.
+        const std::uint32_t top_nodes = padded_leaves_ >> (kLevelStep * last_level());
         std::uint32_t top[kLanes];
         std::size_t n = 0;
-        for (std::uint32_t m = mask(groups_[0]); m != 0; m &= m - 1)
+        for (std::uint32_t m = mask(groups_[0]) & ((1u << top_nodes) - 1); m != 0; m &= m - 1)
             top[n++] = static_cast<std::uint32_t>(std::countr_zero(m));
         descend(0, top, n, mask, accept, visit);
     }

@@ -557,6 +557,39 @@ TEST(FaceTree, QueriesReportExactlyTheFacesABruteForceTestFinds) {
     }
 }
 
+// A mesh with a NaN or an infinite coordinate: the float bound on the group tests' rounding is
+// then infinite, so every group test passes, an empty lane's too. The top group's empty lanes
+// (past its 1, 2 or 4 nodes) have no children: a query descending into them read past the
+// stored levels (heap over-read under ASan). Tubes whose leaf counts put 1, 2 and 4 nodes on the
+// top level; every face a finite query would report is still reported, and no other index.
+TEST(FaceTree, QueriesOnAMeshWithANonFiniteCoordinateStayInsideTheTree) {
+    for (const int rings : {3, 7, 15, 31, 60}) {
+        for (const double bad :
+             {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+            auto m = mesh::make_hollow_tube(0.05, 0.006, 0.003, 16, rings);
+            const Vec3 p = m.point(mesh::VertexHandle(0));
+            m.set_point(mesh::VertexHandle(static_cast<int>(m.n_vertices()) - 1),
+                        Vec3(bad, 0.0, 0.0));
+            kerf::cut::detail::FaceTree tree;
+            tree.build(m);
+            std::vector<int> seen(m.n_faces(), 0);
+            const auto count = [&](std::int32_t f) {
+                ASSERT_GE(f, 0);
+                ASSERT_LT(static_cast<std::size_t>(f), seen.size());
+                ++seen[f];
+            };
+            tree.for_each_near_point(p, 1e-4, count);
+            for (const auto f : m.vf_range(mesh::VertexHandle(0)))
+                EXPECT_EQ(seen[f.idx()], 1) << "rings " << rings << ", face " << f.idx();
+            std::fill(seen.begin(), seen.end(), 0);
+            const Plane plane = *Plane::make(p, Vec3(0, 0, 1));
+            tree.for_each_near_plane(plane, Vec2(-0.01, -0.01), Vec2(0.01, 0.01), 0.0, count);
+            for (const auto f : m.vf_range(mesh::VertexHandle(0)))
+                EXPECT_EQ(seen[f.idx()], 1) << "rings " << rings << ", face " << f.idx();
+        }
+    }
+}
+
 // The squared length of the longest edge of `m` none of whose faces is flagged, edge by edge.
 double longest_unflagged_edge_sq(const mesh::TriMesh& m, const std::vector<std::uint8_t>& flags) {
     double longest = 0.0;
