@@ -753,12 +753,13 @@ CutStatus finish_plan_merged_first(ContextState& s, const Plane& plane) {
 }  // namespace
 
 CutStatus plan_snapped(ContextState& s, const Plane& plane, std::vector<std::int32_t>& snapped,
-                       const std::function<CutStatus()>& plan, bool merges_first_last) {
+                       const std::function<CutStatus()>& plan, bool merges_first_last,
+                       const CutStatus* planned) {
     s.snapped = &snapped;
     CutStatus st = CutStatus::kOk;
     for (int round = 0;; ++round) {
         s.snap_candidates.clear();
-        st = plan();
+        st = round == 0 && planned != nullptr ? *planned : plan();
         if (st == CutStatus::kOk) st = finish_plan(s, plane);
         const bool sliver =
             st == CutStatus::kSliverSplit || st == CutStatus::kCapTriangulationFailed;
