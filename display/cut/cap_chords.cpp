@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -157,8 +158,13 @@ private:
         return true;
     }
 
+    // Records each face once, before its first edit (the flips of a run only trade diagonals
+    // among the same faces: recording every flip's faces made the records grow with the flips).
     void record(std::initializer_list<FaceHandle> faces) {
-        undo_.record_faces(s_, std::vector<FaceHandle>(faces));
+        std::vector<FaceHandle> fresh;
+        for (const FaceHandle f : faces)
+            if (recorded_.insert(f.idx()).second) fresh.push_back(f);
+        if (!fresh.empty()) undo_.record_faces(s_, fresh);
     }
 
     // The vertex at a chord's end: an on-plane vertex as it is, an edge point split into its edge
@@ -200,8 +206,13 @@ private:
         auto side = [&](VertexHandle v) { return side_of(a, b, fr.at(m_.point(v))); };
         std::deque<EdgeHandle> queue(r.edges.begin(), r.edges.end());
         std::size_t since_flip = 0;
+        // Sloan's insertion ends after O(n^2) flips for n crossed edges (a fan of near-collinear
+        // needles, flipped from its ends, takes about that); rounding could make it cycle, so it
+        // stops after 64 + n^2.
+        std::size_t flips_left = 64 + r.edges.size() * r.edges.size();
         while (!queue.empty()) {
             if (since_flip > queue.size()) return false;  // no crossed quad is convex
+            if (flips_left == 0) return false;
             const EdgeHandle e = queue.front();
             queue.pop_front();
             const HalfedgeHandle h = m_.halfedge_handle(e, 0), o = m_.halfedge_handle(e, 1);
@@ -225,6 +236,7 @@ private:
             volume6_ += std::abs(
                 dot(cross(sub(m_.point(w), pu), sub(m_.point(x), pu)), sub(m_.point(y), pu)));
             record({f, g});
+            --flips_left;
             m_.flip(e);
             flipped_.push_back(e);
             since_flip = 0;
@@ -292,7 +304,8 @@ private:
     std::vector<std::pair<std::int32_t, VertexHandle>> split_;  // edge index -> its new vertex
     std::vector<std::pair<VertexHandle, Vec3>> halves_;         // far corner, twice-area vector
     std::vector<EdgeHandle> flipped_;
-    double volume6_ = 0;  // six times the flips' tetrahedra, summed
+    double volume6_ = 0;                         // six times the flips' tetrahedra, summed
+    std::unordered_set<std::int32_t> recorded_;  // faces recorded in undo_
 };
 
 }  // namespace
