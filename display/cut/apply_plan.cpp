@@ -12,32 +12,6 @@
 
 namespace kerf::cut::detail {
 
-// Writes the attributes of vertex v made for an edge cut point: every attribute interpolated
-// with the plan's t, from the lower-index endpoint a towards b; the material is the nearer
-// endpoint's.
-void set_edge_vertex(mesh::TriMesh& m, const PlanPoint& p, mesh::VertexHandle v) {
-    const mesh::VertexHandle a(p.a), b(p.b);
-    const double t = p.t;
-    m.set_point(v, p.position);
-    const Vec3 n = lerp(m.normal(a), m.normal(b), t);
-    const double len = std::sqrt(sqrnorm(n));
-    m.set_normal(v, len > 0 ? Vec3(n[0] / len, n[1] / len, n[2] / len) : m.normal(a));
-    const auto ta = m.texcoord2D(a), tb = m.texcoord2D(b);
-    m.set_texcoord2D(v, mesh::TriMesh::TexCoord2D(static_cast<float>(ta[0] + (tb[0] - ta[0]) * t),
-                                                  static_cast<float>(ta[1] + (tb[1] - ta[1]) * t)));
-    const auto ca = m.color(a), cb = m.color(b);
-    mesh::TriMesh::Color c;
-    for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(ca[i] + (cb[i] - ca[i]) * t);
-    m.set_color(v, c);
-    m.data(v).set_material(t <= 0.5 ? m.data(a).material() : m.data(b).material());
-}
-
-mesh::VertexHandle make_edge_vertex(mesh::TriMesh& m, const PlanPoint& p) {
-    const mesh::VertexHandle v = m.add_vertex(p.position);
-    set_edge_vertex(m, p, v);
-    return v;
-}
-
 namespace {
 
 using mesh::EdgeHandle;
@@ -46,6 +20,32 @@ using mesh::HalfedgeHandle;
 using mesh::TriMesh;
 using mesh::VertexHandle;
 using CapScratch = ContextState::CapScratch;
+
+// Writes the attributes of vertex v made for an edge cut point: every attribute interpolated
+// with the plan's t, from the lower-index endpoint a towards b; the material is the nearer
+// endpoint's.
+void set_edge_vertex(TriMesh& m, const PlanPoint& p, VertexHandle v) {
+    const VertexHandle a(p.a), b(p.b);
+    const double t = p.t;
+    m.set_point(v, p.position);
+    const Vec3 n = lerp(m.normal(a), m.normal(b), t);
+    const double len = std::sqrt(sqrnorm(n));
+    m.set_normal(v, len > 0 ? Vec3(n[0] / len, n[1] / len, n[2] / len) : m.normal(a));
+    const auto ta = m.texcoord2D(a), tb = m.texcoord2D(b);
+    m.set_texcoord2D(v, TriMesh::TexCoord2D(static_cast<float>(ta[0] + (tb[0] - ta[0]) * t),
+                                            static_cast<float>(ta[1] + (tb[1] - ta[1]) * t)));
+    const auto ca = m.color(a), cb = m.color(b);
+    TriMesh::Color c;
+    for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(ca[i] + (cb[i] - ca[i]) * t);
+    m.set_color(v, c);
+    m.data(v).set_material(t <= 0.5 ? m.data(a).material() : m.data(b).material());
+}
+
+VertexHandle make_edge_vertex(TriMesh& m, const PlanPoint& p) {
+    const VertexHandle v = m.add_vertex(p.position);
+    set_edge_vertex(m, p, v);
+    return v;
+}
 
 // The 2-4 split of interior edge e at the new vertex v, on the halfedge arrays, into elements
 // already allocated: edges ne, ne+1, ne+2 and faces nf, nf+1. The connectivity is exactly what
@@ -428,6 +428,10 @@ bool add_cap(TriMesh& m, const SectionPlan& plan, const std::vector<VertexHandle
 }
 
 }  // namespace
+
+mesh::VertexHandle make_cut_vertex(mesh::TriMesh& m, const PlanPoint& p) {
+    return make_edge_vertex(m, p);
+}
 
 CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, CutStats& stats) {
     TriMesh& m = s.mesh;

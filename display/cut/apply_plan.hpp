@@ -13,12 +13,10 @@ namespace kerf::cut::detail {
 
 struct ContextState;
 
-/// Writes the attributes of vertex v made for edge cut point p: every attribute interpolated with
-/// p.t from the lower-index endpoint p.a towards p.b; the material is the nearer endpoint's.
-void set_edge_vertex(mesh::TriMesh& m, const PlanPoint& p, mesh::VertexHandle v);
-
-/// A new vertex for edge cut point p (add_vertex, then set_edge_vertex).
-mesh::VertexHandle make_edge_vertex(mesh::TriMesh& m, const PlanPoint& p);
+/// A new vertex for edge cut point p, as the edit makes one (add_vertex; every attribute
+/// interpolated with p.t from the lower-index endpoint p.a towards p.b, the material the nearer
+/// endpoint's).
+mesh::VertexHandle make_cut_vertex(mesh::TriMesh& m, const PlanPoint& p);
 
 /// Applies s.plan to s.mesh, fills `out` and adds to `stats`.
 CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, CutStats& stats);

@@ -186,7 +186,7 @@ private:
         }
         record({f, g});
         const int faces_before = static_cast<int>(m_.n_faces());
-        const VertexHandle v = make_edge_vertex(m_, p);
+        const VertexHandle v = make_cut_vertex(m_, p);
         m_.split_copy(e, v);
         for (int fi = faces_before; fi < static_cast<int>(m_.n_faces()); ++fi) {
             const FaceHandle n(fi);
@@ -312,10 +312,20 @@ private:
 
 bool crosses_cap_inner_edges(const ContextState& s) {
     const SectionPlan& plan = s.plan;
+    const TriMesh& m = s.mesh;
+    // Every cut of a mesh with caps asks this: the tags read straight from their array, and the
+    // full test only for an edge whose first face is a cap face.
+    const std::uint8_t* const tags = m.property(s.cap).data();
     for (const PlanLoop& l : plan.loops) {
         if (!l.selected) continue;
-        for (std::uint32_t i = l.first; i < l.first + l.count; ++i)
-            if (inner_point(s, plan.points[i])) return true;
+        for (std::uint32_t i = l.first; i < l.first + l.count; ++i) {
+            const PlanPoint& p = plan.points[i];
+            if (!p.key.edge) continue;
+            const FaceHandle f = m.face_handle(HalfedgeHandle(2 * p.key.id));
+            if (f.is_valid() && tags[f.idx()] != kCapNone &&
+                inner_cap_edge(s, EdgeHandle(p.key.id)))
+                return true;
+        }
     }
     return false;
 }
