@@ -429,6 +429,10 @@ bool add_cap(TriMesh& m, const SectionPlan& plan, const std::vector<VertexHandle
 
 }  // namespace
 
+mesh::VertexHandle make_cut_vertex(mesh::TriMesh& m, const PlanPoint& p) {
+    return make_edge_vertex(m, p);
+}
+
 CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, CutStats& stats) {
     TriMesh& m = s.mesh;
     SectionPlan& plan = s.plan;

@@ -133,6 +133,10 @@ struct ContextState {
     unsigned unwritten_kinds = 0;       ///< bit k: kind k's reserved room is not written yet
     std::uint64_t growths_in_cuts = 0;  ///< cuts that had to grow capacity themselves
 
+    /// Whether a slice crossing an earlier cap puts its chord into that cap (cap_chords.hpp) rather
+    /// than splitting the cap's triangles one by one. Off only to replay a sequence of cuts
+    /// recorded before the chords (the regression tests' recorded face hints index that mesh).
+    bool cap_chords = true;
     /// Vertices a little beyond the tolerance that the plan being made treats as on the plane
     /// (sorted; see plan_snapped in section_plan.hpp); null outside plan_snapped.
     const std::vector<std::int32_t>* snapped = nullptr;

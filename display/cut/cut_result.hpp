@@ -41,6 +41,8 @@ struct CutStats {
     std::uint32_t triangles_removed = 0;  ///< triangles deleted (biplanar slab only)
     std::uint32_t cap_triangles = 0;      ///< triangles of all caps
     std::uint32_t loops = 0;              ///< cross-section loops cut (outer loops plus holes)
+    std::uint32_t cap_chords = 0;         ///< chords put into earlier caps the plane crossed
+                                          ///< (their inner edges flipped instead of split)
     std::uint32_t pieces = 0;             ///< pieces, when the operation computed them (else 0)
     std::int64_t time_ns = 0;             ///< wall time of the operation
 };

@@ -21,14 +21,37 @@ void EditUndo::save_face(const TriMesh& m, FaceHandle f) {
     }
 }
 
+void EditUndo::size_once(const ContextState& s) {
+    if (sized_) return;
+    const TriMesh& m = s.mesh;
+    sized_ = true;
+    vertices_ = m.n_vertices(), edges_ = m.n_edges(), faces_ = m.n_faces();
+    cap_faces_ = s.cap_faces.size();
+    tree_pending_ = s.tree.pending(), tree_hung_ = s.tree.hung();
+}
+
+void EditUndo::record_faces(const ContextState& s, const std::vector<FaceHandle>& faces) {
+    size_once(s);
+    for (const FaceHandle f : faces) save_face(s.mesh, f);
+}
+
+EditUndo::Checkpoint EditUndo::checkpoint(const ContextState& s) const {
+    const TriMesh& m = s.mesh;
+    return Checkpoint{sized_,
+                      m.n_vertices(),
+                      m.n_edges(),
+                      m.n_faces(),
+                      s.cap_faces.size(),
+                      s.tree.pending(),
+                      s.tree.hung(),
+                      faces_saved_.size(),
+                      edges_saved_.size(),
+                      vertices_saved_.size()};
+}
+
 void EditUndo::record(const ContextState& s) {
     const TriMesh& m = s.mesh;
-    if (!sized_) {
-        sized_ = true;
-        vertices_ = m.n_vertices(), edges_ = m.n_edges(), faces_ = m.n_faces();
-        cap_faces_ = s.cap_faces.size();
-        tree_pending_ = s.tree.pending(), tree_hung_ = s.tree.hung();
-    }
+    size_once(s);
     auto save_edge_faces = [&](std::int32_t edge) {
         const EdgeHandle e(edge);
         save_face(m, m.face_handle(m.halfedge_handle(e, 0)));
@@ -51,34 +74,48 @@ void EditUndo::record(const ContextState& s) {
 
 void EditUndo::restore(ContextState& s) {
     if (!sized_) return;
+    Checkpoint start;
+    start.vertices = vertices_, start.edges = edges_, start.faces = faces_;
+    start.cap_faces = cap_faces_, start.tree_pending = tree_pending_, start.tree_hung = tree_hung_;
+    restore_to(s, start);
+}
+
+void EditUndo::restore_to(ContextState& s, const Checkpoint& c) {
+    if (!sized_) return;
     TriMesh& m = s.mesh;
-    m.resize(vertices_, edges_, faces_);
+    const std::size_t vertices = c.vertices, edges = c.edges, faces = c.faces;
+    m.resize(vertices, edges, faces);
     // Newest first: an element saved twice ends with its oldest (original) state.
-    for (auto it = vertices_saved_.rbegin(); it != vertices_saved_.rend(); ++it) {
-        if (static_cast<std::size_t>(it->vertex) >= vertices_) continue;
+    for (auto it = vertices_saved_.rbegin();
+         it != vertices_saved_.rend() - static_cast<std::ptrdiff_t>(c.vertices_saved); ++it) {
+        if (static_cast<std::size_t>(it->vertex) >= vertices) continue;
         const VertexHandle v(it->vertex);
         m.vertex(v) = it->item;
         m.status(v) = it->status;
     }
-    for (auto it = edges_saved_.rbegin(); it != edges_saved_.rend(); ++it) {
-        if (static_cast<std::size_t>(it->edge) >= edges_) continue;
+    for (auto it = edges_saved_.rbegin();
+         it != edges_saved_.rend() - static_cast<std::ptrdiff_t>(c.edges_saved); ++it) {
+        if (static_cast<std::size_t>(it->edge) >= edges) continue;
         const EdgeHandle e(it->edge);
         m.edge(e) = it->item;
         m.status(e) = it->status;
         m.status(m.halfedge_handle(e, 0)) = it->h0;
         m.status(m.halfedge_handle(e, 1)) = it->h1;
     }
-    for (auto it = faces_saved_.rbegin(); it != faces_saved_.rend(); ++it) {
-        if (static_cast<std::size_t>(it->face) >= faces_) continue;
+    for (auto it = faces_saved_.rbegin();
+         it != faces_saved_.rend() - static_cast<std::ptrdiff_t>(c.faces_saved); ++it) {
+        if (static_cast<std::size_t>(it->face) >= faces) continue;
         const FaceHandle f(it->face);
         m.face(f) = it->item;
         m.status(f) = it->status;
         m.set_normal(f, it->normal);
     }
-    s.cap_faces.resize(cap_faces_);
-    s.tree.drop_inserts(tree_pending_, tree_hung_);
-    sized_ = false;
-    faces_saved_.clear(), edges_saved_.clear(), vertices_saved_.clear();
+    s.cap_faces.resize(c.cap_faces);
+    s.tree.drop_inserts(c.tree_pending, c.tree_hung);
+    sized_ = c.sized;
+    faces_saved_.resize(c.faces_saved);
+    edges_saved_.resize(c.edges_saved);
+    vertices_saved_.resize(c.vertices_saved);
 }
 
 }  // namespace kerf::cut::detail

@@ -12,10 +12,13 @@
 // a crossing edge rewrites the edge's two faces; detaching the rim and capping rewrites the faces
 // around each on-plane rim vertex (and the split faces); a merge's split and collapse rewrite the
 // merged edge's faces and the faces around the vertex it collapses into; flipping a needle
-// diagonal on the rim (subtract_slab) rewrites two faces that hold a rim vertex. record() saves
+// diagonal on the rim (subtract_slab) rewrites two faces that hold a rim vertex; a chord put
+// into an earlier cap (cap_chords) rewrites the faces of the crossed cap edges and of the two
+// edges it ends on, which record_faces() is given. record() saves
 // those faces whole (the face, its three edges with both halfedges, its three vertices, their
 // statuses, the face normal) and the array sizes; everything added since is dropped on restore.
-// O(faces around the selected loops' cut points).
+// A checkpoint() taken between records can be restored alone (restore_to): the edits recorded
+// after it are undone, the earlier ones kept. O(faces around the selected loops' cut points).
 #pragma once
 
 #include <cstddef>
@@ -31,6 +34,22 @@ class EditUndo {
 public:
     /// Saves what applying s.plan can change; the first call also saves the sizes to return to.
     void record(const ContextState& s);
+    /// Saves the given faces whole (invalid handles are skipped), as record() saves the faces of
+    /// a plan; the first call also saves the sizes to return to.
+    void record_faces(const ContextState& s, const std::vector<mesh::FaceHandle>& faces);
+
+    /// Where the records stand: restore_to() undoes what was recorded after it.
+    struct Checkpoint {
+        bool sized = false;
+        std::size_t vertices = 0, edges = 0, faces = 0, cap_faces = 0;
+        std::size_t tree_pending = 0, tree_hung = 0;
+        std::size_t faces_saved = 0, edges_saved = 0, vertices_saved = 0;
+    };
+    /// The current sizes (of the mesh, the cap list, the face tree's inserts and the records).
+    Checkpoint checkpoint(const ContextState& s) const;
+    /// Puts back what was recorded after `c` and drops what was added since, leaving the records
+    /// made before `c` (no flush of the face tree in between).
+    void restore_to(ContextState& s, const Checkpoint& c);
     /// Puts the mesh, the face tree's inserts and the cap face list back as they were at the
     /// first record(), then forgets every record.
     void restore(ContextState& s);
@@ -39,6 +58,7 @@ public:
 
 private:
     void save_face(const mesh::TriMesh& m, mesh::FaceHandle f);
+    void size_once(const ContextState& s);
 
     struct FaceRecord {
         int face;

@@ -315,9 +315,32 @@ FaceHandle seed_face_near(ContextState& s, const Seed& seed) {
     const auto n = static_cast<int>(m.n_faces());
     const auto accepted = [&](FaceHandle f) { return !seed.accepts || seed.accepts(f); };
     if (seed.face_hint.is_valid() && seed.face_hint.idx() < n &&
-        !m.status(seed.face_hint).deleted() && accepted(seed.face_hint) &&
-        distance_to_face(m, seed.face_hint, seed.point_m) <= tol)
-        return seed.face_hint;
+        !m.status(seed.face_hint).deleted() && accepted(seed.face_hint)) {
+        if (distance_to_face(m, seed.face_hint, seed.point_m) <= tol) return seed.face_hint;
+        // A hint on an earlier cap whose diagonals a chord flipped (cap_chords.hpp: the plan is
+        // made again after the chords are put in) may no longer hold the point; the face of the
+        // same cap that does is the seed's (the point lies on that cap's twin as well, so the
+        // nearest face of the mesh could be on the other piece). The cap is searched from the
+        // hint across its inner edges (same tag, same stored normal).
+        const std::uint8_t tag = m.property(s.cap, seed.face_hint);
+        if (tag != kCapNone) {
+            const Vec3 normal = m.normal(seed.face_hint);
+            std::vector<FaceHandle> queue{seed.face_hint};
+            s.mark_face(seed.face_hint);
+            for (std::size_t i = 0; i < queue.size() && i < 4096; ++i) {
+                const FaceHandle f = queue[i];
+                if (accepted(f) && distance_to_face(m, f, seed.point_m) <= tol) return f;
+                for (auto h : m.fh_range(f)) {
+                    const FaceHandle g = m.opposite_face_handle(h);
+                    if (!g.is_valid() || s.face_marked(g) || m.property(s.cap, g) != tag ||
+                        m.normal(g) != normal)
+                        continue;
+                    s.mark_face(g);
+                    queue.push_back(g);
+                }
+            }
+        }
+    }
     FaceHandle best;
     double best_d = tol;
     auto consider = [&](std::int32_t fi) {
@@ -753,12 +776,13 @@ CutStatus finish_plan_merged_first(ContextState& s, const Plane& plane) {
 }  // namespace
 
 CutStatus plan_snapped(ContextState& s, const Plane& plane, std::vector<std::int32_t>& snapped,
-                       const std::function<CutStatus()>& plan, bool merges_first_last) {
+                       const std::function<CutStatus()>& plan, bool merges_first_last,
+                       const CutStatus* planned) {
     s.snapped = &snapped;
     CutStatus st = CutStatus::kOk;
     for (int round = 0;; ++round) {
         s.snap_candidates.clear();
-        st = plan();
+        st = round == 0 && planned != nullptr ? *planned : plan();
         if (st == CutStatus::kOk) st = finish_plan(s, plane);
         const bool sliver =
             st == CutStatus::kSliverSplit || st == CutStatus::kCapTriangulationFailed;

@@ -160,10 +160,12 @@ CutStatus finish_plan(ContextState& s, const Plane& plane);
 /// close points before the split check (merge_close_points, then check_split_areas on the loops
 /// they leave, then check_merged_split_areas): a needle of an earlier cap thinner than tol puts
 /// two cut points within tol of each other, and the part between them goes with their merge.
-/// Every plan that passed before passes the same way.
+/// Every plan that passed before passes the same way. `planned` (optional): the status of a
+/// plan() just made with these `snapped` vertices, which the first round then uses as it is.
 inline constexpr int kMaxSnapRounds = 8;
 CutStatus plan_snapped(ContextState& s, const Plane& plane, std::vector<std::int32_t>& snapped,
-                       const std::function<CutStatus()>& plan, bool merges_first_last = true);
+                       const std::function<CutStatus()>& plan, bool merges_first_last = true,
+                       const CutStatus* planned = nullptr);
 
 /// Triangulates the selected loops into plan.cap_triangles, counter-clockwise about the normal
 /// (kCapTriangulationFailed if a loop cannot be capped without slivers or tilted triangles).

@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "display/cut/apply_plan.hpp"
+#include "display/cut/cap_chords.hpp"
 #include "display/cut/context_state.hpp"
 #include "display/cut/section_plan.hpp"
 
@@ -21,7 +22,12 @@ CutResult finish(detail::ContextState& s, const Plane& plane,
                  const std::function<CutStatus()>& plan, CrossSection& out, std::int64_t t0) {
     CutResult r;
     std::vector<std::int32_t> snapped;
-    r.status = detail::plan_snapped(s, plane, snapped, plan);
+    detail::EditUndo chords;  // the chords put into earlier caps: kept on success
+    const auto vertices_before = static_cast<std::uint32_t>(s.mesh.n_vertices());
+    const auto faces_before = static_cast<std::uint32_t>(s.mesh.n_faces());
+    r.status = detail::plan_through_caps(s, plane, snapped, plan, chords, r.stats.cap_chords);
+    r.stats.vertices_added = static_cast<std::uint32_t>(s.mesh.n_vertices()) - vertices_before;
+    r.stats.triangles_added = static_cast<std::uint32_t>(s.mesh.n_faces()) - faces_before;
     if (r.ok()) r.status = detail::apply_plan(s, plane, out, r.stats);
     r.stats.vertices_snapped = static_cast<std::uint32_t>(snapped.size());
     r.stats.time_ns = now_ns() - t0;

@@ -2,7 +2,8 @@
 // item 2): found by cut_property_test's long form. The limb crosses a fan of thin cap triangles of
 // the first limb, and three of its cut points in a row lie within the tolerance of each other
 // (0.36 and 0.63 tol apart after the old pairwise merge, which merged only two of them). Now both
-// ends merge into the middle one: no vertex within the tolerance of another, every piece closed,
+// ends merge into the middle one (or, since the chords, the limb crosses the fan as one chord and
+// makes no close points): no vertex within the tolerance of another, every piece closed,
 // volume kept, and every piece reloads from float32 STL as a closed 2-manifold.
 #include <gtest/gtest.h>
 
@@ -63,8 +64,10 @@ TEST_P(ChevronNearVertices, SecondLimbLeavesNoVertexWithinTheToleranceAndPiecesR
     ASSERT_NE(seed2.tolerance_m, 0.0) << "the planes do not meet on the surface";
     const CutResult r = slice_by_plane(ctx, second, seed2, cs);
     ASSERT_EQ(r.status, CutStatus::kOk);
-    // The three close cut points: two merged into the middle one.
-    EXPECT_GE(r.stats.vertices_merged, 2u);
+    // The three close cut points: two merged into the middle one, or none made at all where the
+    // limb puts a chord into the first limb's cap instead of crossing its fan (cap_chords.hpp).
+    EXPECT_TRUE(r.stats.vertices_merged >= 2u || r.stats.cap_chords > 0u)
+        << r.stats.vertices_merged << " merged, " << r.stats.cap_chords << " chords";
     double nearest = 1e300;
     EXPECT_EQ(testing::close_new_vertices(m, first_new, ctx.tolerance_m(), nearest), 0)
         << c.mesh << ": vertices " << nearest / ctx.tolerance_m() << " tol apart (were "

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "display/cut/components.hpp"
+#include "display/cut/context_state.hpp"
 #include "display/cut/slice_by_plane.hpp"
 #include "display/cut/subtract_slab.hpp"
 #include "tests/cut/chevron_checks.hpp"
@@ -41,10 +42,20 @@ inline Seed seed_of(const SeededCut& c) {
 /// Applies `cuts` in order to `ctx` as sequential_cut_test made them (capacity grown before each
 /// but a chevron's second limb; slabs `kerf_m` wide); the index of the first that ended in
 /// kInternalError, or cuts.size() when none did. Refusals are allowed: they leave the mesh
-/// unchanged (checked by the caller where it matters).
-inline std::size_t replay_cuts(CutContext& ctx, std::span<const SeededCut> cuts, double kerf_m) {
+/// unchanged (checked by the caller where it matters). The sequences were recorded before slices
+/// put chords into the earlier caps they cross (cap_chords.hpp), and their face hints index the
+/// mesh those cuts made: unless `cap_chords`, the replay cuts without chords (the context's
+/// setting is restored after it).
+inline std::size_t replay_cuts(CutContext& ctx, std::span<const SeededCut> cuts, double kerf_m,
+                               bool cap_chords = false) {
     CrossSection cs;
     SlabCut slab;
+    struct Restore {
+        CutContext& ctx;
+        bool was;
+        ~Restore() { ctx.state().cap_chords = was; }
+    } restore{ctx, ctx.state().cap_chords};
+    ctx.state().cap_chords = cap_chords;
     for (std::size_t i = 0; i < cuts.size(); ++i) {
         const SeededCut& c = cuts[i];
         if (c.kind != 3) ctx.grow_capacity();
