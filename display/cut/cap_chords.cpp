@@ -29,9 +29,10 @@ constexpr double kSideRelative = 1e-9;
 
 // Flips move the surface only by the four corners' distances from the cap's plane (rim vertices
 // of the earlier cut up to a few tolerances off it): the volume of the tetrahedron of each flipped
-// quad, summed over a cut, may not exceed this times the mesh scale cubed (rounding on points of
-// the plane; the tests conserve volume to 1e-9 of meshes at least 1e-2 scale³).
-constexpr double kFlipVolumeRelative = 1e-13;
+// quad, summed over a cut, may not exceed this times the mesh scale cubed (1e-13 refused 50 of
+// the first chords of the 720 sequential cuts; the tests conserve volume to 1e-9 of meshes of at
+// least 1e-2 scale³, 10 times this).
+constexpr double kFlipVolumeRelative = 1e-12;
 
 // A triangle of the earlier cap after the chord is kept only tilted less than 60 degrees from the
 // cap's normal (as the caps' own `good` triangles).
@@ -125,18 +126,32 @@ public:
     ChordMaker(ContextState& s, const Plane& plane, EditUndo& undo)
         : s_(s), m_(s.mesh), plane_(plane), undo_(undo) {}
 
-    bool run(std::vector<Run>& runs) {
-        for (const Run& r : runs)
-            if (!feasible(r)) return false;
+    // Puts in the chord of every run that takes one (each run on its own: one that fails is
+    // undone and left to the usual split); the number put in.
+    std::uint32_t run(std::vector<Run>& runs) {
         s_.ensure_capacity(2 * runs.size(), 6 * runs.size(), 4 * runs.size());
+        std::uint32_t made = 0;
         for (Run& r : runs) {
+            if (!feasible(r)) continue;
+            const EditUndo::Checkpoint before = undo_.checkpoint(s_);
+            const std::size_t splits = split_.size();
+            // Each face once per run, at its state before the run: a run that fails is undone
+            // to there (a face an earlier run kept and this one changed included).
+            recorded_.clear();
+            const double volume = volume6_;
+            flipped_.clear();
             r.e = end_vertex(r.from);
             r.x = end_vertex(r.to);
-            if (!r.e.is_valid() || !r.x.is_valid() || r.e == r.x) return false;
+            if (r.e.is_valid() && r.x.is_valid() && r.e != r.x && insert(r) && check(r)) {
+                ++made;
+                continue;
+            }
+            undo_.restore_to(s_, before);
+            split_.resize(splits);
+            volume6_ = volume;
+            r.e = r.x = VertexHandle();
         }
-        for (const Run& r : runs)
-            if (!insert(r)) return false;
-        return check(runs);
+        return made;
     }
 
 private:
@@ -171,23 +186,26 @@ private:
     // (once, when two runs share it). The split halves are checked in check().
     VertexHandle end_vertex(const PlanPoint& p) {
         if (!p.key.edge) return VertexHandle(p.key.id);
-        for (const auto& [edge, v] : split_)
-            if (edge == p.key.id) return v;
+        for (const Split& sp : split_)
+            if (sp.edge == p.key.id) return sp.v;
         const EdgeHandle e(p.key.id);
         const HalfedgeHandle h0 = m_.halfedge_handle(e, 0), h1 = m_.halfedge_handle(e, 1);
         const FaceHandle f = m_.face_handle(h0), g = m_.face_handle(h1);
         if (!f.is_valid() || !g.is_valid()) return VertexHandle();
         // Each original face's far corner and twice-area vector: its halves must keep it.
-        for (const HalfedgeHandle h : {h0, h1}) {
+        Split sp;
+        sp.edge = p.key.id;
+        for (int k = 0; k < 2; ++k) {
+            const HalfedgeHandle h = k == 0 ? h0 : h1;
             const VertexHandle a = m_.from_vertex_handle(h), b = m_.to_vertex_handle(h);
             const VertexHandle c = m_.to_vertex_handle(m_.next_halfedge_handle(h));
-            halves_.push_back(
-                {c, cross(sub(m_.point(b), m_.point(a)), sub(m_.point(c), m_.point(a)))});
+            sp.corner[k] = c;
+            sp.twice[k] = cross(sub(m_.point(b), m_.point(a)), sub(m_.point(c), m_.point(a)));
         }
         record({f, g});
         const int faces_before = static_cast<int>(m_.n_faces());
-        const VertexHandle v = make_cut_vertex(m_, p);
-        m_.split_copy(e, v);
+        sp.v = make_cut_vertex(m_, p);
+        m_.split_copy(e, sp.v);
         for (int fi = faces_before; fi < static_cast<int>(m_.n_faces()); ++fi) {
             const FaceHandle n(fi);
             if (m_.property(s_.cap, n) != kCapNone)
@@ -195,8 +213,8 @@ private:
             else
                 s_.tree.insert(m_, n);
         }
-        split_.emplace_back(p.key.id, v);
-        return v;
+        split_.push_back(sp);
+        return sp.v;
     }
 
     // Sloan's constrained edge insertion of r.e -> r.x over the crossed inner edges.
@@ -256,44 +274,45 @@ private:
         return s_.too_small(a, b, c, n2) || !(dot(n, normal) > cosine * std::sqrt(n2));
     }
 
-    bool check(const std::vector<Run>& runs) const {
+    // The run's edit: the flips' volume (all runs so far) within the bound, every flipped quad's
+    // two triangles good triangles of their cap, the split halves at its ends (cap halves good,
+    // others facing as the face they come from), and the chord's two faces on either side of the
+    // new plane (the plan walks the chord as an edge in the plane between a positive and a
+    // negative face).
+    bool check(const Run& r) const {
         const double scale3 = s_.scale_m * s_.scale_m * s_.scale_m;
         if (!(volume6_ <= 6.0 * kFlipVolumeRelative * scale3)) return false;
-        // Every flipped quad's two triangles: good triangles of their cap.
         for (const EdgeHandle e : flipped_)
             for (int k = 0; k < 2; ++k) {
                 const FaceHandle f = m_.face_handle(m_.halfedge_handle(e, k));
                 if (bad_triangle(f, m_.normal(f), kMinCosine)) return false;
             }
-        // The split halves: cap halves good, others facing as the face they come from.
-        for (const auto& [edge, v] : split_)
-            for (const FaceHandle f : m_.vf_range(v)) {
+        for (const Split& sp : split_) {
+            if (sp.v != r.e && sp.v != r.x) continue;
+            for (const FaceHandle f : m_.vf_range(sp.v)) {
                 if (m_.property(s_.cap, f) != kCapNone) {
                     if (bad_triangle(f, m_.normal(f), kMinCosine)) return false;
                     continue;
                 }
                 bool matched = false;
-                for (const auto& [corner, twice] : halves_) {
+                for (int k = 0; k < 2; ++k) {
                     bool has = false;
-                    for (const VertexHandle c : m_.fv_range(f)) has |= c == corner;
+                    for (const VertexHandle c : m_.fv_range(f)) has |= c == sp.corner[k];
                     if (!has) continue;
                     matched = true;
-                    if (bad_triangle(f, twice, 0.0)) return false;
+                    if (bad_triangle(f, sp.twice[k], 0.0)) return false;
                 }
                 if (!matched) return false;
             }
-        // The chord's two faces lie on either side of the new plane, clearly: the plan walks the
-        // chord as an edge in the plane between a positive and a negative face.
-        for (const Run& r : runs) {
-            const HalfedgeHandle h = m_.find_halfedge(r.e, r.x);
-            if (!h.is_valid()) return false;
-            const double tol = kSnapTolerances * s_.tolerance_m;
-            const double dx =
-                plane_.signed_distance(m_.point(m_.to_vertex_handle(m_.next_halfedge_handle(h))));
-            const double dy = plane_.signed_distance(m_.point(
-                m_.to_vertex_handle(m_.next_halfedge_handle(m_.opposite_halfedge_handle(h)))));
-            if (!((dx > tol && dy < -tol) || (dx < -tol && dy > tol))) return false;
         }
+        const HalfedgeHandle h = m_.find_halfedge(r.e, r.x);
+        if (!h.is_valid()) return false;
+        const double tol = kSnapTolerances * s_.tolerance_m;
+        const double dx =
+            plane_.signed_distance(m_.point(m_.to_vertex_handle(m_.next_halfedge_handle(h))));
+        const double dy = plane_.signed_distance(
+            m_.point(m_.to_vertex_handle(m_.next_halfedge_handle(m_.opposite_halfedge_handle(h)))));
+        if (!((dx > tol && dy < -tol) || (dx < -tol && dy > tol))) return false;
         return true;
     }
 
@@ -301,11 +320,18 @@ private:
     TriMesh& m_;
     const Plane& plane_;
     EditUndo& undo_;
-    std::vector<std::pair<std::int32_t, VertexHandle>> split_;  // edge index -> its new vertex
-    std::vector<std::pair<VertexHandle, Vec3>> halves_;         // far corner, twice-area vector
-    std::vector<EdgeHandle> flipped_;
+    // An end split into its edge: the edge, the new vertex, and per original face of the edge its
+    // far corner and twice-area vector (its halves must keep that orientation).
+    struct Split {
+        std::int32_t edge = -1;
+        VertexHandle v;
+        VertexHandle corner[2];
+        Vec3 twice[2];
+    };
+    std::vector<Split> split_;
+    std::vector<EdgeHandle> flipped_;            // by the run being put in
     double volume6_ = 0;                         // six times the flips' tetrahedra, summed
-    std::unordered_set<std::int32_t> recorded_;  // faces recorded in undo_
+    std::unordered_set<std::int32_t> recorded_;  // faces recorded in undo_ in this run
 };
 
 }  // namespace
@@ -334,7 +360,7 @@ std::uint32_t insert_cap_chords(ContextState& s, const Plane& plane, EditUndo& u
     std::vector<Run> runs = find_runs(s);
     if (runs.empty()) return 0;
     ChordMaker maker(s, plane, undo);
-    return maker.run(runs) ? static_cast<std::uint32_t>(runs.size()) : 0;
+    return maker.run(runs);
 }
 
 CutStatus plan_through_caps(ContextState& s, const Plane& plane, std::vector<std::int32_t>& snapped,

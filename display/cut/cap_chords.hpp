@@ -13,9 +13,10 @@
 // insertion; each flip trades the diagonal of a convex planar quad, so the surface stays where it
 // is). The plan made again then meets the old cap only along that edge: two rim points, no split
 // cap triangle. Every edit is recorded in an EditUndo first; a run that cannot take its chord (an
-// end or a crossed vertex too close to the line, a quad not convex after every other flip, a
-// resulting triangle too small or tilted, flips moving more than a rounding's volume) leaves the
-// whole attempt to be undone, and the slice is planned the usual way.
+// end or a crossed vertex too close to the line, no crossed quad convex, a resulting triangle too
+// small or tilted, the chord's faces not on both sides of the plane, flips moving more than a
+// rounding's volume) is undone alone and left to the usual split; when no chord is put in, or the
+// plan on them is refused, every chord is undone and the slice is planned the usual way.
 #pragma once
 
 #include <cstdint>
@@ -35,10 +36,9 @@ struct ContextState;
 bool crosses_cap_inner_edges(const ContextState& s);
 
 /// Puts into the mesh the chord of `plane` across every run of inner cap edges the selected loops
-/// of s.plan cross (see the file comment), recording every edit in `undo` before it is made.
-/// The number of chords put in when there was at least one and every check passed; 0 otherwise,
-/// and then the caller restores `undo` (to a checkpoint taken before the call) whatever was
-/// edited.
+/// of s.plan cross that takes one (see the file comment), recording every edit in `undo` before it
+/// is made (a run that fails is undone to a checkpoint of its own). The number of chords put in;
+/// 0 leaves the mesh as it was.
 std::uint32_t insert_cap_chords(ContextState& s, const Plane& plane, EditUndo& undo);
 
 /// plan_snapped (section_plan.hpp) through the chords: when the slice crosses inner edges of an
