@@ -8,6 +8,7 @@
 
 #include "config/base/check.hpp"
 #include "display/cut/components.hpp"
+#include "display/cut/context_state.hpp"
 #include "display/cut/cross_section.hpp"
 #include "display/cut/cut_context.hpp"
 #include "display/cut/mesh_hash.hpp"
@@ -318,6 +319,11 @@ ApplyReport CutSession::begin(const CutBegin& e) {
         seed.accepts = [&s, body = e.body_id](mesh::FaceHandle f) {
             return s.mesh.property(s.face_body, f) == body;
         };
+    // Chords into earlier caps (cap_chords.hpp) only while no cut was withdrawn: a withdrawn
+    // cut's caps were opened part way by the separation (their corners moved off the plane, the
+    // rim held glued), and chords flipped into them folded the opened walls through each other
+    // (WithdrawnCutProbe.TheSequencesThatOpenCleanlyStayClean: faces crossed after 19 of 84 cuts).
+    s.ctx->state().cap_chords = s.withdrawn.empty();
     const CutResult r = slice_by_plane(*s.ctx, *plane, seed, cut.section);
     if (!r.ok()) return ++s.counters.refused, refused("slice refused", r.status);
 
