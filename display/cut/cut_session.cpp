@@ -323,6 +323,8 @@ ApplyReport CutSession::begin(const CutBegin& e) {
     // cut's caps were opened part way by the separation (their corners moved off the plane, the
     // rim held glued), and chords flipped into them folded the opened walls through each other
     // (WithdrawnCutProbe.TheSequencesThatOpenCleanlyStayClean: faces crossed after 19 of 84 cuts).
+    // The guard is here, not in cap_chords' own checks: refusing chords only where a crossed quad
+    // has a corner more than 32 tol off its cap's plane left the 19 crossings as they were.
     s.ctx->state().cap_chords = s.withdrawn.empty();
     const CutResult r = slice_by_plane(*s.ctx, *plane, seed, cut.section);
     if (!r.ok()) return ++s.counters.refused, refused("slice refused", r.status);
