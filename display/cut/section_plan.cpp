@@ -528,7 +528,6 @@ void SectionPlan::clear() {
     points.clear();
     loops.clear();
     merged.clear();
-    cap_points.clear();
     cap_triangles.clear();
     cap_neighbours.clear();
     nesting.clear();
