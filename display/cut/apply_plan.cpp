@@ -34,10 +34,9 @@ void set_edge_vertex(TriMesh& m, const PlanPoint& p, VertexHandle v) {
     const auto ta = m.texcoord2D(a), tb = m.texcoord2D(b);
     m.set_texcoord2D(v, TriMesh::TexCoord2D(static_cast<float>(ta[0] + (tb[0] - ta[0]) * t),
                                             static_cast<float>(ta[1] + (tb[1] - ta[1]) * t)));
-    const auto ca = m.color(a), cb = m.color(b);
-    TriMesh::Color c;
-    for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(ca[i] + (cb[i] - ca[i]) * t);
-    m.set_color(v, c);
+    const TriMesh::Color &ca = m.color(a), &cb = m.color(b);
+    auto channel = [&](int i) { return static_cast<float>(ca[i] + (cb[i] - ca[i]) * t); };
+    m.set_color(v, TriMesh::Color(channel(0), channel(1), channel(2)));
     m.data(v).set_material(t <= 0.5 ? m.data(a).material() : m.data(b).material());
 }
 
