@@ -310,13 +310,15 @@ public:
     // Flips the edge of slot si = 3i + e (c -> a, triangle i = (a, b, c) read from a) with its
     // reverse sj = 3j + f (a -> c, triangle j = (a, c, d)): i becomes (a, b, d), j (b, c, d).
     void flip(std::uint32_t si, std::uint32_t sj) {
+        static constexpr int kNext[3] = {1, 2, 0}, kAfterNext[3] = {2, 0, 1};  // (k + 1, 2) % 3
         const std::uint32_t i = si / 3, j = sj / 3;
-        const int e = static_cast<int>(si % 3), f = static_cast<int>(sj % 3);
+        const int e = static_cast<int>(si - 3 * i), f = static_cast<int>(sj - 3 * j);
+        const int e1 = kNext[e], e2 = kAfterNext[e], f1 = kNext[f], f2 = kAfterNext[f];
         const Triangle ti = tris_[i], tj = tris_[j];
-        const std::uint32_t a = corner(ti, (e + 1) % 3), b = corner(ti, (e + 2) % 3),
-                            c = corner(ti, e), d = corner(tj, (f + 2) % 3);
-        const std::uint32_t ab = nb_[3 * i + (e + 1) % 3], bc = nb_[3 * i + (e + 2) % 3];
-        const std::uint32_t cd = nb_[3 * j + (f + 1) % 3], da = nb_[3 * j + (f + 2) % 3];
+        const std::uint32_t a = corner(ti, e1), b = corner(ti, e2), c = corner(ti, e),
+                            d = corner(tj, f2);
+        const std::uint32_t ab = nb_[3 * i + e1], bc = nb_[3 * i + e2];
+        const std::uint32_t cd = nb_[3 * j + f1], da = nb_[3 * j + f2];
         tris_[i] = Triangle{a, b, d};
         tris_[j] = Triangle{b, c, d};
         link(3 * i, ab), link(3 * i + 2, da), link(3 * j, bc), link(3 * j + 1, cd);
