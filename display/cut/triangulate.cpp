@@ -133,10 +133,11 @@ struct Triangulator::Impl {
     std::vector<double> area;  // signed area per loop
     std::vector<std::int32_t> depth;
     std::vector<std::int32_t> parent;
-    std::vector<std::uint32_t> seg_next;    // successor of each point in its loop
-    std::vector<std::int32_t> seg_loop;     // loop of each point
-    std::vector<Box> seg_box;               // box of the segment from each point to its successor
-    std::vector<std::uint32_t> cell_start;  // self-intersection grid (CSR)
+    std::vector<std::uint32_t> seg_next;  // successor of each point in its loop
+    std::vector<std::int32_t> seg_loop;   // loop of each point
+    std::vector<Box> seg_box;             // box of the segment from each point to its successor
+    std::vector<std::array<std::uint32_t, 4>> seg_cells;  // its grid cells: x0, x1, y0, y1
+    std::vector<std::uint32_t> cell_start;                // self-intersection grid (CSR)
     std::vector<std::uint32_t> cell_items;
     std::vector<Node> nodes;
     std::vector<std::uint32_t> holes;       // leftmost node of each hole ring
@@ -319,12 +320,16 @@ Status<TriangulateError> Triangulator::Impl::check_crossings() {
     auto cy_of = [&](double y) {
         return std::min(gy - 1, static_cast<std::uint32_t>((y - all.y0) * sy));
     };
+    seg_cells.resize(n);
+    for (std::uint32_t s = 0; s < n; ++s) {
+        const Box& b = seg_box[s];
+        seg_cells[s] = {cx_of(b.x0), cx_of(b.x1), cy_of(b.y0), cy_of(b.y1)};
+    }
     cell_start.assign(std::size_t{gx} * gy + 1, 0);
     for (int pass = 0; pass < 2; ++pass) {  // count per cell, then fill (compressed rows)
         for (std::uint32_t s = 0; s < n; ++s) {
-            const Box& b = seg_box[s];
-            const std::uint32_t cx0 = cx_of(b.x0), cx1 = cx_of(b.x1), cy1 = cy_of(b.y1);
-            for (std::uint32_t cy = cy_of(b.y0); cy <= cy1; ++cy) {
+            const auto [cx0, cx1, cy0, cy1] = seg_cells[s];
+            for (std::uint32_t cy = cy0; cy <= cy1; ++cy) {
                 for (std::uint32_t cx = cx0; cx <= cx1; ++cx) {
                     const std::size_t c = std::size_t{cy} * gx + cx;
                     if (pass == 0)
