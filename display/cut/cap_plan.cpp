@@ -306,6 +306,8 @@ public:
 
     // The slot across slot `s` (kNoCapNeighbour on the rim).
     std::uint32_t across(std::uint32_t s) const { return nb_[s]; }
+    // across() of every slot, as an array (kept up to date by flip()).
+    const std::uint32_t* across_all() const { return nb_.data(); }
 
     // Flips the edge of slot si = 3i + e (c -> a, triangle i = (a, b, c) read from a) with its
     // reverse sj = 3j + f (a -> c, triangle j = (a, c, d)): i becomes (a, b, d), j (b, c, d).
@@ -361,14 +363,21 @@ void delaunay_flips(const SectionPlan& plan, std::vector<Triangle>& tris, CapAdj
     // A pass looks only at the triangles flipped in the pass before and their neighbours: every
     // other triangle had each of its edges tested in that pass against the same two triangles
     // (an edge it skipped for a flipped neighbour has that neighbour now), so it cannot flip.
-    std::vector<char> touched, active(tris.size(), 1);
+    const auto n = static_cast<std::uint32_t>(tris.size());  // flips keep the triangles' count
+    std::vector<char> touched, active(n, 1);
     for (int pass = 0; pass < 8; ++pass) {
-        touched.assign(tris.size(), 0);
+        touched.assign(n, 0);
         bool flipped = false;
         // Corner (k + 2) % 3, the one before corner k: slot 3t + k ends there.
         static constexpr int kBefore[3] = {2, 0, 1};
-        for (std::uint32_t i = 0; i < tris.size(); ++i) {
-            if (!active[i] || touched[i]) continue;
+        // The arrays through plain pointers: a byte store (touched, known) may alias a vector's
+        // own members, so reading through the vectors reloads their data at every use.
+        const PlanPoint* const points = plan.points.data();
+        const Triangle* const tri = tris.data();           // flip() writes it
+        const std::uint32_t* const nb = adj.across_all();  // and this
+        char* const touch = touched.data();
+        for (std::uint32_t i = 0; i < n; ++i) {
+            if (!active[i] || touch[i]) continue;
             // Triangle i read as (a, b, c): flips its edge c -> a, slot 3i + e, with the neighbour
             // holding a -> c (apex d) when d is clearly inside the circumcircle and both new
             // triangles are good. Whether it flipped. Inlined at its three calls (as a loop over
@@ -376,14 +385,14 @@ void delaunay_flips(const SectionPlan& plan, std::vector<Triangle>& tris, CapAdj
             auto try_flip = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t e)
                 __attribute__((always_inline)) {
                 const std::uint32_t si = 3 * i + e;
-                const std::uint32_t sj = adj.across(si);
+                const std::uint32_t sj = nb[si];
                 if (sj == kNoCapNeighbour) return false;
                 const std::uint32_t j = sj / 3;
-                if (touched[j] || j == i) return false;
+                if (touch[j] || j == i) return false;
                 const std::uint32_t fj = sj - 3 * j;  // the slot's corner in triangle j
-                const std::uint32_t d = CapAdjacency::corner(tris[j], kBefore[fj]);
-                const Vec2 &pa = plan.points[a].uv, &pb = plan.points[b].uv,
-                           &pc = plan.points[c].uv, &pd = plan.points[d].uv;
+                const std::uint32_t d = CapAdjacency::corner(tri[j], kBefore[fj]);
+                const Vec2 &pa = points[a].uv, &pb = points[b].uv, &pc = points[c].uv,
+                           &pd = points[d].uv;
                 const double adx = pa[0] - pd[0], ady = pa[1] - pd[1];
                 const double bdx = pb[0] - pd[0], bdy = pb[1] - pd[1];
                 const double cdx = pc[0] - pd[0], cdy = pc[1] - pd[1];
@@ -394,24 +403,23 @@ void delaunay_flips(const SectionPlan& plan, std::vector<Triangle>& tris, CapAdj
                 if (!(det > 1e-9 * scale)) return false;  // not clearly inside the circumcircle
                 if (!good(Triangle{a, b, d}) || !good(Triangle{b, c, d})) return false;
                 adj.flip(si, sj);
-                touched[i] = touched[j] = 1;
+                touch[i] = touch[j] = 1;
                 known[i] = known[j] = kKnownGood;
                 return true;
             };
             // Read from corners a, b, c in turn; a flip changes triangle i and ends its turn.
-            const Triangle ti = tris[i];
+            const Triangle ti = tri[i];
             if (try_flip(ti.a, ti.b, ti.c, 2) || try_flip(ti.b, ti.c, ti.a, 0) ||
                 try_flip(ti.c, ti.a, ti.b, 1))
                 flipped = true;
         }
         if (!flipped) return;
         std::fill(active.begin(), active.end(), 0);
-        for (std::uint32_t i = 0; i < tris.size(); ++i) {
-            if (!touched[i]) continue;
+        for (std::uint32_t i = 0; i < n; ++i) {
+            if (!touch[i]) continue;
             active[i] = 1;
             for (std::uint32_t e = 0; e < 3; ++e)
-                if (const std::uint32_t o = adj.across(3 * i + e); o != kNoCapNeighbour)
-                    active[o / 3] = 1;
+                if (const std::uint32_t o = nb[3 * i + e]; o != kNoCapNeighbour) active[o / 3] = 1;
         }
     }
 }
