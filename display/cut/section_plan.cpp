@@ -121,11 +121,14 @@ public:
         h[1] = m_.next_halfedge_handle(h[0]);
         h[2] = m_.next_halfedge_handle(h[1]);
         VertexHandle v[3];
+        for (int k = 0; k < 3; ++k) v[k] = m_.from_vertex_handle(h[k]);
+        // hp is h[k]: its two ends are corners k and k + 1, the third corner k + 2.
+        const int k = h[0] == hp ? 0 : (h[1] == hp ? 1 : 2);
+        static constexpr int kNext[3] = {1, 2, 0}, kThird[3] = {2, 0, 1};
         int sg[3];
-        for (int k = 0; k < 3; ++k) {
-            v[k] = m_.from_vertex_handle(h[k]);
-            sg[k] = h[k] == hp ? 1 : (h[k == 0 ? 2 : k - 1] == hp ? -1 : side(v[k]));
-        }
+        sg[k] = 1;
+        sg[kNext[k]] = -1;
+        sg[kThird[k]] = side(v[kThird[k]]);
         return segment_ends(h, v, sg, from, to);
     }
 
