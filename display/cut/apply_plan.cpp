@@ -21,6 +21,13 @@ using mesh::TriMesh;
 using mesh::VertexHandle;
 using CapScratch = ContextState::CapScratch;
 
+// data() of `v` with room for at least n elements; elements already there are kept, not filled.
+template <class T>
+T* room(std::vector<T>& v, std::size_t n) {
+    if (v.size() < n) v.resize(n);
+    return v.data();
+}
+
 // Writes the attributes of vertex v made for an edge cut point: every attribute interpolated
 // with the plan's t, from the lower-index endpoint a towards b; the material is the nearer
 // endpoint's.
@@ -34,10 +41,9 @@ void set_edge_vertex(TriMesh& m, const PlanPoint& p, VertexHandle v) {
     const auto ta = m.texcoord2D(a), tb = m.texcoord2D(b);
     m.set_texcoord2D(v, TriMesh::TexCoord2D(static_cast<float>(ta[0] + (tb[0] - ta[0]) * t),
                                             static_cast<float>(ta[1] + (tb[1] - ta[1]) * t)));
-    const auto ca = m.color(a), cb = m.color(b);
-    TriMesh::Color c;
-    for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(ca[i] + (cb[i] - ca[i]) * t);
-    m.set_color(v, c);
+    const TriMesh::Color &ca = m.color(a), &cb = m.color(b);
+    auto channel = [&](int i) { return static_cast<float>(ca[i] + (cb[i] - ca[i]) * t); };
+    m.set_color(v, TriMesh::Color(channel(0), channel(1), channel(2)));
     m.data(v).set_material(t <= 0.5 ? m.data(a).material() : m.data(b).material());
 }
 
@@ -121,7 +127,7 @@ void split_interior_edge(TriMesh& m, const ContextState& s, EdgeHandle e, Vertex
 // in one resize: each split makes vertex nv+i, edges ne+3i..ne+3i+2 and faces nf+2i, nf+2i+1, the
 // handles OpenMesh's add_vertex + split_copy made one at a time. rim[i] gets every point's vertex.
 // False (before any edit) if a crossing edge has a boundary side (the walk refuses those first).
-bool split_crossing_edges(ContextState& s, std::vector<VertexHandle>& rim) {
+bool split_crossing_edges(ContextState& s, VertexHandle* rim) {
     TriMesh& m = s.mesh;
     const SectionPlan& plan = s.plan;
     int splits = 0;
@@ -203,10 +209,11 @@ HalfedgeHandle detach(TriMesh& m, HalfedgeHandle o, EdgeHandle edge, VertexHandl
 
 // Cuts one loop apart: rim vertices r (positive side keeps them) and their duplicates d.
 // The new edges are the allocated edges next_edge, next_edge + 1, ... (advanced).
+// h and x: scratch for r.size() halfedges each.
 bool separate_loop(TriMesh& m, const std::vector<VertexHandle>& r,
-                   const std::vector<VertexHandle>& d, int& next_edge) {
+                   const std::vector<VertexHandle>& d, int& next_edge, HalfedgeHandle* h,
+                   HalfedgeHandle* x) {
     const std::size_t n = r.size();
-    std::vector<HalfedgeHandle> h(n), x(n);
     for (std::size_t i = 0; i < n; ++i) {
         h[i] = find_halfedge(m, r[i], r[(i + 1) % n]);
         if (!h[i].is_valid() || m.is_boundary(h[i]) ||
@@ -242,13 +249,6 @@ bool separate_loop(TriMesh& m, const std::vector<VertexHandle>& r,
     return true;
 }
 
-// data() of `v` with room for at least n elements; elements already there are kept, not filled.
-template <class T>
-T* room(std::vector<T>& v, std::size_t n) {
-    if (v.size() < n) v.resize(n);
-    return v.data();
-}
-
 // What the positive side's cap (built first) leaves for the negative side's: its rim slots, its
 // inner edges in their order (in CapScratch: `inner`, by the positive side's slots) and whether
 // that order can be the negative side's too (no two edges with the same ranks, no inner edge
@@ -270,8 +270,8 @@ std::uint32_t mirrored(std::uint32_t s) { return s - s % 3 + (2 - s % 3); }
 // (w.rank), then two stable counting passes (higher rank, then lower rank) over the edges in slot
 // order give what a sort by (handles, slot) gave, into w.inner. False when the pairing fails;
 // `derivable` (see CapMirror) is set.
-bool order_cap_edges(const SectionPlan& plan, const std::vector<VertexHandle>& vertex,
-                     std::size_t slots, const std::uint32_t* from, const std::uint32_t* to,
+bool order_cap_edges(const SectionPlan& plan, const VertexHandle* vertex, std::size_t slots,
+                     const std::uint32_t* from, const std::uint32_t* to,
                      const std::uint32_t* across, const char* on_rim, CapScratch& w,
                      bool& derivable) {
     std::vector<std::uint32_t>& inner = w.inner;  // the lower slot of each inner edge
@@ -328,8 +328,8 @@ bool order_cap_edges(const SectionPlan& plan, const std::vector<VertexHandle>& v
 // side's pairing checks and edge order, mirrored, when its rim slots are the positive side's
 // mirrored and its points rank alike (its duplicates are numbered in plan order, so whenever the
 // positive side's handles rise with the plan order too: no on-plane vertex out of order).
-bool add_cap(TriMesh& m, const SectionPlan& plan, const std::vector<VertexHandle>& vertex,
-             bool reversed, std::size_t rim_edges, std::vector<FaceHandle>& faces, CapScratch& w,
+bool add_cap(TriMesh& m, const SectionPlan& plan, const VertexHandle* vertex, bool reversed,
+             std::size_t rim_edges, std::vector<FaceHandle>& faces, CapScratch& w,
              CapMirror& mirror) {
     const std::size_t n = plan.cap_triangles.size();
     const std::size_t slots = 3 * n;
@@ -444,7 +444,10 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
     s.ensure_capacity(2 * n_points + plan.merged.size(),
                       4 * n_points + 3 * n_caps + 3 * plan.merged.size(),
                       2 * n_points + 2 * n_caps + 2 * plan.merged.size());
-    std::vector<VertexHandle> rim(plan.points.size());
+    // Per plan point, its vertex on each side (written for the selected loops' points, the only
+    // ones read).
+    VertexHandle* const rim = room(s.edit.rim, n_points);
+    VertexHandle* const dup = room(s.edit.dup, n_points);
     if (!split_crossing_edges(s, rim)) return CutStatus::kInternalError;
     // Cut points within tol of their loop neighbour: split, then collapse into the neighbour's
     // vertex (merge_close_points checked the link condition on the unedited mesh).
@@ -457,7 +460,6 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
     }
     out.clear();
     out.plane = plane;
-    std::vector<VertexHandle> dup(plan.points.size());
     // One duplicate vertex and one detaching edge per rim point, allocated in one resize and
     // handed out in loop order (the handles add_vertex / new_edge would give one at a time).
     int rim_points = 0;
@@ -466,13 +468,14 @@ CutStatus apply_plan(ContextState& s, const Plane& plane, CrossSection& out, Cut
     m.resize(next_vertex + rim_points, next_edge + rim_points, m.n_faces());
     for (const PlanLoop& l : plan.loops) {
         if (!l.selected) continue;
-        std::vector<VertexHandle> r(rim.begin() + l.first, rim.begin() + l.first + l.count);
-        std::vector<VertexHandle> d(l.count);
-        for (std::uint32_t i = 0; i < l.count; ++i) {
-            d[i] = dup[l.first + i] = VertexHandle(next_vertex++);
-            duplicate_vertex(m, r[i], d[i]);
+        for (std::uint32_t i = l.first; i < l.first + l.count; ++i) {
+            dup[i] = VertexHandle(next_vertex++);
+            duplicate_vertex(m, rim[i], dup[i]);
         }
-        if (!separate_loop(m, r, d, next_edge)) return CutStatus::kInternalError;
+        std::vector<VertexHandle> r(rim + l.first, rim + l.first + l.count);
+        std::vector<VertexHandle> d(dup + l.first, dup + l.first + l.count);
+        if (!separate_loop(m, r, d, next_edge, room(s.edit.h, l.count), room(s.edit.x, l.count)))
+            return CutStatus::kInternalError;
         std::vector<Vec2> uv(l.count);
         for (std::uint32_t i = 0; i < l.count; ++i) uv[i] = plan.points[l.first + i].uv;
         out.loops_2d.push_back(std::move(uv));

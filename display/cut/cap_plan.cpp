@@ -28,8 +28,8 @@ double area2(const std::vector<Point2>& uv, const Triangle& t) {
 }
 
 double longest2(const std::vector<Point2>& uv, const Triangle& t) {
-    return std::max({(uv[t.a] - uv[t.b]).sqrnorm(), (uv[t.b] - uv[t.c]).sqrnorm(),
-                     (uv[t.c] - uv[t.a]).sqrnorm()});
+    return std::max({sqrnorm(sub(uv[t.a], uv[t.b])), sqrnorm(sub(uv[t.b], uv[t.c])),
+                     sqrnorm(sub(uv[t.c], uv[t.a]))});
 }
 
 // Rim points that are collinear up to rounding (a plane crossing a flat quad) can leave ears of
@@ -238,8 +238,17 @@ constexpr char kUnknown = 0, kKnownAcceptable = 1, kKnownGood = 2;
 // triangles, or a per-point edge table rebuilt every pass, made the flips a third of a cut).
 class CapAdjacency {
 public:
-    CapAdjacency(std::vector<Triangle>& tris, std::vector<std::uint32_t>& neighbours)
-        : tris_(tris), nb_(neighbours) {}
+    using Scratch = ContextState::CapPlanScratch;
+    CapAdjacency(std::vector<Triangle>& tris, std::vector<std::uint32_t>& neighbours, Scratch& w)
+        : tris_(tris),
+          nb_(neighbours),
+          from_(w.from),
+          to_(w.to),
+          first_(w.first),
+          out_(w.out),
+          in_(w.in),
+          fill_(w.fill),
+          seen_(w.seen) {}
 
     static std::uint32_t corner(const Triangle& t, int k) {
         static constexpr std::uint32_t Triangle::*kCorners[3] = {&Triangle::a, &Triangle::b,
@@ -254,8 +263,8 @@ public:
         const auto n = static_cast<std::uint32_t>(tris_.size());
         const std::size_t slots = 3 * std::size_t{n};
         nb_.assign(slots, kNoCapNeighbour);
-        from_.resize(slots);
-        to_.resize(slots);
+        at_least(from_, slots);  // from_, to_, out_ and in_ are written before they are read
+        at_least(to_, slots);
         for (std::uint32_t i = 0; i < n; ++i) {
             const Triangle& t = tris_[i];
             from_[3 * i] = t.a, from_[3 * i + 1] = t.b, from_[3 * i + 2] = t.c;
@@ -264,8 +273,8 @@ public:
         first_.assign(points + 1, 0);
         for (std::size_t k = 0; k < slots; ++k) ++first_[from_[k] + 1];
         for (std::size_t k = 1; k < first_.size(); ++k) first_[k] += first_[k - 1];
-        out_.resize(slots);
-        in_.resize(slots);
+        at_least(out_, slots);
+        at_least(in_, slots);
         fill_.assign(first_.begin(), first_.end() - 1);
         for (std::uint32_t i = 0; i < n; ++i) {
             // Slot 3i + e leaves corner e; the slot before it in the triangle enters it.
@@ -297,17 +306,21 @@ public:
 
     // The slot across slot `s` (kNoCapNeighbour on the rim).
     std::uint32_t across(std::uint32_t s) const { return nb_[s]; }
+    // across() of every slot, as an array (kept up to date by flip()).
+    const std::uint32_t* across_all() const { return nb_.data(); }
 
     // Flips the edge of slot si = 3i + e (c -> a, triangle i = (a, b, c) read from a) with its
     // reverse sj = 3j + f (a -> c, triangle j = (a, c, d)): i becomes (a, b, d), j (b, c, d).
     void flip(std::uint32_t si, std::uint32_t sj) {
+        static constexpr int kNext[3] = {1, 2, 0}, kAfterNext[3] = {2, 0, 1};  // (k + 1, 2) % 3
         const std::uint32_t i = si / 3, j = sj / 3;
-        const int e = static_cast<int>(si % 3), f = static_cast<int>(sj % 3);
+        const int e = static_cast<int>(si - 3 * i), f = static_cast<int>(sj - 3 * j);
+        const int e1 = kNext[e], e2 = kAfterNext[e], f1 = kNext[f], f2 = kAfterNext[f];
         const Triangle ti = tris_[i], tj = tris_[j];
-        const std::uint32_t a = corner(ti, (e + 1) % 3), b = corner(ti, (e + 2) % 3),
-                            c = corner(ti, e), d = corner(tj, (f + 2) % 3);
-        const std::uint32_t ab = nb_[3 * i + (e + 1) % 3], bc = nb_[3 * i + (e + 2) % 3];
-        const std::uint32_t cd = nb_[3 * j + (f + 1) % 3], da = nb_[3 * j + (f + 2) % 3];
+        const std::uint32_t a = corner(ti, e1), b = corner(ti, e2), c = corner(ti, e),
+                            d = corner(tj, f2);
+        const std::uint32_t ab = nb_[3 * i + e1], bc = nb_[3 * i + e2];
+        const std::uint32_t cd = nb_[3 * j + f1], da = nb_[3 * j + f2];
         tris_[i] = Triangle{a, b, d};
         tris_[j] = Triangle{b, c, d};
         link(3 * i, ab), link(3 * i + 2, da), link(3 * j, bc), link(3 * j + 1, cd);
@@ -320,10 +333,21 @@ private:
         if (other != kNoCapNeighbour) nb_[other] = s;
     }
 
+    // Grows v to at least n elements, keeping (not filling) those it has.
+    static void at_least(std::vector<std::uint32_t>& v, std::size_t n) {
+        if (v.size() < n) v.resize(n);
+    }
+
     std::vector<Triangle>& tris_;
     std::vector<std::uint32_t>& nb_;
-    std::vector<std::uint32_t> from_, to_;  ///< per slot, as the triangles were at build()
-    std::vector<std::uint32_t> first_, out_, in_, fill_, seen_;
+    // Scratch, kept in the context from cut to cut (ContextState::CapPlanScratch).
+    std::vector<std::uint32_t>& from_;  ///< per slot, as the triangles were at build()
+    std::vector<std::uint32_t>& to_;
+    std::vector<std::uint32_t>& first_;
+    std::vector<std::uint32_t>& out_;
+    std::vector<std::uint32_t>& in_;
+    std::vector<std::uint32_t>& fill_;
+    std::vector<std::uint32_t>& seen_;
 };
 
 // Lawson flips towards the Delaunay triangulation of the cap (in the plane frame): an inner edge
@@ -339,28 +363,36 @@ void delaunay_flips(const SectionPlan& plan, std::vector<Triangle>& tris, CapAdj
     // A pass looks only at the triangles flipped in the pass before and their neighbours: every
     // other triangle had each of its edges tested in that pass against the same two triangles
     // (an edge it skipped for a flipped neighbour has that neighbour now), so it cannot flip.
-    std::vector<char> touched, active(tris.size(), 1);
+    const auto n = static_cast<std::uint32_t>(tris.size());  // flips keep the triangles' count
+    std::vector<char> touched, active(n, 1);
     for (int pass = 0; pass < 8; ++pass) {
-        touched.assign(tris.size(), 0);
+        touched.assign(n, 0);
         bool flipped = false;
-        for (std::uint32_t i = 0; i < tris.size(); ++i) {
-            if (!active[i]) continue;
-            // Triangle i's corners, read once: it changes only by a flip, which ends its turn.
-            const std::uint32_t v[3] = {tris[i].a, tris[i].b, tris[i].c};
-            static constexpr int kNext[3] = {1, 2, 0}, kPrev[3] = {2, 0, 1};
-            for (int r = 0; r < 3 && !touched[i]; ++r) {
-                // Triangle i read from corner r: (a, b, c); edge c -> a is slot 3i + (r + 2) % 3,
-                // and the neighbour holds a -> c with apex d.
-                const std::uint32_t a = v[r], b = v[kNext[r]], c = v[kPrev[r]];
-                const std::uint32_t si = 3 * i + static_cast<std::uint32_t>(kPrev[r]);
-                const std::uint32_t sj = adj.across(si);
-                if (sj == kNoCapNeighbour) continue;
+        // Corner (k + 2) % 3, the one before corner k: slot 3t + k ends there.
+        static constexpr int kBefore[3] = {2, 0, 1};
+        // The arrays through plain pointers: a byte store (touched, known) may alias a vector's
+        // own members, so reading through the vectors reloads their data at every use.
+        const PlanPoint* const points = plan.points.data();
+        const Triangle* const tri = tris.data();           // flip() writes it
+        const std::uint32_t* const nb = adj.across_all();  // and this
+        char* const touch = touched.data();
+        for (std::uint32_t i = 0; i < n; ++i) {
+            if (!active[i] || touch[i]) continue;
+            // Triangle i read as (a, b, c): flips its edge c -> a, slot 3i + e, with the neighbour
+            // holding a -> c (apex d) when d is clearly inside the circumcircle and both new
+            // triangles are good. Whether it flipped. Inlined at its three calls (as a loop over
+            // the three readings, its table lookups were a third of the pass).
+            auto try_flip = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t e)
+                __attribute__((always_inline)) {
+                const std::uint32_t si = 3 * i + e;
+                const std::uint32_t sj = nb[si];
+                if (sj == kNoCapNeighbour) return false;
                 const std::uint32_t j = sj / 3;
-                if (touched[j] || j == i) continue;
+                if (touch[j] || j == i) return false;
                 const std::uint32_t fj = sj - 3 * j;  // the slot's corner in triangle j
-                const std::uint32_t d = fj == 0 ? tris[j].c : (fj == 1 ? tris[j].a : tris[j].b);
-                const Vec2 &pa = plan.points[a].uv, &pb = plan.points[b].uv,
-                           &pc = plan.points[c].uv, &pd = plan.points[d].uv;
+                const std::uint32_t d = CapAdjacency::corner(tri[j], kBefore[fj]);
+                const Vec2 &pa = points[a].uv, &pb = points[b].uv, &pc = points[c].uv,
+                           &pd = points[d].uv;
                 const double adx = pa[0] - pd[0], ady = pa[1] - pd[1];
                 const double bdx = pb[0] - pd[0], bdy = pb[1] - pd[1];
                 const double cdx = pc[0] - pd[0], cdy = pc[1] - pd[1];
@@ -368,22 +400,26 @@ void delaunay_flips(const SectionPlan& plan, std::vector<Triangle>& tris, CapAdj
                                    (bdx * bdx + bdy * bdy) * (adx * cdy - cdx * ady) +
                                    (cdx * cdx + cdy * cdy) * (adx * bdy - bdx * ady);
                 const double scale = (adx * adx + ady * ady) * (bdx * bdx + bdy * bdy);
-                if (!(det > 1e-9 * scale)) continue;  // not clearly inside the circumcircle
-                if (!good(Triangle{a, b, d}) || !good(Triangle{b, c, d})) continue;
+                if (!(det > 1e-9 * scale)) return false;  // not clearly inside the circumcircle
+                if (!good(Triangle{a, b, d}) || !good(Triangle{b, c, d})) return false;
                 adj.flip(si, sj);
-                touched[i] = touched[j] = 1;
+                touch[i] = touch[j] = 1;
                 known[i] = known[j] = kKnownGood;
+                return true;
+            };
+            // Read from corners a, b, c in turn; a flip changes triangle i and ends its turn.
+            const Triangle ti = tri[i];
+            if (try_flip(ti.a, ti.b, ti.c, 2) || try_flip(ti.b, ti.c, ti.a, 0) ||
+                try_flip(ti.c, ti.a, ti.b, 1))
                 flipped = true;
-            }
         }
         if (!flipped) return;
         std::fill(active.begin(), active.end(), 0);
-        for (std::uint32_t i = 0; i < tris.size(); ++i) {
-            if (!touched[i]) continue;
+        for (std::uint32_t i = 0; i < n; ++i) {
+            if (!touch[i]) continue;
             active[i] = 1;
             for (std::uint32_t e = 0; e < 3; ++e)
-                if (const std::uint32_t o = adj.across(3 * i + e); o != kNoCapNeighbour)
-                    active[o / 3] = 1;
+                if (const std::uint32_t o = nb[3 * i + e]; o != kNoCapNeighbour) active[o / 3] = 1;
         }
     }
 }
@@ -430,7 +466,6 @@ bool pinched_along_an_edge(const ContextState& s) {
 CutStatus plan_caps(ContextState& s, const Plane& plane) {
     const Vec3& normal = plane.normal();
     SectionPlan& plan = s.plan;
-    plan.cap_points.clear();
     plan.cap_triangles.clear();
     const std::vector<std::int32_t> parent = cap_groups(plan);
     std::vector<const PlanLoop*> group;
@@ -447,9 +482,6 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
         if (!triangulate_group(s, plane, group, forced, plan.cap_triangles))
             return CutStatus::kCapTriangulationFailed;
     }
-    // Cap triangles index plan points directly: cap_points is the identity over the plan.
-    plan.cap_points.resize(plan.points.size());
-    for (std::uint32_t i = 0; i < plan.cap_points.size(); ++i) plan.cap_points[i] = i;
     // Every cap triangle must have a real area and face the way its 2-D orientation says (rim
     // vertices may sit off the plane: up to tol, or kSnapTolerances tol when snapped, so a long
     // thin triangle can tilt over). A `good` triangle is tilted less than 60 degrees; a bad one is
@@ -474,7 +506,7 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
         return sqrdist(plan.points[a].position, plan.points[b].position);
     };
     std::vector<Triangle>& tris = plan.cap_triangles;
-    CapAdjacency adj(tris, plan.cap_neighbours);
+    CapAdjacency adj(tris, plan.cap_neighbours, s.cap_plan);
     if (!adj.build(plan.points.size())) return CutStatus::kCapTriangulationFailed;
     std::vector<char> known(tris.size(), kUnknown);
     delaunay_flips(plan, tris, adj, good, known);

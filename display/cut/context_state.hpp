@@ -145,6 +145,17 @@ struct ContextState {
     Triangulator triangulator;
     std::vector<std::uint32_t> heap;         ///< seed search scratch
     std::vector<std::uint32_t> cap_scratch;  ///< per plan point, for the caps (cap_plan.cpp)
+    /// Scratch of the cap planning's triangle adjacency (cap_plan.cpp CapAdjacency), kept from
+    /// cut to cut.
+    struct CapPlanScratch {
+        std::vector<std::uint32_t> from, to, first, out, in, fill, seen;
+    } cap_plan;
+    /// Scratch of the edit (apply_plan.cpp), kept from cut to cut: each plan point's vertex on
+    /// the positive and the negative side, and one loop's rim halfedges.
+    struct EditScratch {
+        std::vector<mesh::VertexHandle> rim, dup;
+        std::vector<mesh::HalfedgeHandle> h, x;
+    } edit;
     /// Scratch of the edit's caps (apply_plan.cpp add_cap), kept from cut to cut.
     struct CapScratch {
         std::vector<std::uint32_t> from, to, across, inner, rank, lo, hi, count, sorted;

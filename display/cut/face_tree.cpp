@@ -874,14 +874,6 @@ void FaceTree::make_resident() {
     pending_.resize(p);
 }
 
-void FaceTree::insert(const mesh::TriMesh& mesh, mesh::FaceHandle f) {
-    if (leaves_ == 0) return;
-    if (pending_.size() < pending_.capacity())
-        pending_.push_back(item_of(mesh, f));
-    else
-        hang(item_of(mesh, f));
-}
-
 void FaceTree::drop_inserts(std::size_t pending, std::size_t hung) noexcept {
     if (pending < pending_.size()) pending_.resize(pending);
     for (std::size_t k = hung; k < extra_.size(); ++k)

@@ -77,7 +77,13 @@ public:
     /// Adds face `f` (a face created by a cut): its box goes on the pending list, O(1), which
     /// every query scans after the tree, until flush_pending() hangs it on its leaf; when the list
     /// is full, the face is hung on its leaf at once (O(tree depth)).
-    void insert(const mesh::TriMesh& mesh, mesh::FaceHandle f);
+    void insert(const mesh::TriMesh& mesh, mesh::FaceHandle f) {
+        if (leaves_ == 0) return;
+        if (pending_.size() < pending_.capacity())
+            pending_.push_back(item_of(mesh, f));
+        else
+            hang(item_of(mesh, f));
+    }
 
     /// Faces inserted since the last flush.
     std::size_t pending() const noexcept { return pending_.size(); }

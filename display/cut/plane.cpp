@@ -42,12 +42,6 @@ Result<Plane, CutStatus> Plane::make(const Vec3& point_m, const Vec3& normal) no
     return p;
 }
 
-Vec2 Plane::to_2d(const Vec3& p) const noexcept {
-    // dot(p - point, u), dot(p - point, v), written out (see signed_distance).
-    const double r0 = p[0] - point_[0], r1 = p[1] - point_[1], r2 = p[2] - point_[2];
-    return Vec2(r0 * u_[0] + r1 * u_[1] + r2 * u_[2], r0 * v_[0] + r1 * v_[1] + r2 * v_[2]);
-}
-
 Plane Plane::offset(double distance_m) const noexcept {
     Plane p = *this;
     p.point_ = point_ + normal_ * distance_m;

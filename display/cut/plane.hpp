@@ -57,7 +57,11 @@ public:
     }
 
     /// Coordinates of `p` projected into the frame (u, v), m.
-    Vec2 to_2d(const Vec3& p) const noexcept;
+    Vec2 to_2d(const Vec3& p) const noexcept {
+        // dot(p - point, u), dot(p - point, v), written out (see signed_distance).
+        const double r0 = p[0] - point_[0], r1 = p[1] - point_[1], r2 = p[2] - point_[2];
+        return Vec2(r0 * u_[0] + r1 * u_[1] + r2 * u_[2], r0 * v_[0] + r1 * v_[1] + r2 * v_[2]);
+    }
 
     /// The 3-D point of frame coordinates `q` on the plane.
     Vec3 to_3d(const Vec2& q) const noexcept { return point_ + u_ * q[0] + v_ * q[1]; }

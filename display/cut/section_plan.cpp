@@ -69,7 +69,12 @@ public:
     int side(VertexHandle v) const {
         const int sd = plane_.side(m_.point(v), tol_);
         if (sd == 0 || !any_snapped_) return sd;
-        return std::binary_search(s_.snapped->begin(), s_.snapped->end(), v.idx()) ? 0 : sd;
+        return snapped(v) ? 0 : sd;
+    }
+    // Whether v is one of the snapped vertices (out of line: side() stays small enough to be
+    // inlined in segment()).
+    [[gnu::noinline]] bool snapped(VertexHandle v) const {
+        return std::binary_search(s_.snapped->begin(), s_.snapped->end(), v.idx());
     }
 
     // +1 / -1 for a face that does not cross the plane (an in-plane face by its normal).
@@ -103,6 +108,34 @@ public:
         VertexHandle v[3];
         int sg[3];
         for (int k = 0; k < 3; ++k) v[k] = m_.from_vertex_handle(h[k]), sg[k] = side(v[k]);
+        return segment_ends(h, v, sg, from, to);
+    }
+
+    // segment() of the face of halfedge `hp`, which runs from a vertex on the positive side to
+    // one on the negative side (a halfedge of an edge cut point's edge, from its positive end:
+    // segment() makes a cut point on an edge only between a +1 and a -1 vertex), so that only
+    // the third corner's side is computed.
+    bool segment_from(HalfedgeHandle hp, CutPointKey& from, CutPointKey& to) const {
+        HalfedgeHandle h[3];
+        h[0] = m_.halfedge_handle(m_.face_handle(hp));
+        h[1] = m_.next_halfedge_handle(h[0]);
+        h[2] = m_.next_halfedge_handle(h[1]);
+        VertexHandle v[3];
+        for (int k = 0; k < 3; ++k) v[k] = m_.from_vertex_handle(h[k]);
+        // hp is h[k]: its two ends are corners k and k + 1, the third corner k + 2.
+        const int k = h[0] == hp ? 0 : (h[1] == hp ? 1 : 2);
+        static constexpr int kNext[3] = {1, 2, 0}, kThird[3] = {2, 0, 1};
+        int sg[3];
+        sg[k] = 1;
+        sg[kNext[k]] = -1;
+        sg[kThird[k]] = side(v[kThird[k]]);
+        return segment_ends(h, v, sg, from, to);
+    }
+
+    // The segment of the face with halfedges h, their from-vertices v and those vertices' sides
+    // sg (segment()).
+    bool segment_ends(const HalfedgeHandle (&h)[3], const VertexHandle (&v)[3], const int (&sg)[3],
+                      CutPointKey& from, CutPointKey& to) const {
         const SegmentEnds& c = kSegments[9 * (sg[0] + 1) + 3 * (sg[1] + 1) + (sg[2] + 1)];
         if (!c.crosses) return false;
         to = c.to_edge ? CutPointKey{m_.edge_handle(h[c.before]).idx(), true}
@@ -148,7 +181,7 @@ public:
             const FaceHandle ff = m_.face_handle(m_.halfedge_handle(e, first));
             if (f0.is_valid() && ff.is_valid()) {
                 CutPointKey a, b;
-                if (segment(ff, a, b) && a == k) {
+                if (segment_from(m_.halfedge_handle(e, first), a, b) && a == k) {
                     out = b;
                     via = ff;
                     return CutStatus::kOk;
@@ -528,7 +561,6 @@ void SectionPlan::clear() {
     points.clear();
     loops.clear();
     merged.clear();
-    cap_points.clear();
     cap_triangles.clear();
     cap_neighbours.clear();
     nesting.clear();

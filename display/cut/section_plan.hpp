@@ -63,9 +63,8 @@ inline constexpr std::uint32_t kNoCapNeighbour = 0xffffffffu;
 struct SectionPlan {
     std::vector<PlanPoint> points;
     std::vector<PlanLoop> loops;
-    std::vector<MergedPoint> merged;  ///< dropped from the selected loops by merge_close_points
-    std::vector<std::uint32_t> cap_points;  ///< selected loops' point indices, concatenated
-    std::vector<Triangle> cap_triangles;    ///< counter-clockwise, indexing cap_points
+    std::vector<MergedPoint> merged;      ///< dropped from the selected loops by merge_close_points
+    std::vector<Triangle> cap_triangles;  ///< counter-clockwise, indexing `points`
     /// Per cap triangle edge slot 3t + e (from corner e to corner e + 1 of cap_triangles[t]): the
     /// slot of the same edge, run the other way, in the neighbouring cap triangle, or
     /// kNoCapNeighbour on the rim.

@@ -11,6 +11,8 @@
 #include <cmath>
 #include <limits>
 
+#include "display/cut/vec_ops.hpp"
+
 namespace kerf::cut {
 
 std::string_view to_string(TriangulateErrc f) noexcept {
@@ -131,10 +133,11 @@ struct Triangulator::Impl {
     std::vector<double> area;  // signed area per loop
     std::vector<std::int32_t> depth;
     std::vector<std::int32_t> parent;
-    std::vector<std::uint32_t> seg_next;    // successor of each point in its loop
-    std::vector<std::int32_t> seg_loop;     // loop of each point
-    std::vector<Box> seg_box;               // box of the segment from each point to its successor
-    std::vector<std::uint32_t> cell_start;  // self-intersection grid (CSR)
+    std::vector<std::uint32_t> seg_next;  // successor of each point in its loop
+    std::vector<std::int32_t> seg_loop;   // loop of each point
+    std::vector<Box> seg_box;             // box of the segment from each point to its successor
+    std::vector<std::array<std::uint32_t, 4>> seg_cells;  // its grid cells: x0, x1, y0, y1
+    std::vector<std::uint32_t> cell_start;                // self-intersection grid (CSR)
     std::vector<std::uint32_t> cell_items;
     std::vector<Node> nodes;
     std::vector<std::uint32_t> holes;       // leftmost node of each hole ring
@@ -317,12 +320,17 @@ Status<TriangulateError> Triangulator::Impl::check_crossings() {
     auto cy_of = [&](double y) {
         return std::min(gy - 1, static_cast<std::uint32_t>((y - all.y0) * sy));
     };
+    seg_cells.resize(n);
+    for (std::uint32_t s = 0; s < n; ++s) {
+        const Box& b = seg_box[s];
+        seg_cells[s] = {cx_of(b.x0), cx_of(b.x1), cy_of(b.y0), cy_of(b.y1)};
+    }
     cell_start.assign(std::size_t{gx} * gy + 1, 0);
     for (int pass = 0; pass < 2; ++pass) {  // count per cell, then fill (compressed rows)
         for (std::uint32_t s = 0; s < n; ++s) {
-            const Box& b = seg_box[s];
-            for (std::uint32_t cy = cy_of(b.y0); cy <= cy_of(b.y1); ++cy) {
-                for (std::uint32_t cx = cx_of(b.x0); cx <= cx_of(b.x1); ++cx) {
+            const auto [cx0, cx1, cy0, cy1] = seg_cells[s];
+            for (std::uint32_t cy = cy0; cy <= cy1; ++cy) {
+                for (std::uint32_t cx = cx0; cx <= cx1; ++cx) {
                     const std::size_t c = std::size_t{cy} * gx + cx;
                     if (pass == 0)
                         ++cell_start[c + 1];
@@ -413,24 +421,27 @@ bool Triangulator::Impl::strip(std::uint32_t l, std::uint32_t h, std::vector<Tri
     const std::uint32_t no = loop_size(l), nh = loop_size(h);
     // Both loops read counter-clockwise: the region is left of the outer loop's edges and right
     // of the hole's, so (o_i, o_i+1, h_j) and (o_i, h_j+1, h_j) are counter-clockwise.
+    // k < 2 no (outer) and k < 2 nh (hole) below: one subtraction wraps it.
     auto outer = [&](std::uint32_t k) {
-        k %= no;
+        if (k >= no) k -= no;
         return area[l] > 0 ? begin[l] + k : begin[l] + (no - 1 - k);
     };
     auto hole = [&](std::uint32_t k) {
-        k %= nh;
+        if (k >= nh) k -= nh;
         return area[h] > 0 ? begin[h] + k : begin[h] + (nh - 1 - k);
     };
     auto clearly_ccw = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-        const double longest2 = std::max({(pts[a] - pts[b]).sqrnorm(), (pts[b] - pts[c]).sqrnorm(),
-                                          (pts[c] - pts[a]).sqrnorm()});
+        using detail::sqrnorm, detail::sub;  // (p - q).sqrnorm() written out (vec_ops.hpp)
+        const double longest2 =
+            std::max({sqrnorm(sub(pts[a], pts[b])), sqrnorm(sub(pts[b], pts[c])),
+                      sqrnorm(sub(pts[c], pts[a]))});
         return cross(pts[a], pts[b], pts[c]) > kStripMinRelativeArea * longest2;
     };
     // The first rung: outer point 0 to the nearest hole point.
     std::uint32_t t = 0;
     double best = std::numeric_limits<double>::infinity();
     for (std::uint32_t k = 0; k < nh; ++k) {
-        const double d = (pts[hole(k)] - pts[outer(0)]).sqrnorm();
+        const double d = detail::sqrnorm(detail::sub(pts[hole(k)], pts[outer(0)]));
         if (d < best) best = d, t = k;
     }
     const std::size_t first = out.size();
@@ -441,8 +452,8 @@ bool Triangulator::Impl::strip(std::uint32_t l, std::uint32_t h, std::vector<Tri
         const bool can_hole = j < t + nh && clearly_ccw(o, hole(j + 1), hj);
         bool take_outer = can_outer;
         if (can_outer && can_hole)
-            take_outer =
-                (pts[outer(i + 1)] - pts[hj]).sqrnorm() <= (pts[hole(j + 1)] - pts[o]).sqrnorm();
+            take_outer = detail::sqrnorm(detail::sub(pts[outer(i + 1)], pts[hj])) <=
+                         detail::sqrnorm(detail::sub(pts[hole(j + 1)], pts[o]));
         if (!can_outer && !can_hole) {
             out.resize(first);
             return false;
@@ -835,27 +846,27 @@ Status<TriangulateError> Triangulator::triangulate(std::span<const std::span<con
             continue;
         }
         ++stats_.outer_loops;
-        m.nodes.clear();
-        m.holes.clear();
-        const std::uint32_t outer = m.make_ring(l, true);
-        for (std::uint32_t h = 0; h < m.loops(); ++h) {
-            if (m.parent[h] == static_cast<std::int32_t>(l) && m.depth[h] % 2 == 1) {
-                m.holes.push_back(m.make_ring(h, false));
-            }
-        }
-        if (m.holes.empty() && m.strictly_convex(l)) {
+        auto is_hole_of_l = [&](std::uint32_t h) {
+            return m.parent[h] == static_cast<std::int32_t>(l) && m.depth[h] % 2 == 1;
+        };
+        // The fan and the strip read the loops as they are: only the ear clipper needs the rings.
+        std::uint32_t hole_count = 0, first_hole = 0;
+        for (std::uint32_t h = m.loops(); h-- > 0;)
+            if (is_hole_of_l(h)) ++hole_count, first_hole = h;
+        if (hole_count == 0 && m.strictly_convex(l)) {
             m.fan(l, out);
             ++stats_.fans;
             continue;
         }
-        if (m.holes.size() == 1) {
-            std::uint32_t h = 0;
-            while (!(m.parent[h] == static_cast<std::int32_t>(l) && m.depth[h] % 2 == 1)) ++h;
-            if (m.strip(l, h, out)) {
-                ++stats_.strips;
-                continue;
-            }
+        if (hole_count == 1 && m.strip(l, first_hole, out)) {
+            ++stats_.strips;
+            continue;
         }
+        m.nodes.clear();
+        m.holes.clear();
+        const std::uint32_t outer = m.make_ring(l, true);
+        for (std::uint32_t h = 0; h < m.loops(); ++h)
+            if (is_hole_of_l(h)) m.holes.push_back(m.make_ring(h, false));
         m.eliminate_holes(outer);
         m.use_grid = m.nodes.size() >= kGridThreshold;
         if (m.use_grid) m.build_grid(outer);
