@@ -355,16 +355,6 @@ bool FaceTree::enlarge(Box& b, const Box& by) noexcept {
     return grew;
 }
 
-bool FaceTree::enlarge(Group& g, std::uint32_t lane, const Box& by) noexcept {
-    bool grew = false;
-    for (int a = 0; a < 3; ++a) {
-        grew |= by.lo[a] < g.lo[a][lane] || by.hi[a] > g.hi[a][lane];
-        g.lo[a][lane] = std::min(g.lo[a][lane], by.lo[a]);
-        g.hi[a][lane] = std::max(g.hi[a][lane], by.hi[a]);
-    }
-    return grew;
-}
-
 namespace {
 
 // The largest |coordinate| of a box (infinite for a box with a NaN or infinite coordinate, which
@@ -381,24 +371,212 @@ double max_abs_of(const FaceTree::Box& b) {
 
 }  // namespace
 
+namespace {
+
+constexpr int kMinStepExp = -126, kMaxStepExp = 127;  // normal floats: q x step is exact
+
+// 2^e as a float, e in [kMinStepExp, kMaxStepExp].
+inline float step_of(int e) {
+    return std::bit_cast<float>(static_cast<std::uint32_t>(e + 127) << 23);
+}
+
+// The bound quantised value q stands for: origin + q x step, the product exact, the sum rounded
+// once (as the group tests compute it, with or without a fused multiply-add).
+inline float bound_of(float origin, std::uint32_t q, float step) {
+    return origin + static_cast<float>(q) * step;
+}
+
+// Quantised bounds of [lo, hi] against (origin, step): the largest qlo whose bound is not above
+// lo and the smallest qhi whose bound is not below hi; whether both fit 8 bits (lo not below
+// origin, qhi at most 255). The double products give the candidates; the float bounds themselves
+// settle them.
+inline bool quantise_bounds(float lo, float hi, float origin, float step, std::uint32_t& qlo,
+                            std::uint32_t& qhi) {
+    if (!(lo >= origin)) return false;  // below the frame (or NaN)
+    const double inv = 1.0 / static_cast<double>(step);
+    const double l = std::floor((double(lo) - origin) * inv);
+    const double h = std::ceil((double(hi) - origin) * inv);
+    if (!(h <= 256.0)) return false;
+    qlo = static_cast<std::uint32_t>(std::max(l, 0.0));
+    while (qlo > 0 && bound_of(origin, qlo, step) > lo) --qlo;
+    qhi = h > 0.0 ? static_cast<std::uint32_t>(h) : 0u;
+    while (qhi <= 255 && bound_of(origin, qhi, step) < hi) ++qhi;
+    return qhi <= 255;
+}
+
+inline bool box_finite(const FaceTree::Box& b) {
+    for (int a = 0; a < 3; ++a)
+        if (!std::isfinite(b.lo[a]) || !std::isfinite(b.hi[a])) return false;
+    return true;
+}
+
+}  // namespace
+
+FaceTree::Box FaceTree::lane_box(const Group& g, std::uint32_t k) noexcept {
+    Box b;
+    for (int a = 0; a < 3; ++a) {
+        const float step = step_of(g.step_exp[a]);
+        b.lo[a] = bound_of(g.origin[a], g.qlo[a][k], step);
+        b.hi[a] = bound_of(g.origin[a], g.qhi[a][k], step);
+    }
+    return b;
+}
+
+FaceTree::Box FaceTree::group_box(const Group& g) noexcept {
+    Box b{{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}};
+    for (std::uint32_t k = 0; k < kLanes; ++k) {
+        if (!(g.live >> k & 1u)) continue;
+        const Box l = lane_box(g, k);
+        for (int a = 0; a < 3; ++a) {
+            // NaN bounds (an open group) stay NaN: the parent's lane opens its group too.
+            b.lo[a] = std::isnan(l.lo[a]) ? l.lo[a] : std::min(b.lo[a], l.lo[a]);
+            b.hi[a] = std::isnan(l.hi[a]) ? l.hi[a] : std::max(b.hi[a], l.hi[a]);
+        }
+    }
+    return b;
+}
+
+void FaceTree::quantise(Group& g, const Box* boxes, std::uint32_t live) noexcept {
+    g.live = static_cast<std::uint8_t>(live);
+    std::memset(g.qlo, 0, sizeof g.qlo);
+    std::memset(g.qhi, 0, sizeof g.qhi);
+    float lo[3] = {kInf, kInf, kInf}, hi[3] = {-kInf, -kInf, -kInf};
+    bool finite = true;
+    for (std::uint32_t k = 0; k < kLanes; ++k) {
+        if (!(live >> k & 1u)) continue;
+        finite &= box_finite(boxes[k]);
+        for (int a = 0; a < 3; ++a)
+            lo[a] = std::min(lo[a], boxes[k].lo[a]), hi[a] = std::max(hi[a], boxes[k].hi[a]);
+    }
+    if (!finite) {
+        for (int a = 0; a < 3; ++a) g.origin[a] = std::numeric_limits<float>::quiet_NaN();
+        for (int a = 0; a < 3; ++a) g.step_exp[a] = 0;
+        max_abs_ = std::numeric_limits<double>::infinity();
+        return;
+    }
+    if (live == 0) {
+        for (int a = 0; a < 3; ++a) g.origin[a] = 0.0f, g.step_exp[a] = 0;
+        return;
+    }
+    for (int a = 0; a < 3; ++a) {
+        // The smallest step that spans the frame in 254 steps (one to spare for the rounding of
+        // the bounds), larger while a bound does not fit.
+        const double extent = double(hi[a]) - lo[a];
+        int e = kMinStepExp;
+        if (extent > 0.0) {
+            std::frexp(extent / 254.0, &e);
+            e = std::clamp(e, kMinStepExp, kMaxStepExp);
+        }
+        for (;; ++e) {
+            const float step = step_of(e);
+            bool fits = true;
+            for (std::uint32_t k = 0; k < kLanes && fits; ++k) {
+                if (!(live >> k & 1u)) continue;
+                std::uint32_t ql = 0, qh = 0;
+                fits = quantise_bounds(boxes[k].lo[a], boxes[k].hi[a], lo[a], step, ql, qh);
+                g.qlo[a][k] = static_cast<std::uint8_t>(ql);
+                g.qhi[a][k] = static_cast<std::uint8_t>(qh);
+            }
+            if (fits || e == kMaxStepExp) break;
+        }
+        g.origin[a] = lo[a];
+        g.step_exp[a] = static_cast<std::int8_t>(e);
+        const float step = step_of(e);
+        for (std::uint32_t k = 0; k < kLanes; ++k) {
+            if (!(live >> k & 1u)) continue;
+            max_abs_ = std::max({max_abs_, std::abs(double(bound_of(lo[a], g.qlo[a][k], step))),
+                                 std::abs(double(bound_of(lo[a], g.qhi[a][k], step)))});
+        }
+    }
+}
+
+bool FaceTree::enlarge(Group& g, std::uint32_t lane, Box& by) noexcept {
+    const std::uint32_t bit = 1u << lane;
+    if (!box_finite(by)) {  // the group opens (and so does every group above it)
+        for (int a = 0; a < 3; ++a) g.origin[a] = std::numeric_limits<float>::quiet_NaN();
+        g.live = static_cast<std::uint8_t>(g.live | bit);
+        max_abs_ = std::numeric_limits<double>::infinity();
+        return true;
+    }
+    Box b = by;
+    if (g.live & bit) {
+        const Box cur = lane_box(g, lane);
+        b = cur;
+        if (!enlarge(b, by)) return false;  // NaN bounds (an open group) hold everything
+    }
+    // Inside the frame: the lane alone. Else the whole group, from the boxes its lanes stand for.
+    std::uint32_t qlo[3], qhi[3];
+    bool fits = !std::isnan(g.origin[0]) && g.live != 0 && box_finite(b);
+    for (int a = 0; a < 3 && fits; ++a)
+        fits =
+            quantise_bounds(b.lo[a], b.hi[a], g.origin[a], step_of(g.step_exp[a]), qlo[a], qhi[a]);
+    if (fits) {
+        for (int a = 0; a < 3; ++a) {
+            g.qlo[a][lane] = static_cast<std::uint8_t>(qlo[a]);
+            g.qhi[a][lane] = static_cast<std::uint8_t>(qhi[a]);
+        }
+        g.live = static_cast<std::uint8_t>(g.live | bit);
+        by = lane_box(g, lane);
+        max_abs_ = std::max(max_abs_, max_abs_of(by));
+        return true;
+    }
+    if (std::isnan(g.origin[0])) {  // open: stays open, and its parent's lane is open too
+        g.live = static_cast<std::uint8_t>(g.live | bit);
+        return false;
+    }
+    Box boxes[kLanes];
+    for (std::uint32_t k = 0; k < kLanes; ++k)
+        if (g.live >> k & 1u) boxes[k] = lane_box(g, k);
+    boxes[lane] = b;
+    quantise(g, boxes, g.live | bit);
+    by = group_box(g);
+    return true;
+}
+
 double FaceTree::float_error_m(double query_abs) const noexcept {
-    // Each group test sums three products of float sums of coordinates up to max_abs_ (and the
-    // query's own up to query_abs): a few roundings of relative 2^-24 each, bounded generously.
+    // Each group test sums three products of float sums of coordinates up to max_abs_ (which
+    // holds the quantised bounds too) and the query's own up to query_abs: a few roundings of
+    // relative 2^-24 each, bounded generously.
     return 16.0 * std::numeric_limits<float>::epsilon() * (max_abs_ + query_abs);
 }
 
-// The group tests: four lanes at a time with SSE (every x86-64 has it), one at a time elsewhere.
-// Comparisons are written so that a NaN passes: a test may keep a box it need not, never drop one.
+// The group tests: four lanes at a time with SSE (every x86-64 has it), one at a time elsewhere,
+// on the bounds the lanes stand for (bound_of, computed the same way). Comparisons are written
+// so that a NaN passes: a test may keep a box it need not, never drop one.
 #if defined(__SSE2__)
+
+namespace {
+
+// The float bounds of lanes [h, h + 4) on one axis: origin + q x step, as bound_of.
+[[gnu::always_inline]] inline __m128 bounds4(const std::uint8_t* q, __m128 origin, __m128 step) {
+    std::int32_t bytes;
+    std::memcpy(&bytes, q, sizeof bytes);
+    const __m128i zero = _mm_setzero_si128();
+    const __m128i wide =
+        _mm_unpacklo_epi16(_mm_unpacklo_epi8(_mm_cvtsi32_si128(bytes), zero), zero);
+    return _mm_add_ps(origin, _mm_mul_ps(_mm_cvtepi32_ps(wide), step));
+}
+
+// The group's origin and step on axis a, in every lane.
+[[gnu::always_inline]] inline void frame4(const float* origin, const std::int8_t* step_exp, int a,
+                                          __m128& o, __m128& step) {
+    o = _mm_set1_ps(origin[a]);
+    step = _mm_castsi128_ps(_mm_set1_epi32((step_exp[a] + 127) << 23));
+}
+
+}  // namespace
 
 std::uint32_t FaceTree::plane_mask(const Group& g, const PlaneLanes& q) noexcept {
     const __m128 abs_bits = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+    __m128 origin[3], step[3];
+    for (int a = 0; a < 3; ++a) frame4(g.origin, g.step_exp, a, origin[a], step[a]);
     std::uint32_t mask = 0;
     for (std::uint32_t h = 0; h < kLanes; h += 4) {
         __m128 keep = _mm_castsi128_ps(_mm_set1_epi32(-1));
         __m128 centre = _mm_setzero_ps(), extent = _mm_setzero_ps();
         for (int a = 0; a < 3; ++a) {
-            const __m128 lo = _mm_load_ps(&g.lo[a][h]), hi = _mm_load_ps(&g.hi[a][h]);
+            const __m128 lo = bounds4(&g.qlo[a][h], origin[a], step[a]);
+            const __m128 hi = bounds4(&g.qhi[a][h], origin[a], step[a]);
             keep = _mm_and_ps(keep, _mm_cmpngt_ps(lo, _mm_set1_ps(q.hi[a])));
             keep = _mm_and_ps(keep, _mm_cmpnlt_ps(hi, _mm_set1_ps(q.lo[a])));
             centre = _mm_add_ps(centre, _mm_mul_ps(_mm_set1_ps(q.n[a]), _mm_add_ps(lo, hi)));
@@ -408,24 +586,26 @@ std::uint32_t FaceTree::plane_mask(const Group& g, const PlaneLanes& q) noexcept
         keep = _mm_and_ps(keep, _mm_cmpngt_ps(off, _mm_add_ps(extent, _mm_set1_ps(q.twice_slack))));
         mask |= static_cast<std::uint32_t>(_mm_movemask_ps(keep)) << h;
     }
-    return mask;
+    return mask & g.live;
 }
 
 std::uint32_t FaceTree::point_mask(const Group& g, const PointLanes& q) noexcept {
+    __m128 origin[3], step[3];
+    for (int a = 0; a < 3; ++a) frame4(g.origin, g.step_exp, a, origin[a], step[a]);
     std::uint32_t mask = 0;
     for (std::uint32_t h = 0; h < kLanes; h += 4) {
         __m128 d2 = _mm_setzero_ps();
         for (int a = 0; a < 3; ++a) {
             const __m128 p = _mm_set1_ps(q.p[a]);
-            const __m128 below = _mm_sub_ps(_mm_load_ps(&g.lo[a][h]), p);
-            const __m128 above = _mm_sub_ps(p, _mm_load_ps(&g.hi[a][h]));
+            const __m128 below = _mm_sub_ps(bounds4(&g.qlo[a][h], origin[a], step[a]), p);
+            const __m128 above = _mm_sub_ps(p, bounds4(&g.qhi[a][h], origin[a], step[a]));
             const __m128 d = _mm_max_ps(_mm_max_ps(below, above), _mm_setzero_ps());
             d2 = _mm_add_ps(d2, _mm_mul_ps(d, d));
         }
         const __m128 keep = _mm_cmpngt_ps(d2, _mm_set1_ps(q.r2));
         mask |= static_cast<std::uint32_t>(_mm_movemask_ps(keep)) << h;
     }
-    return mask;
+    return mask & g.live;
 }
 
 #else
@@ -435,8 +615,9 @@ std::uint32_t FaceTree::plane_mask(const Group& g, const PlaneLanes& q) noexcept
     for (std::uint32_t k = 0; k < kLanes; ++k) {
         bool keep = true;
         float centre = 0.0f, extent = 0.0f;
+        const Box b = lane_box(g, k);
         for (int a = 0; a < 3; ++a) {
-            const float lo = g.lo[a][k], hi = g.hi[a][k];
+            const float lo = b.lo[a], hi = b.hi[a];
             keep &= !(lo > q.hi[a]) && !(hi < q.lo[a]);
             centre += q.n[a] * (lo + hi);
             extent += q.abs_n[a] * (hi - lo);
@@ -444,21 +625,24 @@ std::uint32_t FaceTree::plane_mask(const Group& g, const PlaneLanes& q) noexcept
         keep &= !(std::abs(centre - q.twice_c0) > extent + q.twice_slack);
         mask |= static_cast<std::uint32_t>(keep) << k;
     }
-    return mask;
+    return mask & g.live;
 }
 
 std::uint32_t FaceTree::point_mask(const Group& g, const PointLanes& q) noexcept {
     std::uint32_t mask = 0;
     for (std::uint32_t k = 0; k < kLanes; ++k) {
         float d2 = 0.0f;
+        const Box b = lane_box(g, k);
         for (int a = 0; a < 3; ++a) {
-            const float below = g.lo[a][k] - q.p[a], above = q.p[a] - g.hi[a][k];
-            const float d = std::max(std::max(below, above), 0.0f);
+            const float below = b.lo[a] - q.p[a], above = q.p[a] - b.hi[a];
+            const float d = std::isnan(below) || std::isnan(above)
+                                ? 0.0f
+                                : std::max(std::max(below, above), 0.0f);
             d2 += d * d;
         }
         mask |= static_cast<std::uint32_t>(!(d2 > q.r2)) << k;
     }
-    return mask;
+    return mask & g.live;
 }
 
 #endif
@@ -678,9 +862,8 @@ bool scan_met_every_edge(const mesh::TriMesh& mesh, const FaceScan& scan) {
 
 namespace {
 
-// A leaf's box folded from an empty one item by item, as enlarging its lane per item would (the
-// same std::min / std::max in the same order: the same floats, a NaN ignored the same way), then
-// stored once into its group's lane.
+// A leaf's box folded from an empty one item by item (std::min / std::max in item order: a NaN
+// ignored as enlarge ignores it), then quantised with its group's other leaves.
 class LeafBox {
 public:
 #if defined(__SSE2__)
@@ -696,12 +879,13 @@ public:
         lo_ = _mm_min_ps(head, lo_);
         hi_ = _mm_max_ps(_mm_shuffle_ps(tail, tail, _MM_SHUFFLE(3, 3, 2, 1)), hi_);
     }
-    template <class Group>
-    void store(Group& g, std::uint32_t lane) const {
+    FaceTree::Box box() const {
         float lo[4], hi[4];
         _mm_storeu_ps(lo, lo_);
         _mm_storeu_ps(hi, hi_);
-        for (int a = 0; a < 3; ++a) g.lo[a][lane] = lo[a], g.hi[a][lane] = hi[a];
+        FaceTree::Box b;
+        for (int a = 0; a < 3; ++a) b.lo[a] = lo[a], b.hi[a] = hi[a];
+        return b;
     }
 
 private:
@@ -715,10 +899,7 @@ private:
             b_.hi[a] = std::max(b_.hi[a], box.hi[a]);
         }
     }
-    template <class Group>
-    void store(Group& g, std::uint32_t lane) const {
-        for (int a = 0; a < 3; ++a) g.lo[a][lane] = b_.lo[a], g.hi[a][lane] = b_.hi[a];
-    }
+    FaceTree::Box box() const { return b_; }
 
 private:
     FaceTree::Box b_{{kInf, kInf, kInf}, {-kInf, -kInf, -kInf}};
@@ -749,7 +930,7 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
     max_abs_ = scan.max_abs;
     const std::size_t count = scan.count;
     if (count == 0) return longest_edge_sq;
-    quantise(scan.centre_lo, scan.centre_hi);
+    quantise_codes(scan.centre_lo, scan.centre_hi);
     // The sort's two key arrays live in the items' own memory, allocated now (pages that the
     // gather then rewrites, instead of two more arrays paged in and freed): the scratch keys in
     // its first 12 bytes per item, the sorted keys in its last 12. The gather writes item k over
@@ -789,7 +970,7 @@ void FaceTree::clear_for_build() {
     last_leaf_ = 0;
 }
 
-void FaceTree::quantise(const double* centre_lo, const double* centre_hi) {
+void FaceTree::quantise_codes(const double* centre_lo, const double* centre_hi) {
     const Vec3 lo(centre_lo[0], centre_lo[1], centre_lo[2]);
     const Vec3 hi(centre_hi[0], centre_hi[1], centre_hi[2]);
     const Vec3 ext = hi - lo;
@@ -808,9 +989,7 @@ int FaceTree::size_levels() {
         level_first_.push_back(total);
         total += std::max<std::size_t>(1, (std::size_t{1} << d) / kLanes);
     }
-    Group empty;
-    for (int a = 0; a < 3; ++a)
-        for (std::uint32_t k = 0; k < kLanes; ++k) empty.lo[a][k] = kInf, empty.hi[a][k] = -kInf;
+    Group empty{};  // no lane live
     groups_.assign(total, empty);
     leaf_codes_.resize(leaves_);
     return depth;
@@ -828,6 +1007,7 @@ void FaceTree::gather_leaves(const Box* unsorted, const unsigned char* sorted_ke
     // A gather from across the unsorted items, each one fetched a few ahead, leaf by leaf: the
     // leaf's box folded from an empty one item by item as they arrive (LeafBox), then stored once.
     constexpr std::size_t kAhead = 16;
+    Box boxes[kLanes];
     for (std::uint32_t leaf = 0; leaf < leaves_; ++leaf) {
         const std::size_t first = leaf * std::size_t{kLeafItems};
         const std::size_t end = std::min<std::size_t>(count, first + kLeafItems);
@@ -839,22 +1019,26 @@ void FaceTree::gather_leaves(const Box* unsorted, const unsigned char* sorted_ke
             const auto face = faces_of == nullptr ? static_cast<std::int32_t>(at) : faces_of[at];
             b.add_item(face, unsorted[at], &items_[k]);
         }
-        b.store(group_of(leaves_level, leaf), leaf % kLanes);
+        boxes[leaf % kLanes] = b.box();
+        if (leaf % kLanes == kLanes - 1 || leaf + 1 == leaves_)
+            quantise(group_of(leaves_level, leaf), boxes, (2u << (leaf % kLanes)) - 1);
     }
 }
 
 void FaceTree::fill_upper_levels(int depth) {
     // Each stored node holds the kLanes nodes of the level below that form its group.
+    // Each lane holds the box of the group below it, quantised with the group's other lanes.
     for (int level = last_level(); level-- > 0;) {
         const std::size_t nodes = std::size_t{1} << (depth % kLevelStep + kLevelStep * level);
+        Box boxes[kLanes];
+        std::uint32_t live = 0;
         for (std::size_t k = 0; k < nodes; ++k) {
             const Group& below = groups_[level_first_[static_cast<std::size_t>(level) + 1] + k];
-            Group& g = group_of(level, static_cast<std::uint32_t>(k));
             const auto lane = static_cast<std::uint32_t>(k % kLanes);
-            for (std::uint32_t c = 0; c < kLanes; ++c) {
-                Box b;
-                for (int a = 0; a < 3; ++a) b.lo[a] = below.lo[a][c], b.hi[a] = below.hi[a][c];
-                enlarge(g, lane, b);
+            if (below.live != 0) boxes[lane] = group_box(below), live |= 1u << lane;
+            if (lane == kLanes - 1 || k + 1 == nodes) {
+                quantise(group_of(level, static_cast<std::uint32_t>(k)), boxes, live);
+                live = 0;
             }
         }
     }
@@ -913,8 +1097,9 @@ void FaceTree::hang(const Item& item) {
     max_abs_ = std::max(max_abs_, max_abs_of(item.box));
     // Up the stored levels while the box grows (a node holds its descendants' boxes).
     std::uint32_t node = leaf;
+    Box box = item.box;
     for (int level = last_level(); level >= 0; --level, node /= kLanes)
-        if (!enlarge(group_of(level, node), node % kLanes, item.box)) break;
+        if (!enlarge(group_of(level, node), node % kLanes, box)) break;
 }
 
 std::size_t FaceTree::memory_bytes() const noexcept {

@@ -14,13 +14,13 @@
 // kLeafItems per leaf, over an implicit complete binary tree of the leaves of which only every
 // third level is stored (the leaves, their ancestors 3, 6, ... levels up, and a top level of 1, 2
 // or 4 nodes): each stored node's kLanes descendants three levels down lie together as one
-// Group of float boxes (192 bytes, three cache lines, struct of arrays), so a query descends
-// three levels per memory access and tests the eight boxes at once. Queries go level by level
-// over the nodes still near (in order, in chunks), prefetching the next nodes' groups, so the
-// cache misses of the many paths a plane query follows (64 columns of long thin faces on a
-// 4M-triangle tube, issue 10 item 7) overlap instead of following one another. A face inserted
-// by a cut hangs on the leaf its centroid's Morton code falls in (one flat node pool) and
-// enlarges the boxes on its path. About 33 bytes per face.
+// Group, their boxes quantised to 8 bits against the group's own frame (64 bytes, one cache
+// line), so a query descends three levels per cache line and tests the eight boxes at once.
+// Queries go level by level over the nodes still near (in order, in chunks), prefetching the
+// next nodes' groups, so the cache misses of the many paths a plane query follows (128 columns
+// of long thin faces on a 4M-triangle tube, issue 10 item 7) overlap instead of following one
+// another. A face inserted by a cut hangs on the leaf its centroid's Morton code falls in (one
+// flat node pool) and enlarges the boxes on its path. About 31 bytes per face.
 #pragma once
 
 #include <algorithm>
@@ -134,11 +134,21 @@ private:
         Item item;
         std::int32_t next;
     };
-    /// kLanes boxes, m: lo[axis][lane], hi[axis][lane]; empty lanes hold lo = +inf, hi = -inf.
+    /// kLanes boxes, m, each bound quantised to 8 bits against the group's frame: on axis a,
+    /// lane k spans [bound(a, qlo[a][k]), bound(a, qhi[a][k])], bound(a, q) = origin[a] + q x
+    /// 2^step_exp[a] in float (the product exact, the sum rounded once, as the group tests
+    /// compute it), and quantise() picks every q so that its bound lies outside the box it
+    /// stands for: a quantised box never shrinks. Lanes whose bit in `live` is clear hold no box
+    /// and pass no test. An "open" group (a box with a NaN or an infinite coordinate) has a NaN
+    /// origin: every bound is NaN, and every live lane passes every test.
     struct alignas(64) Group {
-        float lo[3][kLanes];
-        float hi[3][kLanes];
+        float origin[3];
+        std::int8_t step_exp[3];
+        std::uint8_t live;
+        std::uint8_t qlo[3][kLanes];
+        std::uint8_t qhi[3][kLanes];
     };
+    static_assert(sizeof(Group) == 64);
     /// A plane query as a group test takes it, in float, rounded so that it never rejects a box
     /// the double test near() of for_each_near_plane would keep.
     struct PlaneLanes {
@@ -165,8 +175,17 @@ private:
     void hang(const Item& item);
     // Grows b to hold `by`; whether it grew.
     static bool enlarge(Box& b, const Box& by) noexcept;
-    // Grows lane `lane` of g to hold `by`; whether it grew.
-    static bool enlarge(Group& g, std::uint32_t lane, const Box& by) noexcept;
+    // Grows lane `lane` of g to hold `by` (requantising the whole group when `by` leaves its
+    // frame); whether it grew. When it grew, `by` becomes the box the parent's lane must now
+    // hold: the lane's new box, or every lane's when the group was requantised.
+    bool enlarge(Group& g, std::uint32_t lane, Box& by) noexcept;
+    // Sets g to hold boxes[k] in lane k for every bit k of `live`, rounded outwards, and widens
+    // max_abs_ to the quantised bounds.
+    void quantise(Group& g, const Box* boxes, std::uint32_t live) noexcept;
+    // The box lane k of g stands for (live lanes only).
+    static Box lane_box(const Group& g, std::uint32_t k) noexcept;
+    // The box holding every live lane of g (empty: lo = +inf, hi = -inf, when none is live).
+    static Box group_box(const Group& g) noexcept;
     // Morton code of a point in the quantisation of the last build.
     std::uint64_t code_of(const float* point) const noexcept;
     // Writes {code_of(centre of boxes[i]), i} for each of the n boxes into keys (the sort's
@@ -176,7 +195,7 @@ private:
     // The steps of build(), in order. Empties every array.
     void clear_for_build();
     // The Morton quantisation of the box [centre_lo, centre_hi] of the items' centres.
-    void quantise(const double* centre_lo, const double* centre_hi);
+    void quantise_codes(const double* centre_lo, const double* centre_hi);
     // Sizes the leaves and the stored levels for items_.size() items (groups empty, leaf codes
     // unwritten); the depth of the leaves in the binary tree.
     int size_levels();
@@ -274,11 +293,10 @@ void FaceTree::descend(int level, const std::uint32_t* nodes, std::size_t count,
 template <class Mask, class Accept, class Visit>
 void FaceTree::walk(const Mask& mask, const Accept& accept, Visit& visit) const {
     if (!groups_.empty()) {
-        // The top group's lanes past its 1, 2 or 4 nodes are empty, and their children do not
-        // exist: they are masked off here, since a box with a NaN or infinite coordinate makes
-        // every group test pass, an empty lane's too (the bound on the float rounding is then
-        // infinite). Lower levels are complete (their empty lanes have children, empty too)
-        // and leaves past the built ones are skipped.
+        // Only live lanes pass a group test. The top group's lanes past its 1, 2 or 4 nodes,
+        // whose children do not exist, are never live, and masked off here as well; lower
+        // levels are complete (their empty lanes have children, empty too) and leaves past the
+        // built ones are skipped.
         const std::uint32_t top_nodes = padded_leaves_ >> (kLevelStep * last_level());
         std::uint32_t top[kLanes];
         std::size_t n = 0;

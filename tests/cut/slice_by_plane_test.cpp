@@ -477,11 +477,13 @@ TEST(FaceTree, BoxRoundingMatchesNextafter) {
     }
 }
 
-// The stored levels' float group tests only prune: a query reports exactly the faces whose own
-// boxes pass the double test, each once, built or hung on a leaf by a cut, on long thin faces
-// (a dense 32-segment tube) and away from the origin (float rounding of the group sums).
+// The stored levels' quantised float group tests only prune: a query reports exactly the faces
+// whose own boxes pass the double test, each once, built or hung on a leaf by a cut, on long thin
+// faces (a dense 32-segment tube), away from the origin (float rounding of the group sums and of
+// the quantised bounds) and with hung faces far from their leaves (frames grown and requantised
+// up to the top).
 TEST(FaceTree, QueriesReportExactlyTheFacesABruteForceTestFinds) {
-    for (const double offset : {0.0, 0.7}) {
+    for (const double offset : {0.0, 0.7, 300.0}) {
         auto m = mesh::make_hollow_tube(0.05, 0.006, 0.003, 32, 700);
         for (auto v : m.vertices()) m.set_point(v, m.point(v) + Vec3(offset, -offset, offset));
         const auto tube_vertices = static_cast<int>(m.n_vertices());
@@ -495,6 +497,16 @@ TEST(FaceTree, QueriesReportExactlyTheFacesABruteForceTestFinds) {
                 Vec3(0.006 * std::cos(t), 0.006 * std::sin(t), z) + Vec3(offset, -offset, offset);
             const auto a = m.add_vertex(c), b = m.add_vertex(c + Vec3(0, 0, 1e-5)),
                        d = m.add_vertex(c + Vec3(1e-5 * -std::sin(t), 1e-5 * std::cos(t), 0));
+            tree.insert(m, m.add_face(a, b, d));
+        }
+        // And some far from the tube, small and large: their leaves' frames grow past the tube.
+        std::mt19937_64 place(5);
+        std::uniform_real_distribution<double> w(-0.03, 0.08);
+        for (int i = 0; i < 300; ++i) {
+            const Vec3 c = Vec3(w(place), w(place), w(place)) + Vec3(offset, -offset, offset);
+            const double size = i % 2 ? 1e-7 : 2e-3;
+            const auto a = m.add_vertex(c), b = m.add_vertex(c + Vec3(size, 0, 0)),
+                       d = m.add_vertex(c + Vec3(0, size, size));
             tree.insert(m, m.add_face(a, b, d));
         }
         tree.flush_pending(kerf::cut::detail::FaceTree::kPendingFaces);
@@ -566,26 +578,41 @@ TEST(FaceTree, QueriesOnAMeshWithANonFiniteCoordinateStayInsideTheTree) {
     for (const int rings : {3, 7, 15, 31, 60}) {
         for (const double bad :
              {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
-            auto m = mesh::make_hollow_tube(0.05, 0.006, 0.003, 16, rings);
-            const Vec3 p = m.point(mesh::VertexHandle(0));
-            m.set_point(mesh::VertexHandle(static_cast<int>(m.n_vertices()) - 1),
-                        Vec3(bad, 0.0, 0.0));
-            kerf::cut::detail::FaceTree tree;
-            tree.build(m);
-            std::vector<int> seen(m.n_faces(), 0);
-            const auto count = [&](std::int32_t f) {
-                ASSERT_GE(f, 0);
-                ASSERT_LT(static_cast<std::size_t>(f), seen.size());
-                ++seen[f];
-            };
-            tree.for_each_near_point(p, 1e-4, count);
-            for (const auto f : m.vf_range(mesh::VertexHandle(0)))
-                EXPECT_EQ(seen[f.idx()], 1) << "rings " << rings << ", face " << f.idx();
-            std::fill(seen.begin(), seen.end(), 0);
-            const Plane plane = *Plane::make(p, Vec3(0, 0, 1));
-            tree.for_each_near_plane(plane, Vec2(-0.01, -0.01), Vec2(0.01, 0.01), 0.0, count);
-            for (const auto f : m.vf_range(mesh::VertexHandle(0)))
-                EXPECT_EQ(seen[f.idx()], 1) << "rings " << rings << ", face " << f.idx();
+            for (const bool hung : {false, true}) {
+                // The bad coordinate in the mesh the tree is built on, or in a face a cut hangs on
+                // a leaf afterwards (its groups open, up to the top).
+                auto m = mesh::make_hollow_tube(0.05, 0.006, 0.003, 16, rings);
+                const Vec3 p = m.point(mesh::VertexHandle(0));
+                kerf::cut::detail::FaceTree tree;
+                if (!hung) {
+                    m.set_point(mesh::VertexHandle(static_cast<int>(m.n_vertices()) - 1),
+                                Vec3(bad, 0.0, 0.0));
+                    tree.build(m);
+                } else {
+                    tree.build(m);
+                    tree.reserve_resident(4);
+                    const auto a = m.add_vertex(Vec3(bad, 0.0, 0.0)), b = m.add_vertex(p),
+                               c = m.add_vertex(p + Vec3(1e-3, 0, 0));
+                    tree.insert(m, m.add_face(a, b, c));
+                    tree.flush_pending(kerf::cut::detail::FaceTree::kPendingFaces);
+                }
+                std::vector<int> seen(m.n_faces(), 0);
+                const auto count = [&](std::int32_t f) {
+                    ASSERT_GE(f, 0);
+                    ASSERT_LT(static_cast<std::size_t>(f), seen.size());
+                    ++seen[f];
+                };
+                tree.for_each_near_point(p, 1e-4, count);
+                for (const auto f : m.vf_range(mesh::VertexHandle(0)))
+                    EXPECT_EQ(seen[f.idx()], 1)
+                        << "rings " << rings << (hung ? ", hung" : "") << ", face " << f.idx();
+                std::fill(seen.begin(), seen.end(), 0);
+                const Plane plane = *Plane::make(p, Vec3(0, 0, 1));
+                tree.for_each_near_plane(plane, Vec2(-0.01, -0.01), Vec2(0.01, 0.01), 0.0, count);
+                for (const auto f : m.vf_range(mesh::VertexHandle(0)))
+                    EXPECT_EQ(seen[f.idx()], 1)
+                        << "rings " << rings << (hung ? ", hung" : "") << ", face " << f.idx();
+            }
         }
     }
 }
