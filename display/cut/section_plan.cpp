@@ -894,14 +894,50 @@ CutStatus check_split_areas(ContextState& s, const Plane& plane) {
                 const Vec3& z = m.point(corners[2]);
                 const Vec3& pp = e.position;
                 const Vec3& qq = o.position;
-                bool bad = false;
+                // Which split: 0 through on-plane z, 1 with Q on y-z, 2 with Q on z-x.
+                int split = 0;
                 if (!o.key.edge) {
                     if (o.key.id != corners[2].idx()) continue;
+                } else if (o.key.id == m.edge_handle(hn).idx()) {
+                    split = 1;
+                } else if (o.key.id == m.edge_handle(m.next_halfedge_handle(hn)).idx()) {
+                    split = 2;
+                } else {
+                    continue;
+                }
+                // Every part is a fixed fraction of the face (P at u of x -> y, Q at v of
+                // y -> z or of z -> x; make_point put them there): when even the smallest part
+                // is clear of every bound small() tests on the face's own area (its edges are at
+                // most the face's longest), no part is small, and the exact tests are skipped
+                // with the same answer (the margin of 1.5 is far above their rounding).
+                {
+                    const Edge xy = edge(x, y), xz = edge(x, z);
+                    const double face2 = sqrnorm(cross(xy.d, xz.d));
+                    const double longest2 = std::max({xy.len2, xz.len2, sqrdist(y, z)});
+                    const double clear2 =
+                        1.5 *
+                        std::max(min_twice2, 2.0 * (kept2 + loss2 * (4.000000002 * longest2)));
+                    auto from = [](const PlanPoint& c, VertexHandle v) {
+                        return c.a == v.idx() ? c.t : 1.0 - c.t;
+                    };
+                    const double u = from(e, corners[0]);
+                    double part = std::min(u, 1.0 - u);
+                    if (split == 1) {
+                        const double v = from(o, corners[1]);
+                        part = std::min({u, (1.0 - u) * v, (1.0 - u) * (1.0 - v), u * v, 1.0 - v});
+                    } else if (split == 2) {
+                        const double w = from(o, corners[2]);
+                        part = std::min({u * (1.0 - w), 1.0 - u, u * w, (1.0 - u) * (1.0 - w), w});
+                    }
+                    if (part * part * face2 > clear2) continue;
+                }
+                bool bad = false;
+                if (split == 0) {
                     // Split through on-plane z: (x, P, z), (P, y, z).
                     const Edge xp = edge(x, pp), xz = edge(x, z), py = edge(pp, y),
                                pz = edge(pp, z);
                     bad = small(x, pp, z, xp, xz) || small(pp, y, z, py, pz);
-                } else if (o.key.id == m.edge_handle(hn).idx()) {
+                } else if (split == 1) {
                     // Q on y-z: lone vertex y; the quad x, P, Q, z takes either diagonal:
                     // (P, y, Q), (x, P, z), (P, Q, z), (x, P, Q), (x, Q, z).
                     const Edge py = edge(pp, y), pq = edge(pp, qq), xp = edge(x, pp),
@@ -909,7 +945,7 @@ CutStatus check_split_areas(ContextState& s, const Plane& plane) {
                     bad = small(pp, y, qq, py, pq) || small(x, pp, z, xp, xz) ||
                           small(pp, qq, z, pq, pz) || small(x, pp, qq, xp, xq) ||
                           small(x, qq, z, xq, xz);
-                } else if (o.key.id == m.edge_handle(m.next_halfedge_handle(hn)).idx()) {
+                } else {
                     // Q on z-x: lone vertex x; the quad P, y, z, Q takes either diagonal:
                     // (x, P, Q), (P, y, z), (P, z, Q), (P, y, Q), (Q, y, z).
                     const Edge xp = edge(x, pp), xq = edge(x, qq), py = edge(pp, y),
@@ -918,8 +954,6 @@ CutStatus check_split_areas(ContextState& s, const Plane& plane) {
                     bad = small(x, pp, qq, xp, xq) || small(pp, y, z, py, pz) ||
                           small(pp, z, qq, pz, pq) || small(pp, y, qq, py, pq) ||
                           small(qq, y, z, qy, qz);
-                } else {
-                    continue;
                 }
                 if (!bad) continue;
                 // The corner nearest the plane, when a little beyond the tolerance, can be
