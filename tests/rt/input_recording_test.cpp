@@ -185,6 +185,55 @@ TEST(InputRecording, BadFilesAreRefusedNamingTheFileAndTheFault) {
     fs::remove(file);
 }
 
+// The loader's rule for device generations: each record at most one above the one before, the
+// first at most 1 (a device lost before the first read is re-opened in tick 0), never lower. The
+// replay reports the generation of the tick it reads next, so after reading tick i it may report
+// up to i + 2 (the fuzzer's check once said i + 1 and aborted on a recording the loader rightly
+// accepts).
+TEST(InputRecording, DeviceGenerationsRiseByAtMostOneATickFromTheFirst) {
+    const fs::path file = temp("generations.rec");
+    auto recorder = InputRecorder::start(file.string(), 1'000'000);
+    ASSERT_TRUE(recorder);
+    CountingDevice inner;
+    DeviceSample s;
+    constexpr std::uint64_t kTicks = 6;
+    for (std::uint64_t t = 0; t < kTicks; ++t) (void)record_read(**recorder, inner, s, t);
+    ASSERT_TRUE((*recorder)->stop());
+    std::string good;
+    {
+        std::ifstream in(file, std::ios::binary);
+        good.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    ASSERT_EQ(good.size(), sizeof(RecordingHeader) + kTicks * sizeof(RecordedInput));
+    const auto with_generations = [&](const std::vector<std::uint32_t>& g) {
+        std::string bytes = good;
+        for (std::size_t k = 0; k < g.size(); ++k)
+            std::memcpy(bytes.data() + sizeof(RecordingHeader) + k * sizeof(RecordedInput) +
+                            offsetof(RecordedInput, device_generation),
+                        &g[k], sizeof g[k]);
+        std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes;
+        return load_recording(file.string());
+    };
+    // Re-opened at every tick from tick 0: the most the rule allows.
+    auto loaded = with_generations({1, 2, 3, 4, 5, 6});
+    ASSERT_TRUE(loaded) << loaded.error();
+    ReplayDevice replay(*loaded, {});
+    DeviceSample sample;
+    for (std::uint64_t i = 0; i < kTicks; ++i) {
+        EXPECT_EQ(replay.device_generation_due(), i + 1);
+        EXPECT_EQ(std::uint8_t(replay.try_read(sample, 0)), loaded->inputs[i].status);
+    }
+    const auto refused = [&](const std::vector<std::uint32_t>& g, const std::string& what) {
+        auto r = with_generations(g);
+        ASSERT_FALSE(r) << what;
+        EXPECT_NE(r.error().find(what), std::string::npos) << r.error();
+    };
+    refused({2, 2, 2, 2, 2, 2}, "record 0: device generation 2 after 0");
+    refused({0, 1, 3, 3, 3, 3}, "record 2: device generation 3 after 1");
+    refused({0, 1, 2, 1, 1, 1}, "record 3: device generation 1 after 2");
+    fs::remove(file);
+}
+
 TEST(InputRecording, ReplayHoldsTheLoopUntilTheRecordedWorldIsOffered) {
     Recording recording;
     recording.period_ns = 1'000'000;
