@@ -51,7 +51,13 @@ struct HugePageAllocator {
     T* allocate(std::size_t n) {
         if (n > static_cast<std::size_t>(-1) / sizeof(T)) throw std::bad_array_new_length();
         const std::size_t bytes = n * sizeof(T);
-        if (bytes < kHugeThresholdBytes) return static_cast<T*>(::operator new(bytes));
+        if (bytes < kHugeThresholdBytes) {
+            // A small block still honours T's alignment (the face tree's 64-byte groups).
+            if constexpr (alignof(T) > __STDCPP_DEFAULT_NEW_ALIGNMENT__)
+                return static_cast<T*>(::operator new (bytes, std::align_val_t{alignof(T)}));
+            else
+                return static_cast<T*>(::operator new(bytes));
+        }
         const std::size_t rounded = (bytes + kHugePageBytes - 1) / kHugePageBytes * kHugePageBytes;
         void* p = std::aligned_alloc(kHugePageBytes, rounded);
         if (p == nullptr) throw std::bad_alloc();
@@ -63,9 +69,12 @@ struct HugePageAllocator {
 
     /// Frees what allocate(n) returned.
     void deallocate(T* p, std::size_t n) noexcept {
-        if (n * sizeof(T) < kHugeThresholdBytes)
-            ::operator delete(p);
-        else
+        if (n * sizeof(T) < kHugeThresholdBytes) {
+            if constexpr (alignof(T) > __STDCPP_DEFAULT_NEW_ALIGNMENT__)
+                ::operator delete (p, std::align_val_t{alignof(T)});
+            else
+                ::operator delete(p);
+        } else
             std::free(p);
     }
 
