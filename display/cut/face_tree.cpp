@@ -404,6 +404,12 @@ inline bool quantise_bounds(float lo, float hi, float origin, float step, std::u
     return qhi <= 255;
 }
 
+// Opens g: a NaN origin makes every bound NaN, so every live lane passes every test (a box with
+// a NaN or infinite coordinate, which no float bound holds).
+inline void open_group(float* origin) {
+    for (int a = 0; a < 3; ++a) origin[a] = std::numeric_limits<float>::quiet_NaN();
+}
+
 inline bool box_finite(const FaceTree::Box& b) {
     for (int a = 0; a < 3; ++a)
         if (!std::isfinite(b.lo[a]) || !std::isfinite(b.hi[a])) return false;
@@ -449,7 +455,7 @@ void FaceTree::quantise(Group& g, const Box* boxes, std::uint32_t live) noexcept
             lo[a] = std::min(lo[a], boxes[k].lo[a]), hi[a] = std::max(hi[a], boxes[k].hi[a]);
     }
     if (!finite) {
-        for (int a = 0; a < 3; ++a) g.origin[a] = std::numeric_limits<float>::quiet_NaN();
+        open_group(g.origin);
         for (int a = 0; a < 3; ++a) g.step_exp[a] = 0;
         max_abs_ = std::numeric_limits<double>::infinity();
         return;
@@ -493,17 +499,13 @@ void FaceTree::quantise(Group& g, const Box* boxes, std::uint32_t live) noexcept
 bool FaceTree::enlarge(Group& g, std::uint32_t lane, Box& by) noexcept {
     const std::uint32_t bit = 1u << lane;
     if (!box_finite(by)) {  // the group opens (and so does every group above it)
-        for (int a = 0; a < 3; ++a) g.origin[a] = std::numeric_limits<float>::quiet_NaN();
+        open_group(g.origin);
         g.live = static_cast<std::uint8_t>(g.live | bit);
         max_abs_ = std::numeric_limits<double>::infinity();
         return true;
     }
-    Box b = by;
-    if (g.live & bit) {
-        const Box cur = lane_box(g, lane);
-        b = cur;
-        if (!enlarge(b, by)) return false;  // NaN bounds (an open group) hold everything
-    }
+    Box b = (g.live & bit) ? lane_box(g, lane) : by;
+    if ((g.live & bit) && !enlarge(b, by)) return false;  // NaN bounds (open) hold everything
     // Inside the frame: the lane alone. Else the whole group, from the boxes its lanes stand for.
     std::uint32_t qlo[3], qhi[3];
     bool fits = !std::isnan(g.origin[0]) && g.live != 0 && box_finite(b);
