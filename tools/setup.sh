@@ -68,6 +68,10 @@ else
 fi
 [[ $do_build == 1 ]] || exit 0
 
+# ccache keyed on paths relative to the checkout, so a fresh clone anywhere (CI clones main
+# afresh every run) reuses what an earlier clone compiled; the price is that a cached object's
+# debug info names the directory it was first compiled in.
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$here}" CCACHE_NOHASHDIR="${CCACHE_NOHASHDIR:-true}"
 cmake_args=(-S "$here" -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE="$build_type"
             -DKERF_WERROR="$werror" -DKERF_DEBUG_CHECKS="$debug_checks" -DKERF_SANITIZE="$sanitize" -DKERF_FUZZ="$fuzz"
             -DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)

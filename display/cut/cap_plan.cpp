@@ -116,6 +116,30 @@ double plan_area2(const SectionPlan& plan, const Triangle& t) {
     return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
 }
 
+// A bone round its canal, one outer loop and one hole, stitched as a strip with every point kept:
+// no straight point is left out and put back as a fan, so the flips towards Delaunay that the
+// fans needed (about one a point on a round bone) are not needed. False when the group is not an
+// annulus or the strip is refused (try_triangulate_group decides then).
+bool try_strip(ContextState& s, const std::vector<const PlanLoop*>& loops,
+               std::vector<Triangle>& out, bool& used) {
+    if (loops.size() != 2 || (loops[0]->area_m2 > 0) == (loops[1]->area_m2 > 0)) return false;
+    const SectionPlan& plan = s.plan;
+    std::vector<Point2>& uv = s.cap_strip_uv;
+    uv.clear();
+    for (const PlanLoop* l : loops)
+        for (std::uint32_t k = 0; k < l->count; ++k) uv.push_back(plan.points[l->first + k].uv);
+    const std::uint32_t n0 = loops[0]->count;
+    const std::span<const Point2> spans[2] = {{uv.data(), n0}, {uv.data() + n0, loops[1]->count}};
+    std::vector<Triangle>& tris = s.cap_strip;
+    if (!s.triangulator.triangulate_strip(spans, tris)) return false;
+    const std::uint32_t first0 = loops[0]->first, first1 = loops[1]->first;
+    auto plan_index = [&](std::uint32_t k) { return k < n0 ? first0 + k : first1 + (k - n0); };
+    for (const Triangle& t : tris)
+        out.push_back(Triangle{plan_index(t.a), plan_index(t.b), plan_index(t.c)});
+    used = true;
+    return true;
+}
+
 // Triangulates one cap group (an outer loop and its holes) over the plan's point indices.
 enum class GroupResult { kOk, kFailed, kRetry };
 
@@ -376,8 +400,9 @@ void delaunay_flips(const SectionPlan& plan, std::vector<Triangle>& tris, CapAdj
         const Triangle* const tri = tris.data();           // flip() writes it
         const std::uint32_t* const nb = adj.across_all();  // and this
         char* const touch = touched.data();
+        const char* const act = active.data();
         for (std::uint32_t i = 0; i < n; ++i) {
-            if (!active[i] || touch[i]) continue;
+            if (!act[i] || touch[i]) continue;
             // Triangle i read as (a, b, c): flips its edge c -> a, slot 3i + e, with the neighbour
             // holding a -> c (apex d) when d is clearly inside the circumcircle and both new
             // triangles are good. Whether it flipped. Inlined at its three calls (as a loop over
@@ -388,7 +413,9 @@ void delaunay_flips(const SectionPlan& plan, std::vector<Triangle>& tris, CapAdj
                 const std::uint32_t sj = nb[si];
                 if (sj == kNoCapNeighbour) return false;
                 const std::uint32_t j = sj / 3;
-                if (touch[j] || j == i) return false;
+                // j before i in this pass, untouched: its turn tested this same quad from its
+                // side (i was untouched then too) and did not flip it.
+                if (touch[j] || j == i || (j < i && act[j])) return false;
                 const std::uint32_t fj = sj - 3 * j;  // the slot's corner in triangle j
                 const std::uint32_t d = CapAdjacency::corner(tri[j], kBefore[fj]);
                 const Vec2 &pa = points[a].uv, &pb = points[b].uv, &pc = points[c].uv,
@@ -426,7 +453,8 @@ void delaunay_flips(const SectionPlan& plan, std::vector<Triangle>& tris, CapAdj
 
 bool triangulate_group(ContextState& s, const Plane& plane,
                        const std::vector<const PlanLoop*>& loops, std::vector<char>& forced,
-                       std::vector<Triangle>& out) {
+                       std::vector<Triangle>& out, bool strips, bool& strip_used) {
+    if (strips && try_strip(s, loops, out, strip_used)) return true;
     for (int attempt = 0; attempt < 4; ++attempt) {
         const GroupResult r = try_triangulate_group(s, plane, loops, forced, out);
         if (r != GroupResult::kRetry) return r == GroupResult::kOk;
@@ -461,9 +489,9 @@ bool pinched_along_an_edge(const ContextState& s) {
     return false;
 }
 
-}  // namespace
-
-CutStatus plan_caps(ContextState& s, const Plane& plane) {
+// plan_caps with whole-loop strips for annuli (`strips`) or without; `strip_used` is set when a
+// group was stitched that way.
+CutStatus plan_caps_with(ContextState& s, const Plane& plane, bool strips, bool& strip_used) {
     const Vec3& normal = plane.normal();
     SectionPlan& plan = s.plan;
     plan.cap_triangles.clear();
@@ -479,7 +507,7 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
         for (std::size_t i = 0; i < plan.loops.size(); ++i)
             if (i == g || parent[i] == static_cast<std::int32_t>(g))
                 group.push_back(&plan.loops[i]);
-        if (!triangulate_group(s, plane, group, forced, plan.cap_triangles))
+        if (!triangulate_group(s, plane, group, forced, plan.cap_triangles, strips, strip_used))
             return CutStatus::kCapTriangulationFailed;
     }
     // Every cap triangle must have a real area and face the way its 2-D orientation says (rim
@@ -564,6 +592,21 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
     for (std::size_t i = 0; i < tris.size(); ++i)
         if (known[i] == kUnknown && !acceptable(tris[i])) return CutStatus::kCapTriangulationFailed;
     return pinched_along_an_edge(s) ? CutStatus::kDegenerateCrossSection : CutStatus::kOk;
+}
+
+}  // namespace
+
+CutStatus plan_caps(ContextState& s, const Plane& plane) {
+    // Whole-loop strips first. A cap they leave bad (a rim with vertices of an earlier cut off
+    // the plane: their straight runs tilt) is planned again as before: straight points left out
+    // and put back as fans, flipped and repaired, which every cut planned before this strip
+    // passed. Snap proposals are those of the plan returned.
+    const std::size_t proposals = s.snap_candidates.size();
+    bool strip_used = false;
+    const CutStatus st = plan_caps_with(s, plane, true, strip_used);
+    if (st == CutStatus::kOk || !strip_used) return st;
+    s.snap_candidates.resize(proposals);
+    return plan_caps_with(s, plane, false, strip_used);
 }
 
 }  // namespace kerf::cut::detail

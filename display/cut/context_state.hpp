@@ -145,6 +145,8 @@ struct ContextState {
     Triangulator triangulator;
     std::vector<std::uint32_t> heap;         ///< seed search scratch
     std::vector<std::uint32_t> cap_scratch;  ///< per plan point, for the caps (cap_plan.cpp)
+    std::vector<Point2> cap_strip_uv;        ///< an annulus's points, for its strip (cap_plan.cpp)
+    std::vector<Triangle> cap_strip;         ///< and its triangles
     /// Scratch of the cap planning's triangle adjacency (cap_plan.cpp CapAdjacency), kept from
     /// cut to cut.
     struct CapPlanScratch {

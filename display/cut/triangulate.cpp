@@ -161,6 +161,8 @@ struct Triangulator::Impl {
     Status<TriangulateError> measure();
     void build_segments();
     Status<TriangulateError> check_crossings();
+    Point2 centroid(std::uint32_t l) const noexcept;
+    bool star_shaped_about(std::uint32_t l, const Point2& c) const noexcept;
     bool segments_meet(std::uint32_t s, std::uint32_t t) const noexcept;
     void find_nesting();
     bool point_in_loop(const Point2& p, std::uint32_t l) const noexcept;
@@ -363,6 +365,45 @@ Status<TriangulateError> Triangulator::Impl::check_crossings() {
     return {};
 }
 
+/// The centroid of loop l's area (its first point when the area is too small to divide by).
+Point2 Triangulator::Impl::centroid(std::uint32_t l) const noexcept {
+    const Point2& o = pts[begin[l]];  // relative to the first point: no cancellation far away
+    double cx = 0, cy = 0, twice = 0;
+    for (std::uint32_t a = begin[l]; a < begin[l + 1]; ++a) {
+        const Point2 p = pts[a] - o, q = pts[next_in_loop(a, l)] - o;
+        const double w = p[0] * q[1] - p[1] * q[0];
+        twice += w;
+        cx += (p[0] + q[0]) * w;
+        cy += (p[1] + q[1]) * w;
+    }
+    if (!(std::abs(twice) > 0)) return o;
+    return Point2(o[0] + cx / (3.0 * twice), o[1] + cy / (3.0 * twice));
+}
+
+/// Whether loop l is star-shaped about c, and so simple: every edge turns clearly the loop's way
+/// about c (a cross product beyond its rounding), so each edge spans an angle in (0, pi) about c
+/// and the angles only rise, and they make exactly one turn (the loop crosses the ray from c
+/// along +x once). Then every ray from c meets the loop once, so no two edges meet except
+/// neighbours at their shared point.
+bool Triangulator::Impl::star_shaped_about(std::uint32_t l, const Point2& c) const noexcept {
+    const double dir = area[l] > 0 ? 1.0 : -1.0;
+    constexpr double kClear = 64 * std::numeric_limits<double>::epsilon();
+    std::uint32_t turns = 0;
+    for (std::uint32_t a = begin[l]; a < begin[l + 1]; ++a) {
+        const Point2 p = pts[a] - c, q = pts[next_in_loop(a, l)] - c;
+        const double w = dir * (p[0] * q[1] - p[1] * q[0]);
+        if (!(w > kClear * (std::abs(p[0]) + std::abs(p[1])) * (std::abs(q[0]) + std::abs(q[1]))))
+            return false;
+        // Crossing the ray y = 0, x > 0 (read with y mirrored for a clockwise loop, so the
+        // angles rise and every crossing of that ray goes from below to above).
+        if (dir * p[1] < 0 && !(dir * q[1] < 0)) {
+            const double x = p[0] + (q[0] - p[0]) * (-p[1]) / (q[1] - p[1]);
+            turns += x > 0 ? 1 : 0;
+        }
+    }
+    return turns == 1;
+}
+
 bool Triangulator::Impl::point_in_loop(const Point2& p, std::uint32_t l) const noexcept {
     bool inside = false;
     for (std::uint32_t a = begin[l]; a < begin[l + 1]; ++a) {
@@ -417,6 +458,24 @@ void Triangulator::Impl::fan(std::uint32_t l, std::vector<Triangle>& out) const 
 // area), far above rounding: then the orientations, and so the validity argument, are exact.
 constexpr double kStripMinRelativeArea = 1e-9;
 
+// In-circle test of d against the circle through a, b, c (counter-clockwise): positive when d
+// is inside. Its magnitude is read against in_circle_scale (the product of two squared edge
+// lengths from d), as plan_caps' flip test reads it.
+inline double in_circle(const Point2& a, const Point2& b, const Point2& c,
+                        const Point2& d) noexcept {
+    const double adx = a[0] - d[0], ady = a[1] - d[1];
+    const double bdx = b[0] - d[0], bdy = b[1] - d[1];
+    const double cdx = c[0] - d[0], cdy = c[1] - d[1];
+    return (adx * adx + ady * ady) * (bdx * cdy - cdx * bdy) -
+           (bdx * bdx + bdy * bdy) * (adx * cdy - cdx * ady) +
+           (cdx * cdx + cdy * cdy) * (adx * bdy - bdx * ady);
+}
+inline double in_circle_scale(const Point2& a, const Point2& b, const Point2& d) noexcept {
+    return detail::sqrnorm(detail::sub(a, d)) * detail::sqrnorm(detail::sub(b, d));
+}
+// A strip takes the in-circle test's answer only when it is this clear (plan_caps' flip bound).
+constexpr double kStripClearInCircle = 1e-9;
+
 bool Triangulator::Impl::strip(std::uint32_t l, std::uint32_t h, std::vector<Triangle>& out) const {
     const std::uint32_t no = loop_size(l), nh = loop_size(h);
     // Both loops read counter-clockwise: the region is left of the outer loop's edges and right
@@ -448,15 +507,34 @@ bool Triangulator::Impl::strip(std::uint32_t l, std::uint32_t h, std::vector<Tri
     std::uint32_t i = 0, j = t;
     while (i < no || j < t + nh) {
         const std::uint32_t o = outer(i), hj = hole(j);
-        const bool can_outer = i < no && clearly_ccw(o, outer(i + 1), hj);
-        const bool can_hole = j < t + nh && clearly_ccw(o, hole(j + 1), hj);
-        bool take_outer = can_outer;
-        if (can_outer && can_hole)
-            take_outer = detail::sqrnorm(detail::sub(pts[outer(i + 1)], pts[hj])) <=
-                         detail::sqrnorm(detail::sub(pts[hole(j + 1)], pts[o]));
-        if (!can_outer && !can_hole) {
-            out.resize(first);
-            return false;
+        // The one way left at the end of a loop; otherwise the quad (o, o1, h1, hj): taking the
+        // outer point makes o1-hj the next rung, which is locally Delaunay unless h1 lies
+        // clearly inside the circle through (o, o1, hj); a near tie (cocircular, as on a round
+        // bone's evenly spaced loops) takes the shorter rung. Delaunay here leaves the cap's flip
+        // pass (plan_caps) next to nothing to do. The way preferred is taken if its triangle is
+        // clearly counter-clockwise, else the other if its is.
+        bool take_outer = j == t + nh;
+        if (i < no && j < t + nh) {
+            const std::uint32_t o1 = outer(i + 1), h1 = hole(j + 1);
+            const double inside = in_circle(pts[o], pts[o1], pts[hj], pts[h1]);
+            const double clear = kStripClearInCircle * in_circle_scale(pts[o], pts[o1], pts[h1]);
+            if (inside > clear)
+                take_outer = false;
+            else if (inside < -clear)
+                take_outer = true;
+            else
+                take_outer = detail::sqrnorm(detail::sub(pts[o1], pts[hj])) <=
+                             detail::sqrnorm(detail::sub(pts[h1], pts[o]));
+        }
+        auto valid = [&](bool outer_way) {
+            return clearly_ccw(o, outer_way ? outer(i + 1) : hole(j + 1), hj);
+        };
+        if (!valid(take_outer)) {
+            take_outer = !take_outer;
+            if (!(i < no && j < t + nh) || !valid(take_outer)) {
+                out.resize(first);
+                return false;
+            }
         }
         if (take_outer) {
             out.push_back(Triangle{o, outer(i + 1), hj});
@@ -873,6 +951,32 @@ Status<TriangulateError> Triangulator::triangulate(std::span<const std::span<con
         m.clip(outer, out, stats_.degenerate_ears);
     }
     return {};
+}
+
+bool Triangulator::triangulate_strip(std::span<const std::span<const Point2>> loops,
+                                     std::vector<Triangle>& out) {
+    out.clear();
+    stats_ = TriangulateStats{};
+    stats_.loops = static_cast<std::uint32_t>(loops.size());
+    Impl& m = *impl_;
+    if (loops.size() != 2 || !m.load(loops) || !m.measure()) return false;
+    // Two loops each star-shaped about the hole's centroid are simple (star_shaped_about); that
+    // they neither cross nor touch each other follows from every strip triangle being clearly
+    // counter-clockwise (strip). Otherwise the general check: a bone whose cortex folds round.
+    const Point2 centre = m.centroid(std::abs(m.area[0]) < std::abs(m.area[1]) ? 0 : 1);
+    if (!(m.star_shaped_about(0, centre) && m.star_shaped_about(1, centre)) && !m.check_crossings())
+        return false;
+    m.find_nesting();
+    const std::uint32_t outer = m.depth[0] == 0 ? 0 : 1, hole = 1 - outer;
+    if (m.depth[outer] != 0 || m.depth[hole] != 1 ||
+        m.parent[hole] != static_cast<std::int32_t>(outer))
+        return false;
+    out.reserve(m.pts.size() + 2);
+    if (!m.strip(outer, hole, out)) return false;
+    stats_.outer_loops = 1;
+    stats_.holes = 1;
+    stats_.strips = 1;
+    return true;
 }
 
 Result<std::vector<Triangle>, TriangulateError> triangulate_loops(

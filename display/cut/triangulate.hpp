@@ -13,10 +13,11 @@
 //
 // Method: a loop verified strictly convex and without holes is fanned from its first point. A
 // region with exactly one hole (a bone round its canal) is first stitched as a strip between the
-// two loops, always advancing on the loop whose next rung is shorter (near-Delaunay on annuli, in
-// linear time); the strip is kept only if every triangle is clearly counter-clockwise, which
-// makes it a valid triangulation (each point of the region is covered once: the sum of the
-// triangles' orientations over a point is the winding number of the two loops). Every other
+// two loops, each step taking the rung the in-circle test clearly wants, else the shorter one
+// (near-Delaunay on annuli, in linear time); the strip is kept only if every triangle is clearly
+// counter-clockwise, which makes it a valid triangulation (each point of the region is covered
+// once: the sum of the triangles' orientations over a point is the winding number of the two
+// loops). Every other
 // region is ear-clipped after bridging each hole to the boundary (Eberly, "Triangulation by
 // ear clipping", hole = leftmost vertex joined to a visible boundary vertex). The smallest ear is
 // clipped first (size classes, O(1) each), only the two neighbours of a clipped ear are re-tested,
@@ -100,6 +101,14 @@ public:
     /// On failure `out` is empty and the error names the offending loop(s).
     Status<TriangulateError> triangulate(std::span<const std::span<const Point2>> loops,
                                          std::vector<Triangle>& out);
+
+    /// Triangulates an annulus, one outer loop and one hole inside it, as a strip between the
+    /// two loops with every point kept (a strip needs no ear, so points in a straight line on a
+    /// loop are no trouble), into `out` (cleared first). False, with `out` empty, when the loops
+    /// are not one outer loop and its hole, fail triangulate()'s checks, or some strip triangle
+    /// would not be clearly counter-clockwise: triangulate() decides then.
+    bool triangulate_strip(std::span<const std::span<const Point2>> loops,
+                           std::vector<Triangle>& out);
 
     /// Statistics of the last call.
     const TriangulateStats& stats() const noexcept { return stats_; }

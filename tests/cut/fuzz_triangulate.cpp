@@ -5,6 +5,7 @@
 //   1: raw loops with small integer coordinates (exact predicates: any accepted input must
 //      satisfy every invariant exactly, any other must be refused, never crash or hang);
 //   2: raw loops of arbitrary doubles (NaN, huge, tiny): must not crash or hang, indices in range.
+// Every input also goes to triangulate_strip (the annulus path with every point kept).
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -79,6 +80,22 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     kerf::cut::Triangulator t;
     std::vector<kerf::cut::Triangle> tris;
     const auto status = t.triangulate(kerf::cut::testing::spans_of(loops), tris);
+    // The annulus strip with every point kept: never stitches what triangulate refuses; on
+    // exact input what it stitches keeps every invariant; indices always in range.
+    std::vector<kerf::cut::Triangle> strip;
+    if (kerf::cut::Triangulator().triangulate_strip(kerf::cut::testing::spans_of(loops), strip)) {
+        if (!status && mode == 1)
+            fail(std::string("strip stitched loops triangulate refuses: ") +
+                 std::string(to_string(status.error().code)));
+        std::size_t n = 0;
+        for (const auto& l : loops) n += l.size();
+        for (const auto& tri : strip)
+            if (tri.a >= n || tri.b >= n || tri.c >= n) fail("strip index out of range");
+        if (mode == 1) {
+            const std::string why = kerf::cut::testing::check_triangulation(loops, strip, true);
+            if (!why.empty()) fail("strip: " + why);
+        }
+    }
     if (!status) {
         if (!tris.empty()) fail("refusal left triangles behind");
         if (mode == 0)

@@ -225,5 +225,123 @@ TEST(Triangulate, SignedAreaIsPositiveCounterClockwise) {
     EXPECT_DOUBLE_EQ(signed_area(square({1, 1}, 2, false)), -4.0);
 }
 
+// ---- triangulate_strip: an annulus with every point kept ------------------------------------
+
+/// triangulate_strip on `loops`: whether it stitched them, and every invariant when it did.
+bool strip_valid(const Loops& loops, bool exact, std::size_t* triangles = nullptr) {
+    Triangulator t;
+    std::vector<Triangle> tris{{0, 1, 2}};
+    const bool ok = t.triangulate_strip(spans_of(loops), tris);
+    if (!ok) {
+        EXPECT_TRUE(tris.empty());
+        return false;
+    }
+    EXPECT_EQ(check_triangulation(loops, tris, exact), "");
+    EXPECT_EQ(t.stats().strips, 1u);
+    if (triangles != nullptr) *triangles = tris.size();
+    return true;
+}
+
+/// A square of side `side` at `lo` with `per_side` points on each side (collinear runs).
+std::vector<Point2> dense_square(Point2 lo, double side, int per_side, bool ccw = true) {
+    std::vector<Point2> out;
+    for (int e = 0; e < 4; ++e)
+        for (int k = 0; k < per_side; ++k) {
+            const double t = side * k / per_side;
+            out.push_back(e == 0   ? lo + Point2(t, 0)
+                          : e == 1 ? lo + Point2(side, t)
+                          : e == 2 ? lo + Point2(side - t, side)
+                                   : lo + Point2(0, side - t));
+        }
+    if (!ccw) std::reverse(out.begin(), out.end());
+    return out;
+}
+
+TEST(TriangulateStrip, StitchesAnAnnulusWithCollinearRunsKeepingEveryPoint) {
+    // Straight runs on both loops (a plane across flat quads): no ear, so no zero-area triangle.
+    std::size_t n = 0;
+    EXPECT_TRUE(strip_valid({dense_square({0, 0}, 40, 10), dense_square({10, 10}, 20, 5, false)},
+                            true, &n));
+    EXPECT_EQ(n, 60u);  // 40 + 20 points, one hole: every point kept, n + 2h - 2 triangles
+    // Either loop first, either orientation, the hole off centre.
+    EXPECT_TRUE(
+        strip_valid({dense_square({3, 2}, 8, 2, true), dense_square({0, 0}, 40, 7, false)}, false));
+    // A bone-like ring, in metres.
+    EXPECT_TRUE(strip_valid({circle({0, 0}, 0.010, 400), circle({0.001, 0}, 0.004, 200)}, false));
+}
+
+TEST(TriangulateStrip, AnAnnulusNotStarShapedAboutItsHoleIsCheckedInFullAndStillStitched) {
+    // The outer loop folds round (a deep notch coming back over the hole's side): not
+    // star-shaped about the hole's centroid, simple all the same.
+    const Loops notched{{{0, 0},
+                         {20, 0},
+                         {20, 20},
+                         {12, 20},
+                         {12, 18},
+                         {18, 18},
+                         {18, 2},
+                         {2, 2},
+                         {2, 18},
+                         {8, 18},
+                         {8, 20},
+                         {0, 20}},
+                        square({9, 9}, 2, false)};
+    Triangulator t;
+    std::vector<Triangle> tris;
+    ASSERT_TRUE(t.triangulate(spans_of(notched), tris).has_value());  // valid input
+    // The strip may or may not reach round the notch; what it returns must be valid.
+    strip_valid(notched, true);
+}
+
+TEST(TriangulateStrip, DeclinesWhatIsNotOneCleanAnnulus) {
+    // Not two loops; two loops side by side; a hole crossing its outer loop; a hole touching it
+    // at a vertex and along an edge; an outer loop winding twice round the hole.
+    EXPECT_FALSE(strip_valid({square({0, 0}, 4)}, true));
+    EXPECT_FALSE(
+        strip_valid({square({0, 0}, 4), square({1, 1}, 1, false), square({2, 2}, 1)}, true));
+    EXPECT_FALSE(strip_valid({square({0, 0}, 4), square({10, 0}, 4, false)}, true));
+    EXPECT_FALSE(strip_valid({square({0, 0}, 4), square({3, 1}, 2, false)}, true));
+    EXPECT_FALSE(strip_valid({square({0, 0}, 4), {{0, 2}, {1, 3}, {2, 2}, {1, 1}}}, true));
+    EXPECT_FALSE(strip_valid({square({0, 0}, 4), {{0, 1}, {0, 3}, {2, 3}, {2, 1}}}, true));
+    std::vector<Point2> twice;
+    for (int k = 0; k < 24; ++k) {
+        const double a = 2.0 * M_PI * k / 12.0, r = 10.0 + 0.25 * k;
+        twice.emplace_back(r * std::cos(a), r * std::sin(a));
+    }
+    EXPECT_FALSE(strip_valid({twice, circle({0, 0}, 2, 12, false)}, false));
+}
+
+TEST(TriangulateStrip, AcceptsOnlyWhatTriangulateAcceptsOnSmallIntegerAnnuli) {
+    // Differential: random pairs of small integer loops (exact predicates). Whatever the strip
+    // stitches, triangulate must accept too (no crossing or touching slips through the star
+    // test), and the strip's triangles keep every invariant exactly.
+    std::mt19937 rng(7);
+    std::uniform_int_distribution<int> coord(-6, 6), count(3, 9);
+    int stitched = 0;
+    for (int round = 0; round < 20000; ++round) {
+        Loops loops(2);
+        for (int l = 0; l < 2; ++l) {
+            const double scale = l == 0 ? 2.0 : 1.0;  // the outer one larger, mostly
+            const int n = count(rng);
+            for (int k = 0; k < n; ++k) {
+                // A star-ish loop round the origin with integer jitter, so many are annuli.
+                const double a = 2.0 * M_PI * k / n;
+                loops[l].emplace_back(std::round(scale * 5 * std::cos(a)) + coord(rng) / 3,
+                                      std::round(scale * 5 * std::sin(a)) + coord(rng) / 3);
+            }
+        }
+        Triangulator t;
+        std::vector<Triangle> tris;
+        const bool strip = t.triangulate_strip(spans_of(loops), tris);
+        if (!strip) continue;
+        ++stitched;
+        std::vector<Triangle> general;
+        ASSERT_TRUE(Triangulator().triangulate(spans_of(loops), general).has_value())
+            << "round " << round;
+        ASSERT_EQ(check_triangulation(loops, tris, true), "") << "round " << round;
+    }
+    EXPECT_GT(stitched, 1000);  // the test reaches the strip
+}
+
 }  // namespace
 }  // namespace kerf::cut
