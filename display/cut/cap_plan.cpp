@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "config/base/check.hpp"
 #include "display/cut/context_state.hpp"
 #include "display/cut/section_plan.hpp"
 #include "display/cut/vec_ops.hpp"
@@ -134,8 +135,24 @@ bool try_strip(ContextState& s, const std::vector<const PlanLoop*>& loops,
     if (!s.triangulator.triangulate_strip(spans, tris)) return false;
     const std::uint32_t first0 = loops[0]->first, first1 = loops[1]->first;
     auto plan_index = [&](std::uint32_t k) { return k < n0 ? first0 + k : first1 + (k - n0); };
-    for (const Triangle& t : tris)
+    // The strip's neighbours, as CapAdjacency::build would link them, in O(n): triangle k is
+    // (o, x, h), x the point it advanced to; its rung in, h -> o (slot 2), is the reverse of
+    // triangle k - 1's rung out (slot 1, x -> h, where x is on o's loop; slot 0, o -> x, where
+    // x is on h's loop), cyclically; its third edge is on the rim.
+    const auto base = static_cast<std::uint32_t>(out.size());
+    const auto n = static_cast<std::uint32_t>(tris.size());
+    std::vector<std::uint32_t>& nb = s.cap_strip_neighbours;
+    const bool linked = nb.size() == 3 * std::size_t{base};  // every group before a strip too
+    if (linked) nb.resize(3 * (std::size_t{base} + n), kNoCapNeighbour);
+    for (std::uint32_t k = 0; k < n; ++k) {
+        const Triangle& t = tris[k];
         out.push_back(Triangle{plan_index(t.a), plan_index(t.b), plan_index(t.c)});
+        if (!linked) continue;
+        const std::uint32_t rung_out = 3 * (base + k) + ((t.a < n0) == (t.b < n0) ? 1 : 0);
+        const std::uint32_t next_in = 3 * (base + (k + 1 == n ? 0 : k + 1)) + 2;
+        nb[rung_out] = next_in;
+        nb[next_in] = rung_out;
+    }
     used = true;
     return true;
 }
@@ -495,6 +512,7 @@ CutStatus plan_caps_with(ContextState& s, const Plane& plane, bool strips, bool&
     const Vec3& normal = plane.normal();
     SectionPlan& plan = s.plan;
     plan.cap_triangles.clear();
+    s.cap_strip_neighbours.clear();
     const std::vector<std::int32_t> parent = cap_groups(plan);
     std::vector<const PlanLoop*> group;
     std::vector<char> forced(plan.points.size(), 0);
@@ -535,7 +553,13 @@ CutStatus plan_caps_with(ContextState& s, const Plane& plane, bool strips, bool&
     };
     std::vector<Triangle>& tris = plan.cap_triangles;
     CapAdjacency adj(tris, plan.cap_neighbours, s.cap_plan);
-    if (!adj.build(plan.points.size())) return CutStatus::kCapTriangulationFailed;
+    if (s.cap_strip_neighbours.size() == 3 * tris.size()) {  // every group a strip: linked
+        plan.cap_neighbours.assign(s.cap_strip_neighbours.begin(), s.cap_strip_neighbours.end());
+        KERF_ASSERT(adj.build(plan.points.size()) && plan.cap_neighbours == s.cap_strip_neighbours,
+                    "a strip's links are those CapAdjacency::build makes");
+    } else if (!adj.build(plan.points.size())) {
+        return CutStatus::kCapTriangulationFailed;
+    }
     std::vector<char> known(tris.size(), kUnknown);
     delaunay_flips(plan, tris, adj, good, known);
     // Tries the flip across the longest edge first, then the other two; good triangles first,

@@ -147,6 +147,7 @@ struct ContextState {
     std::vector<std::uint32_t> cap_scratch;  ///< per plan point, for the caps (cap_plan.cpp)
     std::vector<Point2> cap_strip_uv;        ///< an annulus's points, for its strip (cap_plan.cpp)
     std::vector<Triangle> cap_strip;         ///< and its triangles
+    std::vector<std::uint32_t> cap_strip_neighbours;  ///< the plan's strips' slot links
     /// Scratch of the cap planning's triangle adjacency (cap_plan.cpp CapAdjacency), kept from
     /// cut to cut.
     struct CapPlanScratch {

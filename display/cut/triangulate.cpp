@@ -459,8 +459,8 @@ void Triangulator::Impl::fan(std::uint32_t l, std::vector<Triangle>& out) const 
 constexpr double kStripMinRelativeArea = 1e-9;
 
 // In-circle test of d against the circle through a, b, c (counter-clockwise): positive when d
-// is inside. Its magnitude is read against in_circle_scale (the product of two squared edge
-// lengths from d), as plan_caps' flip test reads it.
+// is inside. Its magnitude is read against the product of two squared edge lengths from d, as
+// plan_caps' flip test reads it.
 inline double in_circle(const Point2& a, const Point2& b, const Point2& c,
                         const Point2& d) noexcept {
     const double adx = a[0] - d[0], ady = a[1] - d[1];
@@ -469,9 +469,6 @@ inline double in_circle(const Point2& a, const Point2& b, const Point2& c,
     return (adx * adx + ady * ady) * (bdx * cdy - cdx * bdy) -
            (bdx * bdx + bdy * bdy) * (adx * cdy - cdx * ady) +
            (cdx * cdx + cdy * cdy) * (adx * bdy - bdx * ady);
-}
-inline double in_circle_scale(const Point2& a, const Point2& b, const Point2& d) noexcept {
-    return detail::sqrnorm(detail::sub(a, d)) * detail::sqrnorm(detail::sub(b, d));
 }
 // A strip takes the in-circle test's answer only when it is this clear (plan_caps' flip bound).
 constexpr double kStripClearInCircle = 1e-9;
@@ -489,58 +486,66 @@ bool Triangulator::Impl::strip(std::uint32_t l, std::uint32_t h, std::vector<Tri
         if (k >= nh) k -= nh;
         return area[h] > 0 ? begin[h] + k : begin[h] + (nh - 1 - k);
     };
-    auto clearly_ccw = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-        using detail::sqrnorm, detail::sub;  // (p - q).sqrnorm() written out (vec_ops.hpp)
-        const double longest2 =
-            std::max({sqrnorm(sub(pts[a], pts[b])), sqrnorm(sub(pts[b], pts[c])),
-                      sqrnorm(sub(pts[c], pts[a]))});
-        return cross(pts[a], pts[b], pts[c]) > kStripMinRelativeArea * longest2;
+    using detail::sqrnorm, detail::sub;  // (p - q).sqrnorm() written out (vec_ops.hpp)
+    // (a, b, c) counter-clockwise by kStripMinRelativeArea of its longest edge squared, from its
+    // squared edge lengths (each rung's is worked out once and carried to the next step).
+    auto clearly_ccw = [&](const Point2& a, const Point2& b, const Point2& c, double ab2,
+                           double bc2, double ca2) {
+        return cross(a, b, c) > kStripMinRelativeArea * std::max({ab2, bc2, ca2});
     };
     // The first rung: outer point 0 to the nearest hole point.
     std::uint32_t t = 0;
     double best = std::numeric_limits<double>::infinity();
     for (std::uint32_t k = 0; k < nh; ++k) {
-        const double d = detail::sqrnorm(detail::sub(pts[hole(k)], pts[outer(0)]));
+        const double d = sqrnorm(sub(pts[hole(k)], pts[outer(0)]));
         if (d < best) best = d, t = k;
     }
     const std::size_t first = out.size();
     std::uint32_t i = 0, j = t;
+    double rung2 = best;  // the current rung's squared length, o to hj
     while (i < no || j < t + nh) {
+        const bool more_outer = i < no, more_hole = j < t + nh;
         const std::uint32_t o = outer(i), hj = hole(j);
+        const std::uint32_t o1 = more_outer ? outer(i + 1) : o, h1 = more_hole ? hole(j + 1) : hj;
+        const Point2 &po = pts[o], &phj = pts[hj], &po1 = pts[o1], &ph1 = pts[h1];
+        // The next rung either way: o1-hj (outer), o-h1 (hole).
+        const double a2 = more_outer ? sqrnorm(sub(po1, phj)) : 0.0;
+        const double b2 = more_hole ? sqrnorm(sub(ph1, po)) : 0.0;
         // The one way left at the end of a loop; otherwise the quad (o, o1, h1, hj): taking the
         // outer point makes o1-hj the next rung, which is locally Delaunay unless h1 lies
         // clearly inside the circle through (o, o1, hj); a near tie (cocircular, as on a round
         // bone's evenly spaced loops) takes the shorter rung. Delaunay here leaves the cap's flip
         // pass (plan_caps) next to nothing to do. The way preferred is taken if its triangle is
         // clearly counter-clockwise, else the other if its is.
-        bool take_outer = j == t + nh;
-        if (i < no && j < t + nh) {
-            const std::uint32_t o1 = outer(i + 1), h1 = hole(j + 1);
-            const double inside = in_circle(pts[o], pts[o1], pts[hj], pts[h1]);
-            const double clear = kStripClearInCircle * in_circle_scale(pts[o], pts[o1], pts[h1]);
+        bool take_outer = !more_hole;
+        if (more_outer && more_hole) {
+            const double inside = in_circle(po, po1, phj, ph1);
+            const double clear = kStripClearInCircle * (b2 * sqrnorm(sub(po1, ph1)));
             if (inside > clear)
                 take_outer = false;
             else if (inside < -clear)
                 take_outer = true;
             else
-                take_outer = detail::sqrnorm(detail::sub(pts[o1], pts[hj])) <=
-                             detail::sqrnorm(detail::sub(pts[h1], pts[o]));
+                take_outer = a2 <= b2;
         }
         auto valid = [&](bool outer_way) {
-            return clearly_ccw(o, outer_way ? outer(i + 1) : hole(j + 1), hj);
+            return outer_way ? clearly_ccw(po, po1, phj, sqrnorm(sub(po, po1)), a2, rung2)
+                             : clearly_ccw(po, ph1, phj, b2, sqrnorm(sub(ph1, phj)), rung2);
         };
         if (!valid(take_outer)) {
             take_outer = !take_outer;
-            if (!(i < no && j < t + nh) || !valid(take_outer)) {
+            if (!(more_outer && more_hole) || !valid(take_outer)) {
                 out.resize(first);
                 return false;
             }
         }
         if (take_outer) {
-            out.push_back(Triangle{o, outer(i + 1), hj});
+            out.push_back(Triangle{o, o1, hj});
+            rung2 = a2;
             ++i;
         } else {
-            out.push_back(Triangle{o, hole(j + 1), hj});
+            out.push_back(Triangle{o, h1, hj});
+            rung2 = b2;
             ++j;
         }
     }
