@@ -122,7 +122,7 @@ double plan_area2(const SectionPlan& plan, const Triangle& t) {
 // fans needed (about one a point on a round bone) are not needed. False when the group is not an
 // annulus or the strip is refused (try_triangulate_group decides then).
 bool try_strip(ContextState& s, const std::vector<const PlanLoop*>& loops,
-               std::vector<Triangle>& out, bool& used) {
+               std::vector<Triangle>& out) {
     if (loops.size() != 2 || (loops[0]->area_m2 > 0) == (loops[1]->area_m2 > 0)) return false;
     const SectionPlan& plan = s.plan;
     std::vector<Point2>& uv = s.cap_strip_uv;
@@ -153,7 +153,6 @@ bool try_strip(ContextState& s, const std::vector<const PlanLoop*>& loops,
         nb[rung_out] = next_in;
         nb[next_in] = rung_out;
     }
-    used = true;
     return true;
 }
 
@@ -391,6 +390,15 @@ private:
     std::vector<std::uint32_t>& seen_;
 };
 
+// Whether plan.cap_neighbours (a plan of strips) are the links CapAdjacency::build makes of
+// `tris` (a debug check: built into copies).
+bool links_as_built(ContextState& s, const std::vector<Triangle>& tris) {
+    std::vector<Triangle> copy = tris;
+    std::vector<std::uint32_t> built;
+    CapAdjacency adj(copy, built, s.cap_plan);
+    return adj.build(s.plan.points.size()) && built == s.plan.cap_neighbours;
+}
+
 // Lawson flips towards the Delaunay triangulation of the cap (in the plane frame): an inner edge
 // whose opposite vertex lies inside the other triangle's circumcircle is flipped when both new
 // triangles are `good`. Ear clipping leaves long thin ears; Delaunay maximises the smallest angle,
@@ -470,8 +478,8 @@ void delaunay_flips(const SectionPlan& plan, std::vector<Triangle>& tris, CapAdj
 
 bool triangulate_group(ContextState& s, const Plane& plane,
                        const std::vector<const PlanLoop*>& loops, std::vector<char>& forced,
-                       std::vector<Triangle>& out, bool strips, bool& strip_used) {
-    if (strips && try_strip(s, loops, out, strip_used)) return true;
+                       std::vector<Triangle>& out) {
+    if (try_strip(s, loops, out)) return true;
     for (int attempt = 0; attempt < 4; ++attempt) {
         const GroupResult r = try_triangulate_group(s, plane, loops, forced, out);
         if (r != GroupResult::kRetry) return r == GroupResult::kOk;
@@ -506,9 +514,9 @@ bool pinched_along_an_edge(const ContextState& s) {
     return false;
 }
 
-// plan_caps with whole-loop strips for annuli (`strips`) or without; `strip_used` is set when a
-// group was stitched that way.
-CutStatus plan_caps_with(ContextState& s, const Plane& plane, bool strips, bool& strip_used) {
+}  // namespace
+
+CutStatus plan_caps(ContextState& s, const Plane& plane) {
     const Vec3& normal = plane.normal();
     SectionPlan& plan = s.plan;
     plan.cap_triangles.clear();
@@ -525,7 +533,7 @@ CutStatus plan_caps_with(ContextState& s, const Plane& plane, bool strips, bool&
         for (std::size_t i = 0; i < plan.loops.size(); ++i)
             if (i == g || parent[i] == static_cast<std::int32_t>(g))
                 group.push_back(&plan.loops[i]);
-        if (!triangulate_group(s, plane, group, forced, plan.cap_triangles, strips, strip_used))
+        if (!triangulate_group(s, plane, group, forced, plan.cap_triangles))
             return CutStatus::kCapTriangulationFailed;
     }
     // Every cap triangle must have a real area and face the way its 2-D orientation says (rim
@@ -555,8 +563,7 @@ CutStatus plan_caps_with(ContextState& s, const Plane& plane, bool strips, bool&
     CapAdjacency adj(tris, plan.cap_neighbours, s.cap_plan);
     if (s.cap_strip_neighbours.size() == 3 * tris.size()) {  // every group a strip: linked
         plan.cap_neighbours.assign(s.cap_strip_neighbours.begin(), s.cap_strip_neighbours.end());
-        KERF_ASSERT(adj.build(plan.points.size()) && plan.cap_neighbours == s.cap_strip_neighbours,
-                    "a strip's links are those CapAdjacency::build makes");
+        KERF_ASSERT(links_as_built(s, tris), "a strip's links are those CapAdjacency::build makes");
     } else if (!adj.build(plan.points.size())) {
         return CutStatus::kCapTriangulationFailed;
     }
@@ -616,21 +623,6 @@ CutStatus plan_caps_with(ContextState& s, const Plane& plane, bool strips, bool&
     for (std::size_t i = 0; i < tris.size(); ++i)
         if (known[i] == kUnknown && !acceptable(tris[i])) return CutStatus::kCapTriangulationFailed;
     return pinched_along_an_edge(s) ? CutStatus::kDegenerateCrossSection : CutStatus::kOk;
-}
-
-}  // namespace
-
-CutStatus plan_caps(ContextState& s, const Plane& plane) {
-    // Whole-loop strips first. A cap they leave bad (a rim with vertices of an earlier cut off
-    // the plane: their straight runs tilt) is planned again as before: straight points left out
-    // and put back as fans, flipped and repaired, which every cut planned before this strip
-    // passed. Snap proposals are those of the plan returned.
-    const std::size_t proposals = s.snap_candidates.size();
-    bool strip_used = false;
-    const CutStatus st = plan_caps_with(s, plane, true, strip_used);
-    if (st == CutStatus::kOk || !strip_used) return st;
-    s.snap_candidates.resize(proposals);
-    return plan_caps_with(s, plane, false, strip_used);
 }
 
 }  // namespace kerf::cut::detail
