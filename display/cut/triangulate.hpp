@@ -17,13 +17,12 @@
 // (near-Delaunay on annuli, in linear time); the strip is kept only if every triangle is clearly
 // counter-clockwise, which makes it a valid triangulation (each point of the region is covered
 // once: the sum of the triangles' orientations over a point is the winding number of the two
-// loops). Every other
-// region is ear-clipped after bridging each hole to the boundary (Eberly, "Triangulation by
-// ear clipping", hole = leftmost vertex joined to a visible boundary vertex). The smallest ear is
-// clipped first (size classes, O(1) each), only the two neighbours of a clipped ear are re-tested,
-// and an ear test only visits reflex vertices in the grid cells under the ear's box: a few thousand
-// points take about a millisecond or less. Deterministic: the result depends only on the input
-// values and their order (no hash maps, no pointers compared).
+// loops). Every other region is ear-clipped after bridging each hole to the boundary (Eberly,
+// "Triangulation by ear clipping", hole = leftmost vertex joined to a visible boundary vertex).
+// The smallest ear is clipped first (size classes, O(1) each), only the two neighbours of a
+// clipped ear are re-tested, and an ear test only visits reflex vertices in the grid cells under
+// the ear's box: a few thousand points take about a millisecond or less. Deterministic: the result
+// depends only on the input values and their order (no hash maps, no pointers compared).
 // Degenerate input is a value, never a hang: fewer than 3 points, non-finite coordinates, a loop of
 // zero area, or loops that cross or touch (including a loop touching itself) are refused with the
 // loop(s) named. Zero-area triangles: collinear input points never need one (the clipper prefers a
