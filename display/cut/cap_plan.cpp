@@ -445,13 +445,8 @@ void delaunay_flips(const SectionPlan& plan, std::vector<Triangle>& tris, CapAdj
                 const std::uint32_t d = CapAdjacency::corner(tri[j], kBefore[fj]);
                 const Vec2 &pa = points[a].uv, &pb = points[b].uv, &pc = points[c].uv,
                            &pd = points[d].uv;
-                const double adx = pa[0] - pd[0], ady = pa[1] - pd[1];
-                const double bdx = pb[0] - pd[0], bdy = pb[1] - pd[1];
-                const double cdx = pc[0] - pd[0], cdy = pc[1] - pd[1];
-                const double det = (adx * adx + ady * ady) * (bdx * cdy - cdx * bdy) -
-                                   (bdx * bdx + bdy * bdy) * (adx * cdy - cdx * ady) +
-                                   (cdx * cdx + cdy * cdy) * (adx * bdy - bdx * ady);
-                const double scale = (adx * adx + ady * ady) * (bdx * bdx + bdy * bdy);
+                const double det = in_circle(pa, pb, pc, pd);
+                const double scale = sqrnorm(sub(pa, pd)) * sqrnorm(sub(pb, pd));
                 if (!(det > 1e-9 * scale)) return false;  // not clearly inside the circumcircle
                 if (!good(Triangle{a, b, d}) || !good(Triangle{b, c, d})) return false;
                 adj.flip(si, sj);

@@ -458,18 +458,6 @@ void Triangulator::Impl::fan(std::uint32_t l, std::vector<Triangle>& out) const 
 // area), far above rounding: then the orientations, and so the validity argument, are exact.
 constexpr double kStripMinRelativeArea = 1e-9;
 
-// In-circle test of d against the circle through a, b, c (counter-clockwise): positive when d
-// is inside. Its magnitude is read against the product of two squared edge lengths from d, as
-// plan_caps' flip test reads it.
-inline double in_circle(const Point2& a, const Point2& b, const Point2& c,
-                        const Point2& d) noexcept {
-    const double adx = a[0] - d[0], ady = a[1] - d[1];
-    const double bdx = b[0] - d[0], bdy = b[1] - d[1];
-    const double cdx = c[0] - d[0], cdy = c[1] - d[1];
-    return (adx * adx + ady * ady) * (bdx * cdy - cdx * bdy) -
-           (bdx * bdx + bdy * bdy) * (adx * cdy - cdx * ady) +
-           (cdx * cdx + cdy * cdy) * (adx * bdy - bdx * ady);
-}
 // A strip takes the in-circle test's answer only when it is this clear (plan_caps' flip bound).
 constexpr double kStripClearInCircle = 1e-9;
 
@@ -519,7 +507,7 @@ bool Triangulator::Impl::strip(std::uint32_t l, std::uint32_t h, std::vector<Tri
         // clearly counter-clockwise, else the other if its is.
         bool take_outer = !more_hole;
         if (more_outer && more_hole) {
-            const double inside = in_circle(po, po1, phj, ph1);
+            const double inside = detail::in_circle(po, po1, phj, ph1);
             const double clear = kStripClearInCircle * (b2 * sqrnorm(sub(po1, ph1)));
             if (inside > clear)
                 take_outer = false;

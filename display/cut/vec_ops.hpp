@@ -62,4 +62,15 @@ inline double dot(const Vec2& a, const Vec2& b) noexcept { return a[0] * b[0] + 
 /// a.sqrnorm()
 inline double sqrnorm(const Vec2& a) noexcept { return a[0] * a[0] + a[1] * a[1]; }
 
+/// In-circle test of d against the circle through a, b, c (counter-clockwise): positive when d
+/// is inside. The cap code reads its magnitude against sqrnorm(a - d) * sqrnorm(b - d).
+inline double in_circle(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) noexcept {
+    const double adx = a[0] - d[0], ady = a[1] - d[1];
+    const double bdx = b[0] - d[0], bdy = b[1] - d[1];
+    const double cdx = c[0] - d[0], cdy = c[1] - d[1];
+    return (adx * adx + ady * ady) * (bdx * cdy - cdx * bdy) -
+           (bdx * bdx + bdy * bdy) * (adx * cdy - cdx * ady) +
+           (cdx * cdx + cdy * cdy) * (adx * bdy - bdx * ady);
+}
+
 }  // namespace kerf::cut::detail
