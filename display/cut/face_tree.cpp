@@ -496,6 +496,94 @@ void FaceTree::quantise(Group& g, const Box* boxes, std::uint32_t live) noexcept
     }
 }
 
+#if defined(__SSE2__)
+void FaceTree::quantise_leaf(Group& g, const Box* boxes, std::uint32_t count,
+                             const Box& box) noexcept {
+    // Axes whose step would leave the range where 2^-e is a normal float, and boxes that are not
+    // finite (an open group), go the general way.
+    bool simple = count > 0 && box_finite(box);
+    for (std::uint32_t k = 0; k < count && simple; ++k) simple = box_finite(boxes[k]);
+    int exps[3] = {0, 0, 0};
+    for (int a = 0; a < 3 && simple; ++a) {
+        const double extent = double(box.hi[a]) - box.lo[a];
+        int e = kMinStepExp;
+        if (extent > 0.0) std::frexp(extent / 254.0, &e);
+        exps[a] = std::max(e, -100);
+        simple = e <= 100;
+    }
+    if (!simple) {
+        quantise(g, boxes, (2u << (count - 1)) - 1);
+        return;
+    }
+    g.live = static_cast<std::uint8_t>((2u << (count - 1)) - 1);
+    alignas(16) float lo[3][kLanes], hi[3][kLanes];
+    for (std::uint32_t k = 0; k < kLanes; ++k)
+        for (int a = 0; a < 3; ++a) {
+            // Dead lanes stand at the origin (their bounds 0, as quantise leaves them).
+            lo[a][k] = k < count ? boxes[k].lo[a] : box.lo[a];
+            hi[a][k] = k < count ? boxes[k].hi[a] : box.lo[a];
+        }
+    const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+    __m128 widest = _mm_setzero_ps();
+    for (int a = 0; a < 3; ++a) {
+        const __m128 origin = _mm_set1_ps(box.lo[a]);
+        for (int e = exps[a];; ++e) {
+            const __m128 step = _mm_set1_ps(step_of(e));
+            const __m128 inv = _mm_set1_ps(step_of(-e));
+            bool fits = true;
+            __m128i qlo[2], qhi[2];
+            __m128 bound_lo[2], bound_hi[2];
+            for (int h = 0; h < 2 && fits; ++h) {
+                const __m128 l = _mm_load_ps(&lo[a][4 * h]), u = _mm_load_ps(&hi[a][4 * h]);
+                // Candidates from the float offsets (both at least 0: truncation floors), then
+                // each bound settled against the box itself: down while the lower one is above
+                // lo (0 never is: its bound is the origin), up while the upper one is below hi.
+                __m128i ql = _mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(l, origin), inv));
+                const __m128 uh = _mm_mul_ps(_mm_sub_ps(u, origin), inv);
+                __m128i qh = _mm_cvttps_epi32(uh);
+                qh = _mm_sub_epi32(qh, _mm_castps_si128(_mm_cmplt_ps(_mm_cvtepi32_ps(qh), uh)));
+                for (;;) {
+                    bound_lo[h] = _mm_add_ps(origin, _mm_mul_ps(_mm_cvtepi32_ps(ql), step));
+                    const __m128 above = _mm_cmpgt_ps(bound_lo[h], l);
+                    if (_mm_movemask_ps(above) == 0) break;
+                    ql = _mm_add_epi32(ql, _mm_castps_si128(above));  // -1 where above
+                }
+                for (;;) {
+                    bound_hi[h] = _mm_add_ps(origin, _mm_mul_ps(_mm_cvtepi32_ps(qh), step));
+                    const __m128 below = _mm_cmplt_ps(bound_hi[h], u);
+                    if (_mm_movemask_ps(below) == 0) break;
+                    qh = _mm_sub_epi32(qh, _mm_castps_si128(below));  // +1 where below
+                }
+                fits = _mm_movemask_epi8(_mm_cmpgt_epi32(qh, _mm_set1_epi32(255))) == 0;
+                qlo[h] = ql, qhi[h] = qh;
+            }
+            if (!fits) continue;  // one step larger (e stays at most 101: the extent fits)
+            for (int h = 0; h < 2; ++h) {
+                alignas(16) std::int32_t l[4], u[4];
+                _mm_store_si128(reinterpret_cast<__m128i*>(l), qlo[h]);
+                _mm_store_si128(reinterpret_cast<__m128i*>(u), qhi[h]);
+                for (int k = 0; k < 4; ++k) {
+                    g.qlo[a][4 * h + k] = static_cast<std::uint8_t>(l[k]);
+                    g.qhi[a][4 * h + k] = static_cast<std::uint8_t>(u[k]);
+                }
+                widest = _mm_max_ps(widest, _mm_and_ps(bound_lo[h], abs_mask));
+                widest = _mm_max_ps(widest, _mm_and_ps(bound_hi[h], abs_mask));
+            }
+            g.origin[a] = box.lo[a];
+            g.step_exp[a] = static_cast<std::int8_t>(e);
+            break;
+        }
+    }
+    alignas(16) float w[4];
+    _mm_store_ps(w, widest);
+    max_abs_ = std::max({max_abs_, double(w[0]), double(w[1]), double(w[2]), double(w[3])});
+}
+#else
+void FaceTree::quantise_leaf(Group& g, const Box* boxes, std::uint32_t count, const Box&) noexcept {
+    quantise(g, boxes, count == 0 ? 0u : (2u << (count - 1)) - 1);
+}
+#endif
+
 bool FaceTree::enlarge(Group& g, std::uint32_t lane, Box& by) noexcept {
     const std::uint32_t bit = 1u << lane;
     if (!box_finite(by)) {  // the group opens (and so does every group above it)
@@ -864,20 +952,16 @@ bool scan_met_every_edge(const mesh::TriMesh& mesh, const FaceScan& scan) {
 
 namespace {
 
-// A leaf's box folded from an empty one item by item (std::min / std::max in item order: a NaN
-// ignored as enlarge ignores it), then quantised with its group's other leaves.
+// A leaf's box folded from an empty one box by box (std::min / std::max in order: a NaN ignored
+// as enlarge ignores it), then quantised with its group's other leaves.
 class LeafBox {
 public:
 #if defined(__SSE2__)
-    // Copies item {face, box} to `out` and folds its box in: minps(by, b) is std::min(b, by),
-    // maxps(by, b) std::max(b, by). Lanes lo0 lo1 lo2 (hi0) and hi0 hi1 hi2 (hi2).
-    void add_item(std::int32_t face, const FaceTree::Box& box, void* out) {
+    // Folds `box` in: minps(by, b) is std::min(b, by), maxps(by, b) std::max(b, by). Lanes lo0
+    // lo1 lo2 (hi0) and hi0 hi1 hi2 (hi2).
+    void add(const FaceTree::Box& box) {
         const auto* const f = reinterpret_cast<const float*>(&box);
         const __m128 head = _mm_loadu_ps(f), tail = _mm_loadu_ps(f + 2);  // lo0-hi0, lo2-hi2
-        auto* const o = static_cast<unsigned char*>(out);
-        std::memcpy(o, &face, sizeof face);
-        _mm_storeu_ps(reinterpret_cast<float*>(o + 4), head);
-        _mm_storel_pi(reinterpret_cast<__m64*>(o + 20), _mm_movehl_ps(tail, tail));
         lo_ = _mm_min_ps(head, lo_);
         hi_ = _mm_max_ps(_mm_shuffle_ps(tail, tail, _MM_SHUFFLE(3, 3, 2, 1)), hi_);
     }
@@ -893,9 +977,7 @@ public:
 private:
     __m128 lo_ = _mm_set1_ps(kInf), hi_ = _mm_set1_ps(-kInf);
 #else
-    void add_item(std::int32_t face, const FaceTree::Box& box, void* out) {
-        std::memcpy(out, &face, sizeof face);
-        std::memcpy(static_cast<unsigned char*>(out) + sizeof face, &box, sizeof box);
+    void add(const FaceTree::Box& box) {
         for (int a = 0; a < 3; ++a) {
             b_.lo[a] = std::min(b_.lo[a], box.lo[a]);
             b_.hi[a] = std::max(b_.hi[a], box.hi[a]);
@@ -933,22 +1015,20 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
     const std::size_t count = scan.count;
     if (count == 0) return longest_edge_sq;
     quantise_codes(scan.centre_lo, scan.centre_hi);
-    // The sort's two key arrays live in the items' own memory, allocated now (pages that the
-    // gather then rewrites, instead of two more arrays paged in and freed): the scratch keys in
-    // its first 12 bytes per item, the sorted keys in its last 12. The gather writes item k over
-    // bytes [28k, 28k + 28), below key k + 1 (at 16n + 12(k + 1)): it overwrites only keys it
-    // has read. The keys are read there through memcpy, not as Keyed objects.
-    items_.resize(count);
-    auto* const arena = reinterpret_cast<unsigned char*>(items_.data());
-    static_assert(sizeof(Item) == 28 && sizeof(Keyed) == 12 && alignof(Item) >= alignof(Keyed));
-    Keyed* const scratch = reinterpret_cast<Keyed*>(arena);
-    Keyed* const keyed = reinterpret_cast<Keyed*>(arena + 16 * count);
+    // The sort's two key arrays, 12 bytes a face each, in one scratch block (advised for huge
+    // pages as `unsorted` is): the scratch keys in its first half, the sorted keys in its second.
+    static_assert(sizeof(Keyed) == 12);
+    auto keys = std::make_unique_for_overwrite<unsigned char[]>(2 * sizeof(Keyed) * count);
+    advise_huge_pages(keys.get(), 2 * sizeof(Keyed) * count);
+    Keyed* const scratch = reinterpret_cast<Keyed*>(keys.get());
+    Keyed* const keyed = reinterpret_cast<Keyed*>(keys.get() + sizeof(Keyed) * count);
     write_codes(unsorted.get(), count, scratch);
     if (const Keyed* sorted = radix_sort(scratch, keyed, count); sorted != keyed)
         std::memmove(keyed, sorted, count * sizeof(Keyed));  // an even number of passes ran
-    const int depth = size_levels();
-    gather_leaves(unsorted.get(), arena + 16 * count,
+    const int depth = size_levels(count);
+    gather_leaves(unsorted.get(), keys.get() + sizeof(Keyed) * count, count,
                   scan.every_face_live ? nullptr : scan.faces_of.data());
+    keys.reset();
     unsorted.reset();
     for (std::uint32_t j = 0; j < leaves_; j += kCoarseStride)
         coarse_codes_.push_back(leaf_codes_[j]);
@@ -959,7 +1039,8 @@ double FaceTree::build(const mesh::TriMesh& mesh, const std::uint8_t* flagged_fa
 
 void FaceTree::clear_for_build() {
     margin_m_ = 0.0;
-    items_.clear();
+    leaf_faces_.clear();
+    leaf_groups_.clear();
     groups_.clear();
     level_first_.clear();
     max_abs_ = 0.0;
@@ -980,8 +1061,8 @@ void FaceTree::quantise_codes(const double* centre_lo, const double* centre_hi) 
     code_scale_ = 2097151.0 / std::max({ext[0], ext[1], ext[2], 1e-300});
 }
 
-int FaceTree::size_levels() {
-    leaves_ = static_cast<std::uint32_t>((items_.size() + kLeafItems - 1) / kLeafItems);
+int FaceTree::size_levels(std::size_t count) {
+    leaves_ = static_cast<std::uint32_t>((count + kLeafItems - 1) / kLeafItems);
     padded_leaves_ = 1;
     int depth = 0;  // of the leaves in the binary tree
     while (padded_leaves_ < leaves_) padded_leaves_ *= 2, ++depth;
@@ -993,37 +1074,44 @@ int FaceTree::size_levels() {
     }
     Group empty{};  // no lane live
     groups_.assign(total, empty);
+    leaf_groups_.resize(leaves_);
+    leaf_faces_.resize(std::size_t{leaves_} * kLeafItems);
     leaf_codes_.resize(leaves_);
     return depth;
 }
 
 void FaceTree::gather_leaves(const Box* unsorted, const unsigned char* sorted_keys,
-                             const std::int32_t* faces_of) {
-    const std::size_t count = items_.size();
+                             std::size_t count, const std::int32_t* faces_of) {
     const auto key_at = [sorted_keys](std::size_t k) {
         Keyed key;
         std::memcpy(&key, sorted_keys + 12 * k, sizeof key);
         return key;
     };
     const int leaves_level = last_level();
-    // A gather from across the unsorted items, each one fetched a few ahead, leaf by leaf: the
-    // leaf's box folded from an empty one item by item as they arrive (LeafBox), then stored once.
+    // A gather from across the unsorted boxes, each one fetched a few ahead, leaf by leaf: the
+    // leaf's faces and boxes, its group quantised from the boxes, its own box folded from them
+    // (LeafBox) and quantised with its group's other leaves.
     constexpr std::size_t kAhead = 16;
-    Box boxes[kLanes];
+    Box leaf_boxes[kLanes];
     for (std::uint32_t leaf = 0; leaf < leaves_; ++leaf) {
         const std::size_t first = leaf * std::size_t{kLeafItems};
         const std::size_t end = std::min<std::size_t>(count, first + kLeafItems);
-        leaf_codes_[leaf] = key_at(first).code;  // before the leaf's items overwrite it
+        leaf_codes_[leaf] = key_at(first).code;
+        Box boxes[kLeafItems];
         LeafBox b;
         for (std::size_t k = first; k < end; ++k) {
             if (k + kAhead < count) __builtin_prefetch(&unsorted[key_at(k + kAhead).index]);
             const std::uint32_t at = key_at(k).index;
-            const auto face = faces_of == nullptr ? static_cast<std::int32_t>(at) : faces_of[at];
-            b.add_item(face, unsorted[at], &items_[k]);
+            leaf_faces_[k] = faces_of == nullptr ? static_cast<std::int32_t>(at) : faces_of[at];
+            boxes[k - first] = unsorted[at];
+            b.add(unsorted[at]);
         }
-        boxes[leaf % kLanes] = b.box();
+        for (std::size_t k = end; k < first + kLeafItems; ++k) leaf_faces_[k] = -1;
+        leaf_boxes[leaf % kLanes] = b.box();
+        quantise_leaf(leaf_groups_[leaf], boxes, static_cast<std::uint32_t>(end - first),
+                      leaf_boxes[leaf % kLanes]);
         if (leaf % kLanes == kLanes - 1 || leaf + 1 == leaves_)
-            quantise(group_of(leaves_level, leaf), boxes, (2u << (leaf % kLanes)) - 1);
+            quantise(group_of(leaves_level, leaf), leaf_boxes, (2u << (leaf % kLanes)) - 1);
     }
 }
 
@@ -1105,7 +1193,8 @@ void FaceTree::hang(const Item& item) {
 }
 
 std::size_t FaceTree::memory_bytes() const noexcept {
-    return items_.capacity() * sizeof(Item) + groups_.capacity() * sizeof(Group) +
+    return leaf_faces_.capacity() * sizeof(std::int32_t) +
+           (leaf_groups_.capacity() + groups_.capacity()) * sizeof(Group) +
            level_first_.capacity() * sizeof(std::size_t) +
            (leaf_codes_.capacity() + coarse_codes_.capacity()) * sizeof(std::uint64_t) +
            extra_head_.capacity() * sizeof(std::int32_t) + extra_.capacity() * sizeof(Extra) +

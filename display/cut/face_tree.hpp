@@ -2,25 +2,29 @@
 // (O(n), faces in Morton order of their centroids), updated incrementally as cuts add faces
 // (a pending list during the cut, hung on the leaves from idle time),
 // queried for the faces near a point or near a patch of a plane. Library-internal (used by
-// CutContext); queries may report a face more than once and may report deleted faces: callers
-// dedupe and skip.
+// CutContext); queries may report a face more than once, may report deleted faces and may report
+// faces a little beyond the query (a leaf's boxes are quantised outwards): callers dedupe, skip
+// and test the faces themselves.
 //
 // Why a tree and not a uniform grid: a query costs what lies near the point or the plane, however
 // the triangles are shaped. A grid's cells are sized on the faces' extents, so long thin
 // triangles put thousands of faces in every cell the plane crosses, and a localised cut of a
 // 4M-triangle tube of such triangles cost 36x the same cut at 100k (issue 10, item 7).
 //
-// Storage: the faces as items {face, float bounding box} in Morton order of their centroids,
-// kLeafItems per leaf, over an implicit complete binary tree of the leaves of which only every
-// third level is stored (the leaves, their ancestors 3, 6, ... levels up, and a top level of 1, 2
-// or 4 nodes): each stored node's kLanes descendants three levels down lie together as one
-// Group, their boxes quantised to 8 bits against the group's own frame (64 bytes, one cache
-// line), so a query descends three levels per cache line and tests the eight boxes at once.
+// Storage: an implicit complete binary tree over leaves of kLeafItems faces each, in Morton order
+// of the faces' centroids, of which only every third level is stored (the leaves, their ancestors
+// 3, 6, ... levels up, and a top level of 1, 2 or 4 nodes): each stored node's kLanes
+// descendants three levels down lie together as one Group, their boxes quantised to 8 bits
+// against the group's own frame (64 bytes, one cache line), so a query descends three levels per
+// cache line and tests the eight boxes at once. A leaf's own faces are a Group too (their boxes
+// quantised the same way) beside their eight face numbers (32 bytes): a leaf costs a query one
+// and a half cache lines, not the three and a half its faces' exact float boxes took (28 bytes a
+// face), which on a 4M-triangle tube were most of the cut's cache misses (issue 10, item 7).
 // Queries go level by level over the nodes still near (in order, in chunks), prefetching the
 // next nodes' groups, so the cache misses of the many paths a plane query follows (128 columns
-// of long thin faces on a 4M-triangle tube, issue 10 item 7) overlap instead of following one
-// another. A face inserted by a cut hangs on the leaf its centroid's Morton code falls in (one
-// flat node pool) and enlarges the boxes on its path. About 31 bytes per face.
+// of long thin faces on a 4M-triangle tube) overlap instead of following one another. A face
+// inserted by a cut hangs on the leaf its centroid's Morton code falls in (one flat node pool,
+// exact boxes) and enlarges the boxes on its path. About 15 bytes per face.
 #pragma once
 
 #include <algorithm>
@@ -103,12 +107,14 @@ public:
     /// Extra distance every query adds (vertices moved since indexing), m.
     void widen(double margin_m) noexcept { margin_m_ += margin_m; }
 
-    /// Calls `visit(face_index)` for faces whose bounding box comes within `radius_m` of `p`.
+    /// Calls `visit(face_index)` for every face whose bounding box comes within `radius_m` of `p`
+    /// (and for some a little farther: see the file comment).
     template <class Visit>
     void for_each_near_point(const Vec3& p, double radius_m, Visit&& visit) const;
 
-    /// Calls `visit(face_index)` for faces whose bounding box comes within `slack_m` of the plane
-    /// and of the box around the patch of `plane` whose frame coordinates lie in [lo, hi].
+    /// Calls `visit(face_index)` for every face whose bounding box comes within `slack_m` of the
+    /// plane and of the box around the patch of `plane` whose frame coordinates lie in [lo, hi]
+    /// (and for some a little farther: see the file comment).
     template <class Visit>
     void for_each_near_plane(const Plane& plane, const Vec2& lo, const Vec2& hi, double slack_m,
                              Visit&& visit) const;
@@ -121,6 +127,7 @@ private:
     static constexpr std::uint32_t kCoarseStride = 64;
     /// Stored nodes three binary levels apart: a node's kLanes descendants there form a Group.
     static constexpr std::uint32_t kLanes = 8;
+    static_assert(kLeafItems == kLanes);  // a leaf's faces are one Group's lanes
     static constexpr int kLevelStep = 3;
     /// Nodes a query holds per level before it descends (a chunk on the stack, 1 KiB).
     static constexpr std::size_t kChunk = 256;
@@ -182,6 +189,11 @@ private:
     // Sets g to hold boxes[k] in lane k for every bit k of `live`, rounded outwards, and widens
     // max_abs_ to the quantised bounds.
     void quantise(Group& g, const Box* boxes, std::uint32_t live) noexcept;
+    // quantise() for a leaf's faces, lanes [0, count) live, whose boxes together span `box`:
+    // the same frames, the bounds found on four lanes at a time (a build quantises every leaf;
+    // quantise() one lane at a time took 50 ms of a 1M-face build). Each bound still lies
+    // outside the box it stands for, though not always at the nearest step.
+    void quantise_leaf(Group& g, const Box* boxes, std::uint32_t count, const Box& box) noexcept;
     // The box lane k of g stands for (live lanes only).
     static Box lane_box(const Group& g, std::uint32_t k) noexcept;
     // The box holding every live lane of g (empty: lo = +inf, hi = -inf, when none is live).
@@ -196,13 +208,13 @@ private:
     void clear_for_build();
     // The Morton quantisation of the box [centre_lo, centre_hi] of the items' centres.
     void quantise_codes(const double* centre_lo, const double* centre_hi);
-    // Sizes the leaves and the stored levels for items_.size() items (groups empty, leaf codes
+    // Sizes the leaves and the stored levels for `count` faces (groups empty, leaf codes
     // unwritten); the depth of the leaves in the binary tree.
-    int size_levels();
-    // Writes items_ (sorted_keys' order: 12-byte keys {code, index} at 12k, the index into
-    // `unsorted`, whose face is faces_of[index], or the index itself when faces_of is null), the
-    // leaves' codes and the leaves' boxes.
-    void gather_leaves(const Box* unsorted, const unsigned char* sorted_keys,
+    int size_levels(std::size_t count);
+    // Writes the leaves' faces and their groups (sorted_keys' order: `count` 12-byte keys
+    // {code, index} at 12k, the index into `unsorted`, whose face is faces_of[index], or the
+    // index itself when faces_of is null), the leaves' codes and the leaves' boxes.
+    void gather_leaves(const Box* unsorted, const unsigned char* sorted_keys, std::size_t count,
                        const std::int32_t* faces_of);
     // Each stored level above the leaves from the one below.
     void fill_upper_levels(int depth);
@@ -218,24 +230,28 @@ private:
     int last_level() const noexcept { return static_cast<int>(level_first_.size()) - 1; }
 
     // Tests the children groups of nodes[0, count) of stored level `level` with
-    // `mask(group)`, in order, and descends into the children near; at the leaves, every item
-    // (then every hung extra) of a leaf passing `accept(item)` is visited.
+    // `mask(group)`, in order, and descends into the children near; at the leaves, the faces
+    // whose lanes pass `mask` are visited, then the hung extras passing `accept(item)`.
     template <class Mask, class Accept, class Visit>
     void descend(int level, const std::uint32_t* nodes, std::size_t count, const Mask& mask,
                  const Accept& accept, Visit& visit) const;
-    // Visits, in leaf order (so in the same order whatever the stored levels), the items whose
-    // boxes pass `accept` in the leaves whose boxes pass `mask`, then the pending items.
+    // Visits, in leaf order (so in the same order whatever the stored levels), the faces passing
+    // `mask` (built) or `accept` (hung) in the leaves whose boxes pass `mask`, then the pending
+    // items passing `accept`.
     template <class Mask, class Accept, class Visit>
     void walk(const Mask& mask, const Accept& accept, Visit& visit) const;
 
     double margin_m_ = 0.0;
     double code_lo_[3] = {0, 0, 0};  // quantisation of centroids for Morton codes
     double code_scale_ = 0.0;
-    double max_abs_ = 0.0;                              // largest finite |coordinate| of any box, m
-    std::uint32_t leaves_ = 0;                          // leaves holding built items
-    std::uint32_t padded_leaves_ = 0;                   // power of two >= leaves_
-    std::uint32_t last_leaf_ = 0;                       // leaf of the last insert
-    std::vector<Item, HugePageAllocator<Item>> items_;  // Morton order; leaf j: [j*kLeafItems, ...)
+    double max_abs_ = 0.0;             // largest finite |coordinate| of any box, m
+    std::uint32_t leaves_ = 0;         // leaves holding built items
+    std::uint32_t padded_leaves_ = 0;  // power of two >= leaves_
+    std::uint32_t last_leaf_ = 0;      // leaf of the last insert
+    // Leaf j's faces (Morton order): their numbers at [j*kLeafItems, ...) (-1 past the last
+    // face), their boxes as the lanes of leaf_groups_[j].
+    std::vector<std::int32_t, HugePageAllocator<std::int32_t>> leaf_faces_;
+    std::vector<Group, HugePageAllocator<Group>> leaf_groups_;
     std::vector<Group, HugePageAllocator<Group>> groups_;  // every stored level, top first
     std::vector<std::size_t> level_first_;                 // first group of each stored level
     std::vector<std::uint64_t> leaf_codes_;                // Morton code of each leaf's first item
@@ -250,23 +266,21 @@ template <class Mask, class Accept, class Visit>
 void FaceTree::descend(int level, const std::uint32_t* nodes, std::size_t count, const Mask& mask,
                        const Accept& accept, Visit& visit) const {
     if (level == last_level()) {
-        // nodes are leaves: their items, prefetched a few leaves ahead.
+        // nodes are leaves: their faces' group and numbers, prefetched a few leaves ahead.
         for (std::size_t i = 0; i < count; ++i) {
             if (i + kPrefetchAhead < count) {
                 const std::uint32_t ahead = nodes[i + kPrefetchAhead];
                 if (ahead < leaves_) {
-                    const char* p =
-                        reinterpret_cast<const char*>(items_.data() + ahead * kLeafItems);
-                    for (std::size_t b = 0; b < kLeafItems * sizeof(Item); b += 64)
-                        __builtin_prefetch(p + b);
+                    __builtin_prefetch(&leaf_groups_[ahead]);
+                    __builtin_prefetch(&leaf_faces_[ahead * std::size_t{kLeafItems}]);
                     __builtin_prefetch(&extra_head_[ahead]);
                 }
             }
             const std::uint32_t leaf = nodes[i];
             if (leaf >= leaves_) continue;
-            const std::size_t end = std::min<std::size_t>(items_.size(), (leaf + 1) * kLeafItems);
-            for (std::size_t k = leaf * std::size_t{kLeafItems}; k < end; ++k)
-                if (accept(items_[k])) visit(items_[k].face);
+            const std::int32_t* const faces = &leaf_faces_[leaf * std::size_t{kLeafItems}];
+            for (std::uint32_t m = mask(leaf_groups_[leaf]); m != 0; m &= m - 1)
+                visit(faces[std::countr_zero(m)]);
             for (std::int32_t n = extra_head_[leaf]; n >= 0; n = extra_[n].next)
                 if (accept(extra_[n].item)) visit(extra_[n].item.face);
         }
