@@ -127,6 +127,9 @@ void ContextState::reserve_headroom() {
     cap_faces.reserve(cap_faces.size() + hf);
     tree.reserve(hf);
     unwritten_kinds = (1u << kKinds) - 1;
+    // The first warm_appends() (after the first cut) warms what that cut adds, not the mesh.
+    warmed_vertices = mesh.n_vertices(), warmed_edges = mesh.n_edges(),
+    warmed_faces = mesh.n_faces();
 }
 
 std::size_t ContextState::headroom_faces(std::size_t min_spare_faces) const {
@@ -148,7 +151,42 @@ bool ContextState::grow_step(std::size_t min_spare_faces) {
         write_headroom(k);
         return true;
     }
-    return grow_kind(min_spare_faces);
+    if (grow_kind(min_spare_faces)) return true;
+    if (mesh.n_vertices() == warmed_vertices && mesh.n_edges() == warmed_edges &&
+        mesh.n_faces() == warmed_faces)
+        return false;
+    warm_appends();
+    return true;
+}
+
+void ContextState::warm_appends() {
+    const std::size_t nv = mesh.n_vertices(), ne = mesh.n_edges(), nf = mesh.n_faces();
+    // Twice the growth since the last warm (0 after a shrink, as after an undone edit).
+    auto ahead = [](std::size_t n, std::size_t last, std::size_t reserved) {
+        const std::size_t grown = n > last ? n - last : 0;
+        return std::min(std::max(n, reserved), n + std::max(2 * grown, kWarmElements));
+    };
+    const std::size_t wv = ahead(nv, warmed_vertices, reserved_vertices);
+    const std::size_t we = ahead(ne, warmed_edges, reserved_edges);
+    const std::size_t wf = ahead(nf, warmed_faces, reserved_faces);
+    auto write_tail = [this](auto handle, std::size_t from) {
+        auto& v = mesh.property(handle).data_vector();
+        std::fill(v.begin() + static_cast<std::ptrdiff_t>(from), v.end(),
+                  typename std::decay_t<decltype(v)>::value_type());
+    };
+    // As write_headroom: grow within the reserved capacity, write, shrink back.
+    mesh.resize(wv, we, wf);
+    write_tail(mesh.points_pph(), nv);
+    write_tail(mesh.vertex_normals_pph(), nv);
+    write_tail(mesh.vertex_texcoords2D_pph(), nv);
+    write_tail(mesh.vertex_colors_pph(), nv);
+    write_tail(mesh.face_normals_pph(), nf);
+    mesh.resize(nv, ne, nf);
+    // And the list of cap faces, which every cut appends to as well.
+    const std::size_t caps = cap_faces.size();
+    cap_faces.resize(std::min(cap_faces.capacity(), caps + (wf - nf)));
+    cap_faces.resize(caps);
+    warmed_vertices = nv, warmed_edges = ne, warmed_faces = nf;
 }
 
 void ContextState::write_headroom(int kind) {

@@ -329,10 +329,26 @@ TEST(CutContext, TheHeadroomIsReservedAtBuildAndWrittenByTheFirstIdleSteps) {
     EXPECT_EQ(ctx.growths_in_cuts(), 0u);
     EXPECT_EQ(points, m.points());
     EXPECT_EQ(normals, m.property(m.face_normals_pph()).data_vector().data());
-    // The idle steps: the cut's pending tree inserts, then one step per element kind written.
+    // The idle steps: the cut's pending tree inserts, one step per element kind written, then
+    // the warming of the lines the next cut appends to (once: the mesh has not grown since).
+    const std::size_t nv = m.n_vertices(), ne = m.n_edges(), nf = m.n_faces();
     int steps = 0;
     while (ctx.grow_step()) ++steps;
-    EXPECT_EQ(steps, 1 + 4);
+    EXPECT_EQ(steps, 1 + 4 + 1);
+    EXPECT_FALSE(ctx.grow_step());
+    EXPECT_EQ(points, m.points());
+    EXPECT_EQ(normals, m.property(m.face_normals_pph()).data_vector().data());
+    EXPECT_EQ(m.n_vertices(), nv);
+    EXPECT_EQ(m.n_edges(), ne);
+    EXPECT_EQ(m.n_faces(), nf);
+    expect_closed_2_manifold(m);
+    // The next cut (its appends warmed), then its idle steps: its inserts and the warming.
+    const double z2 = 0.03 + 1.234e-6;
+    const Seed seed2{Vec3(0.01, 0, z2), mesh::FaceHandle(), -1.0};
+    ASSERT_TRUE(slice_by_plane(ctx, plane_of(Vec3(0, 0, z2), Vec3(0, 0, 1)), seed2, cs).ok());
+    steps = 0;
+    while (ctx.grow_step()) ++steps;
+    EXPECT_EQ(steps, 1 + 1);
     EXPECT_EQ(points, m.points());
     expect_closed_2_manifold(m);
 }
