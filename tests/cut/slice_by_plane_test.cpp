@@ -631,6 +631,71 @@ TEST(FaceTree, QueriesReportEveryFaceABruteForceTestFindsAndFewOthers) {
     }
 }
 
+// Built leaves whose faces differ in size by six orders of magnitude (0.1 um to 10 cm, in one
+// leaf), far from and near the origin: each leaf's quantised frame must still hold every face's
+// box (its step grows until the largest fits), so every face a brute-force test of the boxes
+// finds is reported, none twice.
+TEST(FaceTree, LeavesOfFacesOfEverySizeMissNoFace) {
+    for (const double offset : {0.0, 0.3, -40.0}) {
+        mesh::TriMesh m;
+        std::mt19937_64 rng(11);
+        std::uniform_real_distribution<double> u(-0.05, 0.05), unit(-1.0, 1.0);
+        for (int i = 0; i < 4000; ++i) {
+            const double size = std::pow(10.0, -7.0 + 6.0 * (i % 7) / 6.0);
+            const Vec3 c = Vec3(u(rng), u(rng), u(rng)) + Vec3(offset, offset, -offset);
+            const auto a = m.add_vertex(c),
+                       b = m.add_vertex(c + size * Vec3(unit(rng), unit(rng), unit(rng))),
+                       d = m.add_vertex(c + size * Vec3(unit(rng), unit(rng), unit(rng)));
+            m.add_face(a, b, d);
+        }
+        kerf::cut::detail::FaceTree tree;
+        tree.build(m);
+        std::vector<kerf::cut::detail::FaceTree::Box> boxes;
+        for (auto f : m.faces()) boxes.push_back(float_box(m, f));
+        int found = 0;
+        for (int q = 0; q < 60; ++q) {
+            const Vec3 p = m.point(mesh::VertexHandle(
+                std::uniform_int_distribution<int>(0, static_cast<int>(m.n_vertices()) - 1)(rng)));
+            const Plane plane = *Plane::make(p, Vec3(unit(rng), unit(rng), unit(rng) + 2.0));
+            const Vec2 lo(-0.02, -0.02), hi(0.02, 0.02);
+            std::vector<int> seen(m.n_faces(), 0);
+            tree.for_each_near_plane(plane, lo, hi, 0.0, [&](std::int32_t f) { ++seen[f]; });
+            Vec3 bl(1e300, 1e300, 1e300), bh(-1e300, -1e300, -1e300);
+            for (int c = 0; c < 4; ++c) {
+                const Vec3 k = plane.to_3d(Vec2((c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1]));
+                bl.minimize(k), bh.maximize(k);
+            }
+            const double c0 = OpenMesh::dot(plane.normal(), plane.point());
+            std::vector<int> near_point(m.n_faces(), 0);
+            tree.for_each_near_point(p, 1e-6, [&](std::int32_t f) { ++near_point[f]; });
+            for (std::size_t f = 0; f < boxes.size(); ++f) {
+                const auto& b = boxes[f];
+                bool near = true;
+                double centre = 0.0, extent = 0.0, d2 = 0.0;
+                for (int a = 0; a < 3; ++a) {
+                    near &= !(b.lo[a] > bh[a] || b.hi[a] < bl[a]);
+                    centre += plane.normal()[a] * 0.5 * (double(b.lo[a]) + b.hi[a]);
+                    extent += std::abs(plane.normal()[a]) * 0.5 * (double(b.hi[a]) - b.lo[a]);
+                    const double below = b.lo[a] - p[a], above = p[a] - b.hi[a];
+                    const double d = below > 0 ? below : (above > 0 ? above : 0.0);
+                    d2 += d * d;
+                }
+                near &= std::abs(centre - c0) <= extent;
+                found += near;
+                ASSERT_LE(seen[f], 1) << "face " << f << ", plane " << q;
+                if (near) {
+                    ASSERT_EQ(seen[f], 1) << "face " << f << ", plane " << q;
+                }
+                ASSERT_LE(near_point[f], 1) << "face " << f << ", point " << q;
+                if (d2 <= 1e-12) {
+                    ASSERT_EQ(near_point[f], 1) << "face " << f << ", point " << q;
+                }
+            }
+        }
+        EXPECT_GT(found, 500) << "offset " << offset;
+    }
+}
+
 // A mesh with a NaN or an infinite coordinate: the float bound on the group tests' rounding is
 // then infinite, so every group test passes, an empty lane's too. The top group's empty lanes
 // (past its 1, 2 or 4 nodes) have no children: a query descending into them read past the
