@@ -445,6 +445,48 @@ kerf::cut::detail::FaceTree::Box float_box(const mesh::TriMesh& m, mesh::FaceHan
     return b;
 }
 
+// The double test of for_each_near_plane (the plane, the box around its patch [lo, hi] thickened
+// by the slack), on a face's float box grown by `grow` a side.
+class PlaneProbe {
+public:
+    PlaneProbe(const Plane& plane, const Vec2& lo, const Vec2& hi, double slack)
+        : n_(plane.normal()), c0_(OpenMesh::dot(plane.normal(), plane.point())), slack_(slack) {
+        for (int c = 0; c < 4; ++c) {
+            const Vec3 k = plane.to_3d(Vec2((c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1]));
+            bl_.minimize(k), bh_.maximize(k);
+        }
+        bl_ -= Vec3(slack, slack, slack), bh_ += Vec3(slack, slack, slack);
+    }
+    double c0() const { return c0_; }
+    bool near(const kerf::cut::detail::FaceTree::Box& b, double grow = 0.0) const {
+        bool near = true;
+        double centre = 0.0, extent = 0.0;
+        for (int a = 0; a < 3; ++a) {
+            near &= !(b.lo[a] - grow > bh_[a] || b.hi[a] + grow < bl_[a]);
+            centre += n_[a] * 0.5 * (double(b.lo[a]) + b.hi[a]);
+            extent += std::abs(n_[a]) * (0.5 * (double(b.hi[a]) - b.lo[a]) + grow);
+        }
+        return near && std::abs(centre - c0_) <= extent + slack_;
+    }
+
+private:
+    Vec3 n_;
+    double c0_, slack_;
+    Vec3 bl_{1e300, 1e300, 1e300}, bh_{-1e300, -1e300, -1e300};
+};
+
+// The squared distance from p to a face's float box grown by `grow` a side, as
+// for_each_near_point's double test measures it.
+double box_distance2(const kerf::cut::detail::FaceTree::Box& b, const Vec3& p, double grow = 0.0) {
+    double d2 = 0.0;
+    for (int a = 0; a < 3; ++a) {
+        const double below = b.lo[a] - grow - p[a], above = p[a] - b.hi[a] - grow;
+        const double d = below > 0 ? below : (above > 0 ? above : 0.0);
+        d2 += d * d;
+    }
+    return d2;
+}
+
 // The branch-free float rounding of face boxes gives std::nextafter's values: x rounded to float,
 // stepped once the other way when the rounding went past x (zeros, infinities and NaN included).
 TEST(FaceTree, BoxRoundingMatchesNextafter) {
@@ -555,28 +597,10 @@ TEST(FaceTree, QueriesReportEveryFaceABruteForceTestFindsAndFewOthers) {
             const Vec2 hi = lo + Vec2(0.008, 0.008);
             std::vector<int> seen(m.n_faces(), 0);
             tree.for_each_near_plane(plane, lo, hi, slack, [&](std::int32_t f) { ++seen[f]; });
-            // The double test of for_each_near_plane, on a face's box grown by `grow` a side.
-            Vec3 bl(1e300, 1e300, 1e300), bh(-1e300, -1e300, -1e300);
-            for (int c = 0; c < 4; ++c) {
-                const Vec3 k = plane.to_3d(Vec2((c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1]));
-                bl.minimize(k), bh.maximize(k);
-            }
-            bl -= Vec3(slack, slack, slack), bh += Vec3(slack, slack, slack);
-            const double c0 = OpenMesh::dot(plane.normal(), plane.point());
-            auto near_plane = [&](const kerf::cut::detail::FaceTree::Box& b, double grow) {
-                bool near = true;
-                double centre = 0.0, extent = 0.0;
-                for (int a = 0; a < 3; ++a) {
-                    near &= !(b.lo[a] - grow > bh[a] || b.hi[a] + grow < bl[a]);
-                    centre += plane.normal()[a] * 0.5 * (double(b.lo[a]) + b.hi[a]);
-                    extent +=
-                        std::abs(plane.normal()[a]) * (0.5 * (double(b.hi[a]) - b.lo[a]) + grow);
-                }
-                return near && std::abs(centre - c0) <= extent + slack;
-            };
+            const PlaneProbe probe(plane, lo, hi, slack);
             int expected = 0;
             for (std::size_t f = 0; f < boxes.size(); ++f) {
-                const bool near = near_plane(boxes[f], 0.0);
+                const bool near = probe.near(boxes[f]);
                 expected += near;
                 if (near || f >= tube_faces) {
                     ASSERT_EQ(seen[f], near ? 1 : 0) << "face " << f << ", query " << q;
@@ -584,7 +608,8 @@ TEST(FaceTree, QueriesReportEveryFaceABruteForceTestFindsAndFewOthers) {
                     ASSERT_LE(seen[f], 1) << "face " << f << ", query " << q;
                     if (seen[f] == 1) {
                         ++beyond;
-                        ASSERT_TRUE(near_plane(boxes[f], quantum + float_error(std::abs(c0))))
+                        ASSERT_TRUE(
+                            probe.near(boxes[f], quantum + float_error(std::abs(probe.c0()))))
                             << "face " << f << ", query " << q;
                     }
                 }
@@ -596,24 +621,17 @@ TEST(FaceTree, QueriesReportEveryFaceABruteForceTestFindsAndFewOthers) {
             std::fill(seen.begin(), seen.end(), 0);
             const Vec3 at = p + Vec3(0.0, 0.0, q % 2 ? 0.0 : r);
             tree.for_each_near_point(at, r, [&](std::int32_t f) { ++seen[f]; });
-            auto distance = [&](const kerf::cut::detail::FaceTree::Box& b, double grow) {
-                double d2 = 0.0;
-                for (int a = 0; a < 3; ++a) {
-                    const double below = b.lo[a] - grow - at[a], above = at[a] - b.hi[a] - grow;
-                    const double d = below > 0 ? below : (above > 0 ? above : 0.0);
-                    d2 += d * d;
-                }
-                return std::sqrt(d2);
-            };
             for (std::size_t f = 0; f < boxes.size(); ++f) {
-                const bool near = distance(boxes[f], 0.0) <= r;
+                const bool near = std::sqrt(box_distance2(boxes[f], at)) <= r;
                 if (near || f >= tube_faces) {
                     ASSERT_EQ(seen[f], near ? 1 : 0) << "face " << f << ", point " << q;
                 } else {
                     ASSERT_LE(seen[f], 1) << "face " << f << ", point " << q;
                     if (seen[f] == 1) {
                         ++beyond;
-                        ASSERT_LE(distance(boxes[f], quantum + float_error(offset)), r)
+                        ASSERT_LE(
+                            std::sqrt(box_distance2(boxes[f], at, quantum + float_error(offset))),
+                            r)
                             << "face " << f << ", point " << q << ", offset " << offset;
                     }
                 }
@@ -660,27 +678,12 @@ TEST(FaceTree, LeavesOfFacesOfEverySizeMissNoFace) {
             const Vec2 lo(-0.02, -0.02), hi(0.02, 0.02);
             std::vector<int> seen(m.n_faces(), 0);
             tree.for_each_near_plane(plane, lo, hi, 0.0, [&](std::int32_t f) { ++seen[f]; });
-            Vec3 bl(1e300, 1e300, 1e300), bh(-1e300, -1e300, -1e300);
-            for (int c = 0; c < 4; ++c) {
-                const Vec3 k = plane.to_3d(Vec2((c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1]));
-                bl.minimize(k), bh.maximize(k);
-            }
-            const double c0 = OpenMesh::dot(plane.normal(), plane.point());
+            const PlaneProbe probe(plane, lo, hi, 0.0);
             std::vector<int> near_point(m.n_faces(), 0);
             tree.for_each_near_point(p, 1e-6, [&](std::int32_t f) { ++near_point[f]; });
             for (std::size_t f = 0; f < boxes.size(); ++f) {
-                const auto& b = boxes[f];
-                bool near = true;
-                double centre = 0.0, extent = 0.0, d2 = 0.0;
-                for (int a = 0; a < 3; ++a) {
-                    near &= !(b.lo[a] > bh[a] || b.hi[a] < bl[a]);
-                    centre += plane.normal()[a] * 0.5 * (double(b.lo[a]) + b.hi[a]);
-                    extent += std::abs(plane.normal()[a]) * 0.5 * (double(b.hi[a]) - b.lo[a]);
-                    const double below = b.lo[a] - p[a], above = p[a] - b.hi[a];
-                    const double d = below > 0 ? below : (above > 0 ? above : 0.0);
-                    d2 += d * d;
-                }
-                near &= std::abs(centre - c0) <= extent;
+                const bool near = probe.near(boxes[f]);
+                const double d2 = box_distance2(boxes[f], p);
                 found += near;
                 ASSERT_LE(seen[f], 1) << "face " << f << ", plane " << q;
                 if (near) {
