@@ -116,6 +116,31 @@ void ContextState::index() {
     }
 }
 
+namespace {
+
+// Writes every element array of `mesh` from its size up to `vertices`, `edges`, `faces` (within
+// the reserved capacity) and shrinks back, so that those elements' pages are resident and their
+// lines in cache: value-initialised elements are written by resize, the vector types (which
+// default construction leaves unwritten) explicitly; std::vector keeps the capacity, the kernel
+// keeps the pages.
+void write_beyond(mesh::TriMesh& mesh, std::size_t vertices, std::size_t edges, std::size_t faces) {
+    const std::size_t nv = mesh.n_vertices(), ne = mesh.n_edges(), nf = mesh.n_faces();
+    auto write_tail = [&mesh](auto handle, std::size_t from) {
+        auto& v = mesh.property(handle).data_vector();
+        std::fill(v.begin() + static_cast<std::ptrdiff_t>(from), v.end(),
+                  typename std::decay_t<decltype(v)>::value_type());
+    };
+    mesh.resize(vertices, edges, faces);
+    write_tail(mesh.points_pph(), nv);
+    write_tail(mesh.vertex_normals_pph(), nv);
+    write_tail(mesh.vertex_texcoords2D_pph(), nv);
+    write_tail(mesh.vertex_colors_pph(), nv);
+    write_tail(mesh.face_normals_pph(), nf);
+    mesh.resize(nv, ne, nf);
+}
+
+}  // namespace
+
 void ContextState::reserve_headroom() {
     // Room for the cuts to come, reserved now (no cut reallocates); the first idle steps write
     // it (grow_step), so that no cut page-faults either.
@@ -169,19 +194,7 @@ void ContextState::warm_appends() {
     const std::size_t wv = ahead(nv, warmed_vertices, reserved_vertices);
     const std::size_t we = ahead(ne, warmed_edges, reserved_edges);
     const std::size_t wf = ahead(nf, warmed_faces, reserved_faces);
-    auto write_tail = [this](auto handle, std::size_t from) {
-        auto& v = mesh.property(handle).data_vector();
-        std::fill(v.begin() + static_cast<std::ptrdiff_t>(from), v.end(),
-                  typename std::decay_t<decltype(v)>::value_type());
-    };
-    // As write_headroom: grow within the reserved capacity, write, shrink back.
-    mesh.resize(wv, we, wf);
-    write_tail(mesh.points_pph(), nv);
-    write_tail(mesh.vertex_normals_pph(), nv);
-    write_tail(mesh.vertex_texcoords2D_pph(), nv);
-    write_tail(mesh.vertex_colors_pph(), nv);
-    write_tail(mesh.face_normals_pph(), nf);
-    mesh.resize(nv, ne, nf);
+    write_beyond(mesh, wv, we, wf);
     // And the list of cap faces, which every cut appends to as well.
     const std::size_t caps = cap_faces.size();
     cap_faces.resize(std::min(cap_faces.capacity(), caps + (wf - nf)));
@@ -191,36 +204,20 @@ void ContextState::warm_appends() {
 
 void ContextState::write_headroom(int kind) {
     const std::size_t nv = mesh.n_vertices(), ne = mesh.n_edges(), nf = mesh.n_faces();
-    // Writes elements [from, size) of a property whose type default construction leaves
-    // unwritten (OpenMesh's vectors), so that its pages become resident.
-    auto write_tail = [this](auto handle, std::size_t from) {
-        auto& v = mesh.property(handle).data_vector();
-        std::fill(v.begin() + static_cast<std::ptrdiff_t>(from), v.end(),
-                  typename std::decay_t<decltype(v)>::value_type());
-    };
-    // Grow into the reserved capacity and shrink back: value-initialised elements are written by
-    // resize, the vector types (which default construction leaves unwritten) explicitly;
-    // std::vector keeps the capacity, the kernel keeps the pages.
     switch (static_cast<Kind>(kind)) {
         case Kind::kVertices:
-            mesh.resize(std::max(nv, reserved_vertices), ne, nf);
-            write_tail(mesh.points_pph(), nv);
-            write_tail(mesh.vertex_normals_pph(), nv);
-            write_tail(mesh.vertex_texcoords2D_pph(), nv);
-            write_tail(mesh.vertex_colors_pph(), nv);
+            write_beyond(mesh, std::max(nv, reserved_vertices), ne, nf);
             break;
         case Kind::kEdges:
-            mesh.resize(nv, std::max(ne, reserved_edges), nf);
+            write_beyond(mesh, nv, std::max(ne, reserved_edges), nf);
             break;
         case Kind::kFaces:
-            mesh.resize(nv, ne, std::max(nf, reserved_faces));
-            write_tail(mesh.face_normals_pph(), nf);
+            write_beyond(mesh, nv, ne, std::max(nf, reserved_faces));
             break;
         case Kind::kTree:
             tree.make_resident();
             break;
     }
-    mesh.resize(nv, ne, nf);
     unwritten_kinds &= ~(1u << kind);
 }
 
