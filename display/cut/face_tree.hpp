@@ -122,6 +122,11 @@ public:
     /// Bytes held (capacity of every array).
     std::size_t memory_bytes() const noexcept;
 
+    /// Whether plane queries test eight lanes at once (AVX2, where the CPU has it: the default)
+    /// or four (SSE); returns the previous setting. Both report the same faces: for tests, which
+    /// check each way.
+    static bool set_wide_group_tests(bool on) noexcept;
+
 private:
     static constexpr std::uint32_t kLeafItems = 8;
     static constexpr std::uint32_t kCoarseStride = 64;
@@ -169,7 +174,12 @@ private:
         float p[3];
         float r2;
     };
+    // Which lanes of g pass a plane query: plane_mask_wide (8 lanes at once, AVX2) where the CPU
+    // has it and set_wide_group_tests has not turned it off, else plane_mask_narrow (4 at once,
+    // SSE; one at a time elsewhere). Both give the same masks.
     static std::uint32_t plane_mask(const Group& g, const PlaneLanes& q) noexcept;
+    static std::uint32_t plane_mask_narrow(const Group& g, const PlaneLanes& q) noexcept;
+    static std::uint32_t plane_mask_wide(const Group& g, const PlaneLanes& q) noexcept;
     static std::uint32_t point_mask(const Group& g, const PointLanes& q) noexcept;
     /// A bound on the float rounding of a group test's sums over coordinates of magnitude up to
     /// max_abs_, m.

@@ -487,6 +487,28 @@ double box_distance2(const kerf::cut::detail::FaceTree::Box& b, const Vec3& p, d
     return d2;
 }
 
+// Queries compared both ways by near_plane_both_ways (0 where the CPU has no AVX2).
+int queries_compared_both_ways = 0;
+
+// The faces a plane query reports, in order, with the eight-lane (AVX2) group tests; where the
+// CPU has them, the query again with the four-lane (SSE) ones must report the same faces in the
+// same order.
+std::vector<std::int32_t> near_plane_both_ways(const kerf::cut::detail::FaceTree& tree,
+                                               const Plane& plane, const Vec2& lo, const Vec2& hi,
+                                               double slack) {
+    using kerf::cut::detail::FaceTree;
+    std::vector<std::int32_t> wide, narrow;
+    tree.for_each_near_plane(plane, lo, hi, slack, [&](std::int32_t f) { wide.push_back(f); });
+    if (FaceTree::set_wide_group_tests(false)) {
+        tree.for_each_near_plane(plane, lo, hi, slack,
+                                 [&](std::int32_t f) { narrow.push_back(f); });
+        FaceTree::set_wide_group_tests(true);
+        EXPECT_EQ(wide, narrow);
+        ++queries_compared_both_ways;
+    }
+    return wide;
+}
+
 // The branch-free float rounding of face boxes gives std::nextafter's values: x rounded to float,
 // stepped once the other way when the rounding went past x (zeros, infinities and NaN included).
 TEST(FaceTree, BoxRoundingMatchesNextafter) {
@@ -545,8 +567,10 @@ TEST(FaceTree, BoxRoundingMatchesNextafter) {
 // none twice, each within two steps of its leaf's frame on each axis (at most 1/63 of the leaf's
 // extent, bounded here by the mesh's) plus the float rounding the tests allow for, and, near the
 // origin, fewer than the faces near. A hung face (an insert) is
-// tested on its exact box: reported exactly when near.
+// tested on its exact box: reported exactly when near. The plane queries run with the eight-lane
+// and the four-lane group tests: the same faces, in the same order.
 TEST(FaceTree, QueriesReportEveryFaceABruteForceTestFindsAndFewOthers) {
+    const int compared_before = queries_compared_both_ways;
     for (const double offset : {0.0, 0.7, 300.0}) {
         auto m = mesh::make_hollow_tube(0.05, 0.006, 0.003, 32, 700);
         for (auto v : m.vertices()) m.set_point(v, m.point(v) + Vec3(offset, -offset, offset));
@@ -596,7 +620,7 @@ TEST(FaceTree, QueriesReportEveryFaceABruteForceTestFindsAndFewOthers) {
             const Vec2 lo(-0.004 + 0.002 * u(rng), -0.004 + 0.002 * u(rng));
             const Vec2 hi = lo + Vec2(0.008, 0.008);
             std::vector<int> seen(m.n_faces(), 0);
-            tree.for_each_near_plane(plane, lo, hi, slack, [&](std::int32_t f) { ++seen[f]; });
+            for (const std::int32_t f : near_plane_both_ways(tree, plane, lo, hi, slack)) ++seen[f];
             const PlaneProbe probe(plane, lo, hi, slack);
             int expected = 0;
             for (std::size_t f = 0; f < boxes.size(); ++f) {
@@ -647,6 +671,12 @@ TEST(FaceTree, QueriesReportEveryFaceABruteForceTestFindsAndFewOthers) {
         std::printf("offset %g: %d faces near the planes, %d reported beyond\n", offset, found,
                     beyond);
     }
+    // The eight-lane group tests were checked against the four-lane ones wherever both exist.
+#if defined(__x86_64__)
+    if (__builtin_cpu_supports("avx2")) {
+        EXPECT_EQ(queries_compared_both_ways - compared_before, 3 * 40);
+    }
+#endif
 }
 
 // Built leaves whose faces differ in size by six orders of magnitude (0.1 um to 10 cm, in one
@@ -677,7 +707,7 @@ TEST(FaceTree, LeavesOfFacesOfEverySizeMissNoFace) {
             const Plane plane = *Plane::make(p, Vec3(unit(rng), unit(rng), unit(rng) + 2.0));
             const Vec2 lo(-0.02, -0.02), hi(0.02, 0.02);
             std::vector<int> seen(m.n_faces(), 0);
-            tree.for_each_near_plane(plane, lo, hi, 0.0, [&](std::int32_t f) { ++seen[f]; });
+            for (const std::int32_t f : near_plane_both_ways(tree, plane, lo, hi, 0.0)) ++seen[f];
             const PlaneProbe probe(plane, lo, hi, 0.0);
             std::vector<int> near_point(m.n_faces(), 0);
             tree.for_each_near_point(p, 1e-6, [&](std::int32_t f) { ++near_point[f]; });
@@ -738,7 +768,9 @@ TEST(FaceTree, QueriesOnAMeshWithANonFiniteCoordinateStayInsideTheTree) {
                         << "rings " << rings << (hung ? ", hung" : "") << ", face " << f.idx();
                 std::fill(seen.begin(), seen.end(), 0);
                 const Plane plane = *Plane::make(p, Vec3(0, 0, 1));
-                tree.for_each_near_plane(plane, Vec2(-0.01, -0.01), Vec2(0.01, 0.01), 0.0, count);
+                for (const std::int32_t f :
+                     near_plane_both_ways(tree, plane, Vec2(-0.01, -0.01), Vec2(0.01, 0.01), 0.0))
+                    count(f);
                 for (const auto f : m.vf_range(mesh::VertexHandle(0)))
                     EXPECT_EQ(seen[f.idx()], 1)
                         << "rings " << rings << (hung ? ", hung" : "") << ", face " << f.idx();
