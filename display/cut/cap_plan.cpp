@@ -352,22 +352,35 @@ public:
     // Flips the edge of slot si = 3i + e (c -> a, triangle i = (a, b, c) read from a) with its
     // reverse sj = 3j + f (a -> c, triangle j = (a, c, d)): i becomes (a, b, d), j (b, c, d).
     void flip(std::uint32_t si, std::uint32_t sj) {
-        static constexpr int kNext[3] = {1, 2, 0}, kAfterNext[3] = {2, 0, 1};  // (k + 1, 2) % 3
         const std::uint32_t i = si / 3, j = sj / 3;
         const int e = static_cast<int>(si - 3 * i), f = static_cast<int>(sj - 3 * j);
         const int e1 = kNext[e], e2 = kAfterNext[e], f1 = kNext[f], f2 = kAfterNext[f];
-        const Triangle ti = tris_[i], tj = tris_[j];
-        const std::uint32_t a = corner(ti, e1), b = corner(ti, e2), c = corner(ti, e),
-                            d = corner(tj, f2);
         const std::uint32_t ab = nb_[3 * i + e1], bc = nb_[3 * i + e2];
         const std::uint32_t cd = nb_[3 * j + f1], da = nb_[3 * j + f2];
-        tris_[i] = Triangle{a, b, d};
-        tris_[j] = Triangle{b, c, d};
+        const Triangle ti = tris_[i];
+        const std::uint32_t d = corner(tris_[j], f2);
+        tris_[i] = Triangle{corner(ti, e1), corner(ti, e2), d};
+        tris_[j] = Triangle{corner(ti, e2), corner(ti, e), d};
         link(3 * i, ab), link(3 * i + 2, da), link(3 * j, bc), link(3 * j + 1, cd);
         nb_[3 * i + 1] = 3 * j + 2, nb_[3 * j + 2] = 3 * i + 1;
     }
 
+    // The triangles flip(si, sj) would make of triangle `ti` through slot si (corner e = si % 3
+    // to the next) and the apex d across it: (a, b, d) and (b, c, d), changing nothing.
+    static std::pair<Triangle, Triangle> flipped(const Triangle& ti, int e, std::uint32_t d) {
+        return {Triangle{corner(ti, kNext[e]), corner(ti, kAfterNext[e]), d},
+                Triangle{corner(ti, kAfterNext[e]), corner(ti, e), d}};
+    }
+    // The corner of triangle t opposite its edge v -> u, or kNoCapNeighbour when t has none.
+    static std::uint32_t apex_of(const Triangle& t, std::uint32_t v, std::uint32_t u) {
+        for (int k = 0; k < 3; ++k)
+            if (corner(t, k) == v && corner(t, kNext[k]) == u) return corner(t, kAfterNext[k]);
+        return kNoCapNeighbour;
+    }
+
 private:
+    static constexpr int kNext[3] = {1, 2, 0}, kAfterNext[3] = {2, 0, 1};  // (k + 1, 2) % 3
+
     void link(std::uint32_t s, std::uint32_t other) {
         nb_[s] = other;
         if (other != kNoCapNeighbour) nb_[other] = s;
@@ -566,6 +579,51 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
     delaunay_flips(plan, tris, adj, good, known);
     // Tries the flip across the longest edge first, then the other two; good triangles first,
     // then acceptable ones.
+    // A needle no one flip mends: three points of a near-straight run of the rim (where the
+    // plane crosses an earlier cap along the line the two planes meet, cut points lie on that
+    // line to a fraction of tol), its neighbour across the inner edge holding a fourth point of
+    // the run, so both triangles of any flip keep three points of the run. Flipping that
+    // neighbour's other edge first (two good triangles) brings in an apex off the run; the
+    // needle's flip then makes two good (or acceptable) triangles. Both flips are worked out
+    // before either is made. Reached only where the cut would otherwise be refused.
+    auto two_flips = [&](std::size_t i) {
+        const Triangle ti = tris[i];
+        for (int e = 0; e < 3; ++e) {
+            const auto si = static_cast<std::uint32_t>(3 * i + e);
+            const std::uint32_t sj = adj.across(si);
+            if (sj == kNoCapNeighbour) continue;
+            const std::uint32_t u = CapAdjacency::corner(ti, e),
+                                v = CapAdjacency::corner(ti, (e + 1) % 3);
+            const std::uint32_t j = sj / 3;
+            for (int g = 1; g < 3; ++g) {
+                const int fk = (static_cast<int>(sj % 3) + g) % 3;
+                const auto sk = static_cast<std::uint32_t>(3 * j + fk);
+                const std::uint32_t sl = adj.across(sk);
+                if (sl == kNoCapNeighbour || sl / 3 == i || sl / 3 == j) continue;
+                const std::uint32_t dl = CapAdjacency::corner(tris[sl / 3], (sl % 3 + 2) % 3);
+                const auto [j1, j2] = CapAdjacency::flipped(tris[j], fk, dl);
+                if (!good(j1) || !good(j2)) continue;
+                std::uint32_t d = CapAdjacency::apex_of(j1, v, u);
+                if (d == kNoCapNeighbour) d = CapAdjacency::apex_of(j2, v, u);
+                if (d == kNoCapNeighbour) continue;
+                const auto [i1, i2] = CapAdjacency::flipped(ti, e, d);
+                const char grade = good(i1) && good(i2)               ? kKnownGood
+                                   : acceptable(i1) && acceptable(i2) ? kKnownAcceptable
+                                                                      : kUnknown;
+                if (grade == kUnknown) continue;
+                adj.flip(sk, sl);
+                KERF_ASSERT(adj.across(si) != kNoCapNeighbour &&
+                                CapAdjacency::apex_of(tris[adj.across(si) / 3], v, u) == d,
+                            "the first flip put the planned apex across the needle");
+                const std::uint32_t sm = adj.across(si);
+                known[j] = known[sl / 3] = kKnownGood;
+                adj.flip(si, sm);
+                known[i] = known[sm / 3] = grade;
+                return true;
+            }
+        }
+        return false;
+    };
     bool failed = false;
     for (std::size_t i = 0; i < tris.size(); ++i) {
         if (known[i] == kKnownGood) continue;
@@ -603,7 +661,7 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
                 known[i] = known[sj / 3] = tier == 0 ? kKnownGood : kKnownAcceptable;
             }
         }
-        if (fixed) continue;
+        if (fixed || two_flips(i)) continue;
         // Cut points clustered round a vertex just beyond the tolerance: propose snapping it
         // (plan_snapped), so that the cluster becomes that one rim vertex.
         failed = true;
