@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cinttypes>
 #include <cstdio>
@@ -234,26 +235,47 @@ Status<FileError> AtomicFileSet::commit() {
                                  "written"}};
         }
     }
-    for (auto& e : entries_) {
-        e.temp = temp_name_for(e.target);
-        const int fd =
-            ::open(e.temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, 0644);
-        if (fd < 0) {
-            const int err = errno;
-            e.temp.clear();
-            remove_temps();
-            return Err{FileError{FileErrc::kIo, e.target.string(),
-                                 "cannot create a temporary file next to it: " + errno_text(err) +
-                                     "; nothing written"}};
+    // Every temp is written and its writeback started before any is waited for, so the disk
+    // works on all of them at once instead of one fsync after another (20 pieces: 20 waits in
+    // a row). At most kOpenAtOnce descriptors are held: the set is written in batches.
+    constexpr std::size_t kOpenAtOnce = 64;
+    std::vector<int> open_fds;
+    auto fail = [&](const Entry& e, const std::string& what, int err) -> Status<FileError> {
+        for (const int fd : open_fds) ::close(fd);
+        open_fds.clear();
+        remove_temps();
+        return Err{FileError{FileErrc::kIo, e.target.string(),
+                             what + errno_text(err) + "; nothing written"}};
+    };
+    for (std::size_t first = 0; first < entries_.size(); first += kOpenAtOnce) {
+        const std::size_t end = std::min(entries_.size(), first + kOpenAtOnce);
+        for (std::size_t i = first; i < end; ++i) {
+            Entry& e = entries_[i];
+            e.temp = temp_name_for(e.target);
+            const int fd =
+                ::open(e.temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, 0644);
+            if (fd < 0) {
+                const int err = errno;
+                e.temp.clear();
+                return fail(e, "cannot create a temporary file next to it: ", err);
+            }
+            open_fds.push_back(fd);
+            if (!write_all(fd, e.contents.data(), e.contents.size())) {
+                const int err = errno;
+                return fail(e, "write failed: ", err);
+            }
+            // Only a hint (not every file system has it): fsync below is what makes it durable.
+            (void)::sync_file_range(fd, 0, 0, SYNC_FILE_RANGE_WRITE);
         }
-        const bool ok = write_all(fd, e.contents.data(), e.contents.size()) && fsync(fd) == 0;
-        const int err = errno;
-        ::close(fd);
-        if (!ok) {
-            remove_temps();
-            return Err{FileError{FileErrc::kIo, e.target.string(),
-                                 "write failed: " + errno_text(err) + "; nothing written"}};
+        for (std::size_t i = first; i < end; ++i) {
+            const int fd = open_fds[i - first];
+            if (fsync(fd) != 0) {
+                const int err = errno;
+                return fail(entries_[i], "write failed: ", err);
+            }
         }
+        for (const int fd : open_fds) ::close(fd);
+        open_fds.clear();
     }
     for (std::size_t i = 0; i < entries_.size(); ++i) {
         Entry& e = entries_[i];

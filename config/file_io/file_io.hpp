@@ -100,9 +100,10 @@ public:
     /// Error if any target is the same file as one of `inputs`, or two targets are the same.
     Status<FileError> refuse_inputs(const std::vector<std::filesystem::path>& inputs) const;
 
-    /// Writes every temp file (mode 0644 less umask, O_EXCL, fsync), then renames each over its
-    /// target; on any failure before the renames, removes every temp and leaves targets as they
-    /// were. A target that exists and is not a regular file (directory, FIFO, device) is refused.
+    /// Writes every temp file (mode 0644 less umask, O_EXCL, fsync; up to 64 written, their
+    /// writeback started, before the first is waited for), then renames each over its target; on
+    /// any failure before the renames, removes every temp and leaves targets as they were. A target
+    /// that exists and is not a regular file (directory, FIFO, device) is refused.
     Status<FileError> commit();
 
 private:

@@ -129,6 +129,36 @@ TEST_F(FileIo, AMultiFileSetAppearsWholeOrNotAtAll) {
     EXPECT_EQ(entries(), 2u);                     // no temp file left behind
 }
 
+// More files than the writer holds open at once (it writes in batches of 64): every file in
+// place with its contents, no temp and no descriptor left; a failure in the last batch removes
+// the temps of the batches before it and puts no target in place.
+TEST_F(FileIo, ASetLargerThanABatchIsWholeOrNotAtAllAndLeavesNoDescriptorOpen) {
+    auto open_fds = [] {
+        return std::distance(fs::directory_iterator("/proc/self/fd"), fs::directory_iterator());
+    };
+    const auto fds_before = open_fds();
+    constexpr int kFiles = 150;
+    {
+        AtomicFileSet set;
+        for (int i = 0; i < kFiles; ++i)
+            set.add(dir_ / ("p_" + std::to_string(i) + ".txt"), "piece " + std::to_string(i));
+        set.add(dir_ / "missing-folder" / "last.txt", "x");  // its temp cannot be created
+        auto r = set.commit();
+        ASSERT_FALSE(r);
+        EXPECT_NE(r.error().what.find("cannot create a temporary file"), std::string::npos);
+        EXPECT_EQ(entries(), 0u) << "temps of the earlier batches were left behind";
+    }
+    EXPECT_EQ(open_fds(), fds_before);
+    AtomicFileSet set;
+    for (int i = 0; i < kFiles; ++i)
+        set.add(dir_ / ("p_" + std::to_string(i) + ".txt"), "piece " + std::to_string(i));
+    ASSERT_TRUE(set.commit());
+    EXPECT_EQ(entries(), std::size_t{kFiles});
+    for (int i = 0; i < kFiles; ++i)
+        EXPECT_EQ(get(dir_ / ("p_" + std::to_string(i) + ".txt")), "piece " + std::to_string(i));
+    EXPECT_EQ(open_fds(), fds_before);
+}
+
 TEST_F(FileIo, AnOutputThatIsAnInputIsRefusedWhateverThePath) {
     put(dir_ / "x_1.stl", "bone");
     fs::create_symlink(dir_ / "x_1.stl", dir_ / "alias.stl");
