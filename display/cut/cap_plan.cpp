@@ -577,8 +577,6 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
     }
     std::vector<char> known(tris.size(), kUnknown);
     delaunay_flips(plan, tris, adj, good, known);
-    // Tries the flip across the longest edge first, then the other two; good triangles first,
-    // then acceptable ones.
     // A needle no one flip mends: three points of a near-straight run of the rim (where the
     // plane crosses an earlier cap along the line the two planes meet, cut points lie on that
     // line to a fraction of tol), its neighbour across the inner edge holding a fourth point of
@@ -624,6 +622,8 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
         }
         return false;
     };
+    // Tries the flip across the longest edge first, then the other two; good triangles first,
+    // then acceptable ones.
     bool failed = false;
     for (std::size_t i = 0; i < tris.size(); ++i) {
         if (known[i] == kKnownGood) continue;
