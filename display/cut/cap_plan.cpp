@@ -371,11 +371,12 @@ public:
         return {Triangle{corner(ti, kNext[e]), corner(ti, kAfterNext[e]), d},
                 Triangle{corner(ti, kAfterNext[e]), corner(ti, e), d}};
     }
-    // The corner of triangle t opposite its edge v -> u, or kNoCapNeighbour when t has none.
+    static constexpr std::uint32_t kNoCorner = ~std::uint32_t{0};
+    // The corner of triangle t opposite its edge v -> u, or kNoCorner when t has none.
     static std::uint32_t apex_of(const Triangle& t, std::uint32_t v, std::uint32_t u) {
         for (int k = 0; k < 3; ++k)
             if (corner(t, k) == v && corner(t, kNext[k]) == u) return corner(t, kAfterNext[k]);
-        return kNoCapNeighbour;
+        return kNoCorner;
     }
 
 private:
@@ -602,8 +603,8 @@ CutStatus plan_caps(ContextState& s, const Plane& plane) {
                 const auto [j1, j2] = CapAdjacency::flipped(tris[j], fk, dl);
                 if (!good(j1) || !good(j2)) continue;
                 std::uint32_t d = CapAdjacency::apex_of(j1, v, u);
-                if (d == kNoCapNeighbour) d = CapAdjacency::apex_of(j2, v, u);
-                if (d == kNoCapNeighbour) continue;
+                if (d == CapAdjacency::kNoCorner) d = CapAdjacency::apex_of(j2, v, u);
+                if (d == CapAdjacency::kNoCorner) continue;
                 const auto [i1, i2] = CapAdjacency::flipped(ti, e, d);
                 const char grade = good(i1) && good(i2)               ? kKnownGood
                                    : acceptable(i1) && acceptable(i2) ? kKnownAcceptable

@@ -136,12 +136,13 @@ TEST_F(FileIo, ASetLargerThanABatchIsWholeOrNotAtAllAndLeavesNoDescriptorOpen) {
     auto open_fds = [] {
         return std::distance(fs::directory_iterator("/proc/self/fd"), fs::directory_iterator());
     };
+    auto piece = [&](int i) { return dir_ / ("p_" + std::to_string(i) + ".txt"); };
+    auto text = [](int i) { return "piece " + std::to_string(i); };
     const auto fds_before = open_fds();
     constexpr int kFiles = 150;
     {
         AtomicFileSet set;
-        for (int i = 0; i < kFiles; ++i)
-            set.add(dir_ / ("p_" + std::to_string(i) + ".txt"), "piece " + std::to_string(i));
+        for (int i = 0; i < kFiles; ++i) set.add(piece(i), text(i));
         set.add(dir_ / "missing-folder" / "last.txt", "x");  // its temp cannot be created
         auto r = set.commit();
         ASSERT_FALSE(r);
@@ -150,12 +151,10 @@ TEST_F(FileIo, ASetLargerThanABatchIsWholeOrNotAtAllAndLeavesNoDescriptorOpen) {
     }
     EXPECT_EQ(open_fds(), fds_before);
     AtomicFileSet set;
-    for (int i = 0; i < kFiles; ++i)
-        set.add(dir_ / ("p_" + std::to_string(i) + ".txt"), "piece " + std::to_string(i));
+    for (int i = 0; i < kFiles; ++i) set.add(piece(i), text(i));
     ASSERT_TRUE(set.commit());
     EXPECT_EQ(entries(), std::size_t{kFiles});
-    for (int i = 0; i < kFiles; ++i)
-        EXPECT_EQ(get(dir_ / ("p_" + std::to_string(i) + ".txt")), "piece " + std::to_string(i));
+    for (int i = 0; i < kFiles; ++i) EXPECT_EQ(get(piece(i)), text(i));
     EXPECT_EQ(open_fds(), fds_before);
 }
 
